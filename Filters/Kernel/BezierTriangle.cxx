@@ -1,0 +1,349 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "BezierTriangle.h"
+
+#include <cassert>
+
+namespace ctk
+{
+namespace
+{
+constexpr double Factorial(int n)
+{
+  double f = 1.0;
+  for (int i = 2; i <= n; ++i)
+  {
+    f *= i;
+  }
+  return f;
+}
+
+struct FactorialTable
+{
+  double Value[MaxDegree + 1];
+  constexpr FactorialTable()
+    : Value()
+  {
+    for (int i = 0; i <= MaxDegree; ++i)
+    {
+      Value[i] = Factorial(i);
+    }
+  }
+};
+constexpr FactorialTable Factorials;
+
+// All degree-m Bernstein polynomials at t, in canonical order (m may be 0).
+void Bernstein(int m, const Vec3& t, double* out)
+{
+  double p0[MaxDegree + 1], p1[MaxDegree + 1], p2[MaxDegree + 1];
+  p0[0] = p1[0] = p2[0] = 1.0;
+  for (int e = 1; e <= m; ++e)
+  {
+    p0[e] = p0[e - 1] * t[0];
+    p1[e] = p1[e - 1] * t[1];
+    p2[e] = p2[e - 1] * t[2];
+  }
+  int idx = 0;
+  for (int r = 0; r <= m; ++r)
+  {
+    const int i = m - r;
+    for (int k = 0; k <= r; ++k, ++idx)
+    {
+      const int j = r - k;
+      out[idx] = Factorials.Value[m] / (Factorials.Value[i] * Factorials.Value[j] *
+                                         Factorials.Value[k]) *
+        p0[i] * p1[j] * p2[k];
+    }
+  }
+}
+
+// Homogeneous control points (w P, w) of a possibly rational net.
+void Homogeneous(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
+{
+  const int count = BezierPointCount(n);
+  for (int a = 0; a < count; ++a)
+  {
+    const double wa = w ? w[a] : 1.0;
+    H[a] << wa * P[a], wa;
+  }
+}
+
+// Sum over degree-m multi-indices of B^m_i(t) H[i + shift], the shift adding d0 and d1 to the
+// first two exponents (the third follows from the degree n).
+Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d* H, int d0, int d1)
+{
+  Eigen::Vector4d s = Eigen::Vector4d::Zero();
+  int idx = 0;
+  for (int r = 0; r <= m; ++r)
+  {
+    const int i = m - r;
+    for (int k = 0; k <= r; ++k, ++idx)
+    {
+      const int j = r - k;
+      s += B[idx] * H[BezierIndex(n, i + d0, j + d1)];
+    }
+  }
+  return s;
+}
+} // namespace
+
+std::vector<std::array<int, 3>> BezierExponents(int n)
+{
+  std::vector<std::array<int, 3>> e;
+  e.reserve(BezierPointCount(n));
+  for (int r = 0; r <= n; ++r)
+  {
+    for (int k = 0; k <= r; ++k)
+    {
+      e.push_back({ n - r, r - k, k });
+    }
+  }
+  return e;
+}
+
+std::vector<int> VtkBezierTriangleOrder(int n)
+{
+  std::vector<int> order;
+  order.reserve(BezierPointCount(n));
+  // Corners first, then edges 0->1, 1->2, 2->0, then the interior as a triangle of degree n - 3
+  // whose exponents are all offset by one, recursively.
+  int offset = 0;
+  for (int m = n; m >= 0; m -= 3)
+  {
+    auto push = [&](int i, int j, int k) {
+      assert(i + j + k == m);
+      (void)k;
+      order.push_back(BezierIndex(n, i + offset, j + offset));
+    };
+    if (m == 0)
+    {
+      push(0, 0, 0);
+      break;
+    }
+    push(m, 0, 0);
+    push(0, m, 0);
+    push(0, 0, m);
+    for (int s = 1; s < m; ++s)
+    {
+      push(m - s, s, 0);
+    }
+    for (int s = 1; s < m; ++s)
+    {
+      push(0, m - s, s);
+    }
+    for (int s = 1; s < m; ++s)
+    {
+      push(s, 0, m - s);
+    }
+    ++offset;
+  }
+  return order;
+}
+
+BezierJet EvaluateBezierTriangle(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
+{
+  assert(n >= 0 && n <= MaxDegree);
+  Eigen::Vector4d H[MaxBezierPoints];
+  Homogeneous(n, P, weights, H);
+  double B[MaxBezierPoints];
+
+  BezierJet jet;
+  Bernstein(n, t, B);
+  const Eigen::Vector4d h = ShiftedSum(n, n, B, H, 0, 0);
+  const double W = h[3];
+  jet.Value = h.head<3>() / W;
+  if (order < 1 || n == 0)
+  {
+    return jet;
+  }
+
+  Bernstein(n - 1, t, B);
+  Eigen::Vector4d hd[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    hd[a] = n * ShiftedSum(n, n - 1, B, H, a == 0, a == 1);
+    jet.DT[a] = (hd[a].head<3>() - jet.Value * hd[a][3]) / W;
+  }
+  if (order < 2)
+  {
+    return jet;
+  }
+
+  // Homogeneous second derivatives vanish for n = 1, but a rational patch still curves.
+  if (n >= 2)
+  {
+    Bernstein(n - 2, t, B);
+  }
+  int ab = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = a; b < 3; ++b, ++ab)
+    {
+      const Eigen::Vector4d hdd = n < 2 ? Eigen::Vector4d::Zero()
+                                        : Eigen::Vector4d(n * (n - 1) *
+                                            ShiftedSum(n, n - 2, B, H, (a == 0) + (b == 0),
+                                              (a == 1) + (b == 1)));
+      // Quotient rule, second order: p_ab = (h_ab - p_a W_b - p_b W_a - p W_ab) / W.
+      jet.DTT[ab] = (hdd.head<3>() - jet.DT[a] * hd[b][3] - jet.DT[b] * hd[a][3] -
+                      jet.Value * hdd[3]) /
+        W;
+    }
+  }
+  return jet;
+}
+
+namespace
+{
+// de Casteljau with one argument per level, on homogeneous or plain points.
+template <typename Point>
+Point BlossomImpl(int n, Point* b, const Vec3* args)
+{
+  for (int level = n; level >= 1; --level)
+  {
+    const Vec3& x = args[n - level];
+    const int m = level - 1;
+    for (int r = 0; r <= m; ++r)
+    {
+      const int i = m - r;
+      for (int k = 0; k <= r; ++k)
+      {
+        const int j = r - k;
+        // In-place: the target index (degree m, rows r) never overwrites a source still needed,
+        // because sources of later targets have larger row numbers or equal row and larger k.
+        b[BezierIndex(m, i, j)] = x[0] * b[BezierIndex(level, i + 1, j)] +
+          x[1] * b[BezierIndex(level, i, j + 1)] + x[2] * b[BezierIndex(level, i, j)];
+      }
+    }
+  }
+  return b[0];
+}
+} // namespace
+
+Vec3 Blossom(int n, const Vec3* P, const Vec3* args)
+{
+  Vec3 b[MaxBezierPoints];
+  for (int a = 0; a < BezierPointCount(n); ++a)
+  {
+    b[a] = P[a];
+  }
+  return BlossomImpl(n, b, args);
+}
+
+Eigen::Vector4d RationalBlossom(int n, const Vec3* P, const double* weights, const Vec3* args)
+{
+  Eigen::Vector4d H[MaxBezierPoints];
+  Homogeneous(n, P, weights, H);
+  return BlossomImpl(n, H, args);
+}
+
+void SubTriangle(int n, const Vec3* P, const Vec3& c0, const Vec3& c1, const Vec3& c2, Vec3* out)
+{
+  Vec3 args[MaxDegree];
+  int idx = 0;
+  for (int r = 0; r <= n; ++r)
+  {
+    const int i = n - r;
+    for (int k = 0; k <= r; ++k, ++idx)
+    {
+      const int j = r - k;
+      int a = 0;
+      for (int s = 0; s < i; ++s)
+      {
+        args[a++] = c0;
+      }
+      for (int s = 0; s < j; ++s)
+      {
+        args[a++] = c1;
+      }
+      for (int s = 0; s < k; ++s)
+      {
+        args[a++] = c2;
+      }
+      out[idx] = Blossom(n, P, args);
+    }
+  }
+}
+
+void ElevateDegree(int n, const Vec3* P, Vec3* out)
+{
+  const int m = n + 1;
+  int idx = 0;
+  for (int r = 0; r <= m; ++r)
+  {
+    const int i = m - r;
+    for (int k = 0; k <= r; ++k, ++idx)
+    {
+      const int j = r - k;
+      Vec3 q = Vec3::Zero();
+      if (i > 0)
+      {
+        q += double(i) / m * P[BezierIndex(n, i - 1, j)];
+      }
+      if (j > 0)
+      {
+        q += double(j) / m * P[BezierIndex(n, i, j - 1)];
+      }
+      if (k > 0)
+      {
+        q += double(k) / m * P[BezierIndex(n, i, j)];
+      }
+      out[idx] = q;
+    }
+  }
+}
+
+Vec3 Barycentric(const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X)
+{
+  const double area = SignedArea2(A0, A1, A2);
+  const double t1 = SignedArea2(A0, X, A2) / area;
+  const double t2 = SignedArea2(A0, A1, X) / area;
+  return Vec3(1.0 - t1 - t2, t1, t2);
+}
+
+Eigen::Matrix<double, 3, 2> BarycentricGradient(const Vec2& A0, const Vec2& A1, const Vec2& A2)
+{
+  const double area = SignedArea2(A0, A1, A2);
+  Eigen::Matrix<double, 3, 2> G;
+  // t1 = cross(A2 - A0, X - A0)... written out: dt1/dX = perp(A0 - A2)/area, etc.
+  G(1, 0) = (A2.y() - A0.y()) / area;
+  G(1, 1) = (A0.x() - A2.x()) / area;
+  G(2, 0) = (A0.y() - A1.y()) / area;
+  G(2, 1) = (A1.x() - A0.x()) / area;
+  G(0, 0) = -G(1, 0) - G(2, 0);
+  G(0, 1) = -G(1, 1) - G(2, 1);
+  return G;
+}
+
+ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, const Vec2& A0,
+  const Vec2& A1, const Vec2& A2, const Vec3& t, int order)
+{
+  const BezierJet jet = EvaluateBezierTriangle(n, P, weights, t, order);
+  const Eigen::Matrix<double, 3, 2> G = BarycentricGradient(A0, A1, A2);
+  ParametricJet out;
+  out.Value = jet.Value;
+  out.Du = out.Dv = out.Duu = out.Duv = out.Dvv = Vec3::Zero();
+  if (order >= 1)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      out.Du += G(a, 0) * jet.DT[a];
+      out.Dv += G(a, 1) * jet.DT[a];
+    }
+  }
+  if (order >= 2)
+  {
+    static constexpr int pair[3][3] = { { 0, 1, 2 }, { 1, 3, 4 }, { 2, 4, 5 } };
+    for (int a = 0; a < 3; ++a)
+    {
+      for (int b = 0; b < 3; ++b)
+      {
+        const Vec3& d = jet.DTT[pair[a][b]];
+        out.Duu += G(a, 0) * G(b, 0) * d;
+        out.Duv += G(a, 0) * G(b, 1) * d;
+        out.Dvv += G(a, 1) * G(b, 1) * d;
+      }
+    }
+  }
+  return out;
+}
+
+} // namespace ctk

@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Bézier triangles of any degree (up to MaxDegree): indexing, evaluation with first and second
+// derivatives, blossoms, sub-triangles (de Casteljau subdivision), degree elevation and rational
+// weights. Pure maths: no VTK.
+//
+// Conventions
+// - A degree-n net has (n+1)(n+2)/2 control points, stored in the kernel's canonical order
+//   (BezierIndex). Ordinate P_ijk belongs to the Bernstein polynomial
+//   n!/(i!j!k!) t0^i t1^j t2^k, i.e. (i, j, k) are the exponents of the barycentric coordinates of
+//   the domain vertices 0, 1, 2; its domain point is (i A0 + j A1 + k A2)/n.
+// - Rational nets carry one weight per control point (nullptr = polynomial); the point of a
+//   rational patch is sum(w P B) / sum(w B).
+// - VTK's VTK_BEZIER_TRIANGLE order is available through VtkBezierTriangleOrder().
+#ifndef CTSplines_Kernel_BezierTriangle_h
+#define CTSplines_Kernel_BezierTriangle_h
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+namespace ctk
+{
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+
+/// Largest degree supported by the allocation-free routines below.
+constexpr int MaxDegree = 10;
+/// Largest number of control points of a supported net.
+constexpr int MaxBezierPoints = (MaxDegree + 1) * (MaxDegree + 2) / 2;
+
+/// Number of control points of a degree-n Bézier triangle.
+constexpr int BezierPointCount(int n)
+{
+  return (n + 1) * (n + 2) / 2;
+}
+
+/// Canonical index of ordinate (i, j, k = n - i - j): rows by r = n - i, then by k.
+constexpr int BezierIndex(int n, int i, int j)
+{
+  const int r = n - i;
+  return r * (r + 1) / 2 + (r - j);
+}
+
+/// Exponents (i, j, k) of every canonical index of a degree-n net, in canonical order.
+std::vector<std::array<int, 3>> BezierExponents(int n);
+
+/// For a degree-n VTK_BEZIER_TRIANGLE, entry p is the canonical index of VTK point p: corners,
+/// edge 0->1, 1->2, 2->0 inner points, then the interior recursively (VTK's documented order).
+std::vector<int> VtkBezierTriangleOrder(int n);
+
+/// Value and derivatives of a patch with respect to the barycentric coordinates t = (t0, t1, t2)
+/// taken as independent variables (homogeneous polynomial form). Chain with dt/du to get
+/// parameter derivatives: dp/du = sum_a dt_a/du * DT[a].
+struct BezierJet
+{
+  Vec3 Value = Vec3::Zero();
+  std::array<Vec3, 3> DT{ Vec3::Zero(), Vec3::Zero(), Vec3::Zero() };
+  /// Second derivatives d2p/dt_a dt_b, a <= b, in the order 00, 01, 02, 11, 12, 22.
+  std::array<Vec3, 6> DTT{ Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), Vec3::Zero(),
+    Vec3::Zero() };
+};
+
+/// Evaluates a degree-n net P (canonical order, n <= MaxDegree) at barycentric t.
+/// weights: nullptr for polynomial nets. order: 0 value only, 1 with DT, 2 with DT and DTT.
+/// Allocation-free.
+BezierJet EvaluateBezierTriangle(
+  int n, const Vec3* P, const double* weights, const Vec3& t, int order = 0);
+
+/// Blossom b(X_1, ..., X_n) of a polynomial degree-n net at n barycentric arguments
+/// (arguments need not lie inside the domain triangle). Allocation-free.
+Vec3 Blossom(int n, const Vec3* P, const Vec3* args);
+
+/// Homogeneous blossom of a rational net: returns (sum w P, sum w) blossomed, as 4 numbers.
+Eigen::Vector4d RationalBlossom(int n, const Vec3* P, const double* weights, const Vec3* args);
+
+/// Net of the same polynomial over the sub-triangle whose corners have barycentric coordinates
+/// c0, c1, c2 with respect to the original domain (de Casteljau subdivision by blossoming).
+/// out must hold BezierPointCount(n) points.
+void SubTriangle(int n, const Vec3* P, const Vec3& c0, const Vec3& c1, const Vec3& c2, Vec3* out);
+
+/// Degree elevation n -> n+1 of a polynomial net. out holds BezierPointCount(n+1) points.
+void ElevateDegree(int n, const Vec3* P, Vec3* out);
+
+/// Barycentric coordinates of X with respect to the planar triangle (A0, A1, A2) from signed
+/// areas (coordinates may be negative outside). The triangle must be non-degenerate.
+Vec3 Barycentric(const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X);
+
+/// Twice the signed area of (A0, A1, A2), positive when counter-clockwise.
+inline double SignedArea2(const Vec2& A0, const Vec2& A1, const Vec2& A2)
+{
+  return (A1.x() - A0.x()) * (A2.y() - A0.y()) - (A1.y() - A0.y()) * (A2.x() - A0.x());
+}
+
+/// Planar cross product a x b.
+inline double Cross2(const Vec2& a, const Vec2& b)
+{
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+/// Derivatives of the barycentric coordinates of (A0, A1, A2) with respect to u and v:
+/// column 0 is dt/du, column 1 is dt/dv.
+Eigen::Matrix<double, 3, 2> BarycentricGradient(const Vec2& A0, const Vec2& A1, const Vec2& A2);
+
+/// Parameter derivatives of a patch over the planar domain (A0, A1, A2) at barycentric t.
+/// Returns position and dp/du, dp/dv (and second derivatives puu, puv, pvv when order 2).
+struct ParametricJet
+{
+  Vec3 Value, Du, Dv, Duu, Duv, Dvv;
+};
+ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, const Vec2& A0,
+  const Vec2& A1, const Vec2& A2, const Vec3& t, int order);
+
+} // namespace ctk
+
+#endif

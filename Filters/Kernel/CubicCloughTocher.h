@@ -1,0 +1,95 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The cubic C1 Clough-Tocher spline of a parametrised triangle mesh (study section 3): Step 1
+// (eq. 11-12), Step 2 by the chosen construction, Step 3 (eq. 13-14), on shared control points.
+//
+// Constructions: CTo, CTi (eq. 15-17), MGo, MGi (eq. 24-25); boundary edges of the non-local
+// ones follow BoundaryMode (section 3.8). Fa, FO, Ka, KaG and the IM iteration are reported as
+// not available by this build.
+#ifndef CTSplines_Kernel_CubicCloughTocher_h
+#define CTSplines_Kernel_CubicCloughTocher_h
+
+#include "CubicMacroElement.h"
+#include "MeshTopology.h"
+#include "SplitPoint.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ctk
+{
+enum class Construction
+{
+  CTo = 0,
+  CTi = 1,
+  Fa = 2,
+  FO = 3,
+  Ka = 4,
+  MGo = 5,
+  MGi = 6,
+  KaG = 7
+};
+
+enum class BoundaryMode
+{
+  Perpendicular = 0,        // eq. (15) with eq. (16)
+  Midpoint = 1,             // eq. (15) with lambda = 1/2
+  GradientPerpendicular = 2, // eq. (25), v_eps perpendicular to the edge
+  GradientToSplitPoint = 3  // eq. (25), v_eps from Z to the edge midpoint
+};
+
+const char* ToString(Construction c);
+const char* ToString(BoundaryMode m);
+
+/// Input of a spline construction; arrays are row-major and owned by the caller.
+struct SplineData
+{
+  Id NumberOfVertices = 0;
+  Id NumberOfTriangles = 0;
+  const Id* Triangles = nullptr; // #T by 3 vertex ids
+  const double* UV = nullptr;    // #V by 2 parameter values
+  const double* F = nullptr;     // #V by 3 positions
+  const double* Fu = nullptr;    // #V by 3 derivatives d/du
+  const double* Fv = nullptr;    // #V by 3 derivatives d/dv
+  /// Optional #T by 18: for local edges (p0,p1), (p1,p2), (p2,p0), f_u then f_v at the edge
+  /// midpoint. Where both triangles of an edge give one, their mean is used on both sides.
+  const double* EdgeGradients = nullptr;
+};
+
+struct SplineOptions
+{
+  Construction Method = Construction::CTi;
+  SplitPointRule SplitPoint = SplitPointRule::Bary;
+  BoundaryMode Boundary = BoundaryMode::Midpoint;
+  int Iterations = 0; // IM steps
+};
+
+/// Whether the options read SplineData::EdgeGradients (on all edges or on boundary edges).
+bool UsesEdgeGradients(const SplineOptions& options);
+
+/// Runs body(begin, end) over the chunks of [0, n); the caller may run chunks concurrently.
+using ParallelFor = std::function<void(Id n, const std::function<void(Id, Id)>& body)>;
+void SerialFor(Id n, const std::function<void(Id, Id)>& body);
+
+struct CubicSpline
+{
+  CubicSplineLayout Layout;
+  std::vector<Vec3> ControlPoints; // Layout.NumberOfPoints()
+  std::vector<Vec2> DomainPoints;  // parameter-space domain point of every control point
+  std::vector<Vec3> SplitTau;      // #T barycentric coordinates of Z
+};
+
+struct BuildStatus
+{
+  bool Ok = true;
+  std::string Message;
+};
+
+/// Builds the spline. topology must come from BuildMeshTopology on data.Triangles. Results are
+/// independent of how parallelFor splits the work.
+BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& topology,
+  const SplineOptions& options, CubicSpline& spline, const ParallelFor& parallelFor = SerialFor);
+
+} // namespace ctk
+
+#endif

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "CubicMacroElement.h"
+
+namespace ctk
+{
+MacroElementIds GetMacroElementIds(
+  const CubicSplineLayout& layout, const MeshTopology& topo, const Id* triangles, Id t)
+{
+  MacroElementIds ids;
+  const Id* p = triangles + 3 * t;
+  for (int i = 0; i < 3; ++i)
+  {
+    ids.V[i] = layout.Vertex(p[i]);
+    ids.I1[i] = layout.TrianglePoint(t, CubicSplineLayout::I1(i));
+    ids.I2[i] = layout.TrianglePoint(t, CubicSplineLayout::I2(i));
+    ids.C[i] = layout.TrianglePoint(t, CubicSplineLayout::C(i));
+    ids.T[i][i] = -1;
+  }
+  for (int l = 0; l < 3; ++l)
+  {
+    const int i = l, j = (l + 1) % 3;
+    const Id e = topo.TriangleEdges[t][l];
+    ids.T[i][j] = layout.EdgePoint(topo, e, p[i]);
+    ids.T[j][i] = layout.EdgePoint(topo, e, p[j]);
+  }
+  ids.S = layout.TrianglePoint(t, CubicSplineLayout::S);
+  return ids;
+}
+
+std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k)
+{
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  // Canonical order (rows by the exponent of U_i, descending): exponents (i, j, z) =
+  // 300 210 201 120 111 102 030 021 012 003.
+  return { ids.V[i], ids.T[i][j], ids.I1[i], ids.T[j][i], ids.C[k], ids.I2[i], ids.V[j],
+    ids.I1[j], ids.I2[j], ids.S };
+}
+
+void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points)
+{
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    points[ids.I1[i]] =
+      tau[i] * points[ids.V[i]] + tau[j] * points[ids.T[i][j]] + tau[k] * points[ids.T[i][k]];
+  }
+}
+
+void ComputeInnerRing2AndSplitPoint(const MacroElementIds& ids, const Vec3& tau, Vec3* points)
+{
+  for (int i = 0; i < 3; ++i)
+  {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    // C_k sits beside U_i and U_j (micro-triangle (U_i, U_j, Z)); C_j beside U_k and U_i.
+    points[ids.I2[i]] =
+      tau[i] * points[ids.I1[i]] + tau[j] * points[ids.C[k]] + tau[k] * points[ids.C[j]];
+  }
+  points[ids.S] =
+    tau[0] * points[ids.I2[0]] + tau[1] * points[ids.I2[1]] + tau[2] * points[ids.I2[2]];
+}
+
+} // namespace ctk

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The cubic Clough-Tocher macro-element (spec section 2): where its 19 control points live in a
+// spline's shared control-point array, the micro-triangle nets, and Steps 1 and 3 of the study
+// (eq. 11-14), which are the C1 conditions of Rule A inside one macro-triangle.
+//
+// Names (study): V_i vertex, T_ij on macro-edge U_i U_j near U_i, I_i1 = (2 U_i + Z)/3,
+// I_i2 = (U_i + 2 Z)/3, C_k centre of micro-triangle T_k, S = Z. Micro-triangle T_k is the one
+// opposite U_k: T_k = (U_{k+1}, U_{k+2}, Z), so local macro-edge l = (U_l, U_{l+1}) carries T_{l+2}.
+#ifndef CTSplines_Kernel_CubicMacroElement_h
+#define CTSplines_Kernel_CubicMacroElement_h
+
+#include "BezierTriangle.h"
+#include "MeshTopology.h"
+
+#include <array>
+
+namespace ctk
+{
+/// Shared control-point numbering of a cubic CT spline: one point per mesh vertex (V), two per
+/// macro-edge (T_ab near a then T_ba, for edge (a, b), a < b), ten per macro-triangle.
+/// Total: #V + 2 #E + 10 #T.
+struct CubicSplineLayout
+{
+  Id NumberOfVertices = 0;
+  Id NumberOfEdges = 0;
+  Id NumberOfTriangles = 0;
+
+  /// Local slots of the ten triangle-owned points.
+  static constexpr int I1(int i) { return i; }
+  static constexpr int I2(int i) { return 3 + i; }
+  static constexpr int C(int k) { return 6 + k; }
+  static constexpr int S = 9;
+  static constexpr int PointsPerTriangle = 10;
+
+  Id NumberOfPoints() const
+  {
+    return NumberOfVertices + 2 * NumberOfEdges + PointsPerTriangle * NumberOfTriangles;
+  }
+  Id Vertex(Id v) const { return v; }
+  /// T point of edge e near its vertex `near` (one of the edge's two vertices).
+  Id EdgePoint(const MeshTopology& topo, Id e, Id near) const
+  {
+    return NumberOfVertices + 2 * e + (topo.Edges[e][0] == near ? 0 : 1);
+  }
+  Id TrianglePoint(Id t, int slot) const
+  {
+    return NumberOfVertices + 2 * NumberOfEdges + PointsPerTriangle * t + slot;
+  }
+};
+
+/// Point ids of one macro-triangle's 19 control points, by the study's names.
+struct MacroElementIds
+{
+  std::array<Id, 3> V;
+  std::array<std::array<Id, 3>, 3> T; // T[i][j], i != j (diagonal unused)
+  std::array<Id, 3> I1, I2, C;
+  Id S;
+};
+
+/// The 19 ids of macro-triangle t (vertices triangles[3t..3t+2]).
+MacroElementIds GetMacroElementIds(
+  const CubicSplineLayout& layout, const MeshTopology& topo, const Id* triangles, Id t);
+
+/// Ids of the cubic net of micro-triangle k of a macro-element, in the kernel's canonical
+/// order for the domain (U_{k+1}, U_{k+2}, Z).
+std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k);
+
+/// Step 1, eq. (11): T_ij = f_i + ((u_j - u_i) f_u + (v_j - v_i) f_v) / 3 at vertex i.
+inline Vec3 EdgeControlPoint(const Vec3& fi, const Vec3& fui, const Vec3& fvi, const Vec2& Ui,
+  const Vec2& Uj)
+{
+  const Vec2 d = Uj - Ui;
+  return fi + (d.x() * fui + d.y() * fvi) / 3.0;
+}
+
+/// Step 1, eq. (12): I_i1 = tau_i V_i + tau_j T_ij + tau_k T_ik.
+void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points);
+
+/// Step 3, eq. (13)-(14): I_i2 from I_i1 and the two C points beside it, then S.
+void ComputeInnerRing2AndSplitPoint(const MacroElementIds& ids, const Vec3& tau, Vec3* points);
+
+} // namespace ctk
+
+#endif

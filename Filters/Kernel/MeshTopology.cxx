@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "MeshTopology.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ctk
+{
+Id MeshTopology::NumberOfBoundaryEdges() const
+{
+  return static_cast<Id>(std::count_if(EdgeTriangles.begin(), EdgeTriangles.end(),
+    [](const std::array<Id, 2>& et) { return et[1] < 0; }));
+}
+
+TopologyStatus BuildMeshTopology(
+  Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology)
+{
+  TopologyStatus status;
+  auto fail = [&](Id t, const std::string& msg) {
+    status.Ok = false;
+    status.Triangle = t;
+    status.Message = msg;
+    return status;
+  };
+  for (Id t = 0; t < numTriangles; ++t)
+  {
+    const Id* p = triangles + 3 * t;
+    for (int l = 0; l < 3; ++l)
+    {
+      if (p[l] < 0 || p[l] >= numPoints)
+      {
+        std::ostringstream os;
+        os << "triangle " << t << " references point " << p[l] << " outside [0, " << numPoints
+           << ")";
+        return fail(t, os.str());
+      }
+    }
+    if (p[0] == p[1] || p[1] == p[2] || p[2] == p[0])
+    {
+      std::ostringstream os;
+      os << "triangle " << t << " repeats a vertex (" << p[0] << ", " << p[1] << ", " << p[2]
+         << ")";
+      return fail(t, os.str());
+    }
+  }
+
+  // Bucket the 3T half-edges by their smaller vertex (counting sort), then match within buckets.
+  std::vector<Id> start(numPoints + 1, 0);
+  for (Id h = 0; h < 3 * numTriangles; ++h)
+  {
+    const Id a = triangles[h], b = triangles[h % 3 == 2 ? h - 2 : h + 1];
+    ++start[std::min(a, b) + 1];
+  }
+  for (Id v = 0; v < numPoints; ++v)
+  {
+    start[v + 1] += start[v];
+  }
+  std::vector<Id> bucket(3 * numTriangles);
+  {
+    std::vector<Id> fill(start.begin(), start.end() - 1);
+    for (Id h = 0; h < 3 * numTriangles; ++h)
+    {
+      const Id a = triangles[h], b = triangles[h % 3 == 2 ? h - 2 : h + 1];
+      bucket[fill[std::min(a, b)]++] = h;
+    }
+  }
+
+  topology.Edges.clear();
+  topology.EdgeTriangles.clear();
+  topology.EdgeLocalIndex.clear();
+  topology.TriangleEdges.assign(numTriangles, { -1, -1, -1 });
+  topology.Edges.reserve(3 * numTriangles / 2 + 1);
+  for (Id v = 0; v < numPoints; ++v)
+  {
+    const Id begin = start[v], end = start[v + 1];
+    for (Id s = begin; s < end; ++s)
+    {
+      const Id h = bucket[s];
+      const Id t = h / 3;
+      const int l = static_cast<int>(h % 3);
+      if (topology.TriangleEdges[t][l] >= 0)
+      {
+        continue;
+      }
+      const Id other = std::max(triangles[h], triangles[h % 3 == 2 ? h - 2 : h + 1]);
+      const Id e = static_cast<Id>(topology.Edges.size());
+      topology.Edges.push_back({ v, other });
+      topology.EdgeTriangles.push_back({ t, -1 });
+      topology.EdgeLocalIndex.push_back({ static_cast<signed char>(l), -1 });
+      topology.TriangleEdges[t][l] = e;
+      for (Id s2 = s + 1; s2 < end; ++s2)
+      {
+        const Id h2 = bucket[s2];
+        if (std::max(triangles[h2], triangles[h2 % 3 == 2 ? h2 - 2 : h2 + 1]) != other)
+        {
+          continue;
+        }
+        const Id t2 = h2 / 3;
+        if (topology.EdgeTriangles[e][1] >= 0)
+        {
+          std::ostringstream os;
+          os << "non-manifold edge (" << v << ", " << other << ") shared by triangles "
+             << topology.EdgeTriangles[e][0] << ", " << topology.EdgeTriangles[e][1] << " and "
+             << t2;
+          return fail(t2, os.str());
+        }
+        topology.EdgeTriangles[e][1] = t2;
+        topology.EdgeLocalIndex[e][1] = static_cast<signed char>(h2 % 3);
+        topology.TriangleEdges[t2][h2 % 3] = e;
+      }
+    }
+  }
+  return status;
+}
+
+} // namespace ctk

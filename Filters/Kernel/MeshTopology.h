@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Edge adjacency of a triangle mesh: unique edges, the (at most two) triangles at each edge and
+// boundary edges. No orientation is assumed. Built in O(n) (bucketed by the smaller vertex id).
+#ifndef CTSplines_Kernel_MeshTopology_h
+#define CTSplines_Kernel_MeshTopology_h
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace ctk
+{
+using Id = std::int64_t;
+
+/// Local edge l of a triangle joins its vertices l and (l + 1) % 3; it is opposite vertex
+/// (l + 2) % 3.
+struct MeshTopology
+{
+  /// Unique edges, each as (a, b) with a < b. #E by 2.
+  std::vector<std::array<Id, 2>> Edges;
+  /// Edge id of each local edge of each triangle. #T by 3.
+  std::vector<std::array<Id, 3>> TriangleEdges;
+  /// The triangles at each edge (second is -1 on a boundary edge). #E by 2.
+  std::vector<std::array<Id, 2>> EdgeTriangles;
+  /// Local edge index of the edge in each of EdgeTriangles. #E by 2.
+  std::vector<std::array<signed char, 2>> EdgeLocalIndex;
+
+  bool IsBoundaryEdge(Id e) const { return EdgeTriangles[e][1] < 0; }
+  Id NumberOfBoundaryEdges() const;
+
+  /// The triangle across local edge l of triangle t, or -1 on the boundary.
+  Id Neighbor(Id t, int l) const
+  {
+    const auto& et = EdgeTriangles[TriangleEdges[t][l]];
+    return et[0] == t ? et[1] : et[0];
+  }
+};
+
+/// Result of BuildMeshTopology: Ok, or a message naming the offending triangle/edge.
+struct TopologyStatus
+{
+  bool Ok = true;
+  std::string Message;
+  Id Triangle = -1;
+};
+
+/// Builds the edge adjacency of numTriangles triangles given as triangles[3 t + l] point ids in
+/// [0, numPoints). Fails (with a message) on out-of-range ids, a triangle repeating a vertex,
+/// or a non-manifold edge (three or more triangles).
+TopologyStatus BuildMeshTopology(
+  Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology);
+
+} // namespace ctk
+
+#endif

@@ -1,0 +1,187 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Test inputs for the kernel: sampled analytic surfaces on a suite of parameter meshes
+// (regular, jittered with random diagonals, skinny), with optional affine reparameterisation.
+#ifndef CTSplines_Testing_TestMeshes_h
+#define CTSplines_Testing_TestMeshes_h
+
+#include "AnalyticSurfaces.h"
+#include "CubicCloughTocher.h"
+
+#include <Eigen/Dense>
+
+#include <random>
+#include <string>
+#include <vector>
+
+namespace ctk_test
+{
+using namespace ctk;
+
+/// Owns the arrays behind a SplineData.
+struct SampledMesh
+{
+  std::string Name;
+  std::vector<Id> Triangles;
+  std::vector<double> UV, F, Fu, Fv, EdgeGradients;
+  MeshTopology Topology;
+
+  SplineData Data() const
+  {
+    SplineData d;
+    d.NumberOfVertices = static_cast<Id>(UV.size() / 2);
+    d.NumberOfTriangles = static_cast<Id>(Triangles.size() / 3);
+    d.Triangles = Triangles.data();
+    d.UV = UV.data();
+    d.F = F.data();
+    d.Fu = Fu.data();
+    d.Fv = Fv.data();
+    d.EdgeGradients = EdgeGradients.data();
+    return d;
+  }
+};
+
+/// Affine reparameterisation U' = A U + t (gradients map by A^{-T}: J' = J A^{-1}).
+struct Affine
+{
+  Eigen::Matrix2d A = Eigen::Matrix2d::Identity();
+  Vec2 t = Vec2::Zero();
+};
+
+inline void AppendSample(std::vector<double>& F, std::vector<double>& Fu, std::vector<double>& Fv,
+  const SurfacePoint& s, const Eigen::Matrix2d& Ainv)
+{
+  Eigen::Matrix<double, 3, 2> J;
+  J << s.Fu, s.Fv;
+  const Eigen::Matrix<double, 3, 2> Jp = J * Ainv;
+  for (int c = 0; c < 3; ++c)
+  {
+    F.push_back(s.F[c]);
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    Fu.push_back(Jp(c, 0));
+  }
+  for (int c = 0; c < 3; ++c)
+  {
+    Fv.push_back(Jp(c, 1));
+  }
+}
+
+/// Samples surface s on the parameter mesh m (original parameters), then applies the affine map.
+inline SampledMesh Sample(
+  const std::string& name, const ParameterMesh& m, AnalyticSurface s, const Affine& affine = {})
+{
+  SampledMesh out;
+  out.Name = name;
+  out.Triangles = m.Triangles;
+  const Eigen::Matrix2d Ainv = affine.A.inverse();
+  std::vector<double> dummyF;
+  for (const Vec2& U : m.UV)
+  {
+    const SurfacePoint p = EvaluateAnalyticSurface(s, U.x(), U.y());
+    AppendSample(out.F, out.Fu, out.Fv, p, Ainv);
+    const Vec2 Up = affine.A * U + affine.t;
+    out.UV.push_back(Up.x());
+    out.UV.push_back(Up.y());
+  }
+  for (Id t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      const Vec2 mid = 0.5 * (m.UV[m.Triangles[3 * t + l]] + m.UV[m.Triangles[3 * t + (l + 1) % 3]]);
+      const SurfacePoint p = EvaluateAnalyticSurface(s, mid.x(), mid.y());
+      std::vector<double> gu, gv;
+      dummyF.clear();
+      AppendSample(dummyF, gu, gv, p, Ainv);
+      out.EdgeGradients.insert(out.EdgeGradients.end(), gu.begin(), gu.end());
+      out.EdgeGradients.insert(out.EdgeGradients.end(), gv.begin(), gv.end());
+    }
+  }
+  const TopologyStatus st = BuildMeshTopology(static_cast<Id>(m.UV.size()),
+    static_cast<Id>(m.Triangles.size() / 3), out.Triangles.data(), out.Topology);
+  if (!st.Ok)
+  {
+    throw std::runtime_error(st.Message);
+  }
+  return out;
+}
+
+/// Grid on [0,1]^2 with interior vertices moved by up to `jitter` cells, random diagonals.
+inline ParameterMesh JitteredGrid(int n, double jitter, unsigned seed)
+{
+  ParameterMesh m = RegularGridMesh(n, GridDiagonal::Forward);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(-jitter / n, jitter / n);
+  for (int j = 1; j < n; ++j)
+  {
+    for (int i = 1; i < n; ++i)
+    {
+      m.UV[j * (n + 1) + i] += Vec2(U(rng), U(rng));
+    }
+  }
+  std::bernoulli_distribution flip(0.5);
+  for (Id t = 0; t < m.NumberOfTriangles(); t += 2)
+  {
+    if (flip(rng))
+    {
+      // Cell (a, b, d), (a, d, c) -> (a, b, c), (b, d, c).
+      Id* p = &m.Triangles[3 * t];
+      const Id a = p[0], b = p[1], d = p[2], c = p[5];
+      const Id q[6] = { a, b, c, b, d, c };
+      std::copy(q, q + 6, p);
+    }
+  }
+  return m;
+}
+
+/// The standard suite of parameter meshes: regular, jittered, skinny (aspect 1:20), equilateral.
+inline std::vector<std::pair<std::string, ParameterMesh>> MeshSuite()
+{
+  std::vector<std::pair<std::string, ParameterMesh>> suite;
+  suite.emplace_back("grid", RegularGridMesh(4, GridDiagonal::Alternating));
+  suite.emplace_back("jittered", JitteredGrid(5, 0.35, 7u));
+  ParameterMesh skinny = RegularGridMesh(6, GridDiagonal::Backward);
+  for (Vec2& U : skinny.UV)
+  {
+    U.y() *= 0.05;
+  }
+  suite.emplace_back("skinny", skinny);
+  const std::array<Vec2, 3> A = SphereOctantDomain();
+  suite.emplace_back("equilateral", RefinedTriangleMesh(A[0], A[1], A[2], 2));
+  return suite;
+}
+
+/// Evaluates the spline at parameter X inside macro-triangle t (picks the micro-triangle).
+inline ParametricJet EvaluateSpline(
+  const SampledMesh& mesh, const CubicSpline& spline, Id t, const Vec2& X, int order = 1)
+{
+  const MacroElementIds ids =
+    GetMacroElementIds(spline.Layout, mesh.Topology, mesh.Triangles.data(), t);
+  const Vec3& tau = spline.SplitTau[t];
+  Vec2 U[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    U[i] = Vec2(mesh.UV[2 * mesh.Triangles[3 * t + i]], mesh.UV[2 * mesh.Triangles[3 * t + i] + 1]);
+  }
+  const Vec2 Z = tau[0] * U[0] + tau[1] * U[1] + tau[2] * U[2];
+  for (int k = 0; k < 3; ++k)
+  {
+    const Vec2 &A0 = U[(k + 1) % 3], &A1 = U[(k + 2) % 3];
+    const Vec3 b = Barycentric(A0, A1, Z, X);
+    if (b.minCoeff() >= -1e-12 || k == 2)
+    {
+      const std::array<Id, 10> net = MicroTriangleNet(ids, k);
+      Vec3 P[10];
+      for (int a = 0; a < 10; ++a)
+      {
+        P[a] = spline.ControlPoints[net[a]];
+      }
+      return EvaluateOverDomain(3, P, nullptr, A0, A1, Z, b, order);
+    }
+  }
+  return {};
+}
+
+} // namespace ctk_test
+
+#endif
