@@ -1,0 +1,294 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkCloughTocherSplineFilter.h"
+
+#include "CTSplinesInput.h"
+#include "CTSplinesSMP.h"
+#include "CubicCloughTocher.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSignedCharArray.h"
+#include "vtkStringArray.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <cmath>
+
+vtkStandardNewMacro(vtkCloughTocherSplineFilter);
+
+vtkCloughTocherSplineFilter::vtkCloughTocherSplineFilter() = default;
+vtkCloughTocherSplineFilter::~vtkCloughTocherSplineFilter() = default;
+
+const char* vtkCloughTocherSplineFilter::GetConstructionName(int c)
+{
+  return ctk::ToString(static_cast<ctk::Construction>(c));
+}
+
+const char* vtkCloughTocherSplineFilter::GetSplitPointName(int s)
+{
+  return ctk::ToString(static_cast<ctk::SplitPointRule>(s));
+}
+
+const char* vtkCloughTocherSplineFilter::GetBoundaryModeName(int m)
+{
+  return ctk::ToString(static_cast<ctk::BoundaryMode>(m));
+}
+
+int vtkCloughTocherSplineFilter::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  return 1;
+}
+
+namespace
+{
+void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
+{
+  vtkNew<vtkStringArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+} // namespace
+
+int vtkCloughTocherSplineFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro(<< "missing input or output data object");
+    return 0;
+  }
+
+  // 1. Validate the input and map its arrays to row-major doubles.
+  if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
+  {
+    vtkErrorMacro(<< "empty input: " << input->GetNumberOfPoints() << " points and "
+                  << input->GetNumberOfCells() << " cells; need a triangle mesh");
+    return 0;
+  }
+  std::vector<ctk::Id> triangles;
+  std::vector<double> F, UV, Fu, Fv, edgeGradients;
+  std::string error = ctsplines::ExtractTriangles(input, triangles);
+  if (error.empty())
+  {
+    error = ctsplines::CopyPoints(input->GetPoints(), F);
+  }
+  vtkPointData* pd = input->GetPointData();
+  if (error.empty())
+  {
+    vtkDataArray* uv = ctsplines::FindArray(pd, this->UVArrayName);
+    std::string what = "point data array '" + this->UVArrayName + "' (parameter coordinates)";
+    if (!uv && pd->GetTCoords())
+    {
+      uv = pd->GetTCoords();
+      what = std::string("active texture coordinates '") +
+        (uv->GetName() ? uv->GetName() : "") + "' (parameter coordinates)";
+    }
+    if (!uv)
+    {
+      error = "no parameter coordinates: point data array '" + this->UVArrayName +
+        "' is missing and there are no active texture coordinates";
+    }
+    else
+    {
+      error = ctsplines::CopyArray(uv, what, 2, "point", UV);
+    }
+  }
+  if (error.empty())
+  {
+    error = ctsplines::CopyArray(ctsplines::FindArray(pd, this->DuArrayName),
+      "point data array '" + this->DuArrayName + "' (derivative d/du)", 3, "point", Fu);
+  }
+  if (error.empty())
+  {
+    error = ctsplines::CopyArray(ctsplines::FindArray(pd, this->DvArrayName),
+      "point data array '" + this->DvArrayName + "' (derivative d/dv)", 3, "point", Fv);
+  }
+  ctk::SplineOptions options;
+  options.Method = static_cast<ctk::Construction>(this->Construction);
+  options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
+  options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
+  options.Iterations = this->Iterations;
+  if (error.empty() && ctk::UsesEdgeGradients(options))
+  {
+    vtkDataArray* eg = ctsplines::FindArray(input->GetCellData(), this->EdgeGradientsArrayName);
+    const std::string what = "cell data array '" + this->EdgeGradientsArrayName +
+      "' (mid-edge gradients, needed by " + GetConstructionName(this->Construction) +
+      " with boundary mode " + GetBoundaryModeName(this->BoundaryMode) + ")";
+    error = ctsplines::CopyArray(eg, what, 18, "cell", edgeGradients);
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+
+  const ctk::Id nV = input->GetNumberOfPoints();
+  const ctk::Id nT = static_cast<ctk::Id>(triangles.size() / 3);
+  // Zero-area parameter triangles have no barycentric coordinates: reject them by name.
+  {
+    double lo[2] = { UV[0], UV[1] }, hi[2] = { UV[0], UV[1] };
+    for (ctk::Id v = 1; v < nV; ++v)
+    {
+      for (int c = 0; c < 2; ++c)
+      {
+        lo[c] = std::min(lo[c], UV[2 * v + c]);
+        hi[c] = std::max(hi[c], UV[2 * v + c]);
+      }
+    }
+    const double diag2 = (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]);
+    for (ctk::Id t = 0; t < nT; ++t)
+    {
+      const ctk::Id* p = &triangles[3 * t];
+      auto U = [&](int i) { return ctk::Vec2(UV[2 * p[i]], UV[2 * p[i] + 1]); };
+      const double a = std::abs(ctk::SignedArea2(U(0), U(1), U(2)));
+      if (!(a > 1e-13 * diag2))
+      {
+        vtkErrorMacro(<< "degenerate parameter triangle: cell " << t << " (points " << p[0]
+                      << ", " << p[1] << ", " << p[2] << ") has zero area in (u, v)");
+        return 0;
+      }
+    }
+  }
+  ctk::MeshTopology topology;
+  const ctk::TopologyStatus topo = ctk::BuildMeshTopology(nV, nT, triangles.data(), topology);
+  if (!topo.Ok)
+  {
+    vtkErrorMacro(<< "invalid mesh: " << topo.Message);
+    return 0;
+  }
+  this->UpdateProgress(0.2);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // 2. The kernel.
+  ctk::SplineData data;
+  data.NumberOfVertices = nV;
+  data.NumberOfTriangles = nT;
+  data.Triangles = triangles.data();
+  data.UV = UV.data();
+  data.F = F.data();
+  data.Fu = Fu.data();
+  data.Fv = Fv.data();
+  data.EdgeGradients = edgeGradients.empty() ? nullptr : edgeGradients.data();
+  ctk::CubicSpline spline;
+  const ctk::BuildStatus built =
+    ctk::BuildCubicCloughTocher(data, topology, options, spline, ctsplines::SMPFor);
+  if (!built.Ok)
+  {
+    vtkErrorMacro(<< built.Message);
+    return 0;
+  }
+  this->UpdateProgress(0.6);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // 3. Fill the output: shared control points, three cubic Bézier cells per triangle.
+  const vtkIdType nP = static_cast<vtkIdType>(spline.ControlPoints.size());
+  vtkNew<vtkDoubleArray> coords;
+  coords->SetNumberOfComponents(3);
+  coords->SetNumberOfTuples(nP);
+  vtkNew<vtkDoubleArray> uvOut;
+  uvOut->SetName(this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str());
+  uvOut->SetNumberOfComponents(2);
+  uvOut->SetNumberOfTuples(nP);
+  double* xyz = coords->GetPointer(0);
+  double* uvw = uvOut->GetPointer(0);
+  vtkSMPTools::For(0, nP, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      std::copy_n(spline.ControlPoints[i].data(), 3, xyz + 3 * i);
+      std::copy_n(spline.DomainPoints[i].data(), 2, uvw + 2 * i);
+    }
+  });
+
+  const vtkIdType nCells = 3 * nT;
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(nCells + 1);
+  connectivity->SetNumberOfTuples(10 * nCells);
+  vtkNew<vtkUnsignedCharArray> types;
+  types->SetNumberOfTuples(nCells);
+  vtkNew<vtkIdTypeArray> macroIds;
+  macroIds->SetName("MacroTriangleId");
+  macroIds->SetNumberOfTuples(nCells);
+  vtkNew<vtkSignedCharArray> microIds;
+  microIds->SetName("MicroTriangleId");
+  microIds->SetNumberOfTuples(nCells);
+  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
+  vtkIdType* off = offsets->GetPointer(0);
+  vtkIdType* conn = connectivity->GetPointer(0);
+  vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType t = b; t < e; ++t)
+    {
+      const ctk::MacroElementIds ids =
+        ctk::GetMacroElementIds(spline.Layout, topology, triangles.data(), t);
+      for (int k = 0; k < 3; ++k)
+      {
+        const vtkIdType c = 3 * t + k;
+        const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, k);
+        for (int a = 0; a < 10; ++a)
+        {
+          conn[10 * c + a] = net[vtkOrder[a]];
+        }
+        off[c] = 10 * c;
+        types->SetValue(c, VTK_BEZIER_TRIANGLE);
+        macroIds->SetValue(c, t);
+        microIds->SetValue(c, static_cast<signed char>(k));
+      }
+    }
+  });
+  off[nCells] = 10 * nCells;
+  vtkNew<vtkCellArray> cells;
+  cells->SetData(offsets, connectivity);
+
+  vtkNew<vtkPoints> points;
+  points->SetData(coords);
+  output->SetPoints(points);
+  output->SetCells(types, cells);
+  output->GetPointData()->AddArray(uvOut);
+  output->GetCellData()->AddArray(macroIds);
+  output->GetCellData()->AddArray(microIds);
+  vtkFieldData* fd = output->GetFieldData();
+  AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
+  AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
+  AddFieldString(fd, "BoundaryMode", GetBoundaryModeName(this->BoundaryMode));
+  vtkNew<vtkIntArray> iterations;
+  iterations->SetName("Iterations");
+  iterations->InsertNextValue(this->Iterations);
+  fd->AddArray(iterations);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Construction: " << GetConstructionName(this->Construction) << "\n";
+  os << indent << "SplitPoint: " << GetSplitPointName(this->SplitPoint) << "\n";
+  os << indent << "BoundaryMode: " << GetBoundaryModeName(this->BoundaryMode) << "\n";
+  os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "UVArrayName: " << this->UVArrayName << "\n";
+  os << indent << "DuArrayName: " << this->DuArrayName << "\n";
+  os << indent << "DvArrayName: " << this->DvArrayName << "\n";
+  os << indent << "EdgeGradientsArrayName: " << this->EdgeGradientsArrayName << "\n";
+}

@@ -1,0 +1,143 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkCloughTocherSplineFilter
+ * @brief   Converts a parametrised triangle mesh into a cubic C1 Clough-Tocher spline.
+ *
+ * Input: vtkPolyData of triangles whose points carry parameter coordinates (point data `UV`, 2
+ * components; falls back to the active texture coordinates) and the first derivatives `dFdu`,
+ * `dFdv` (3 components each). The MG constructions, KaG and the gradient boundary modes also
+ * read the cell data `EdgeGradients` (18 components: for the local edges (p0,p1), (p1,p2),
+ * (p2,p0) in that order, f_u then f_v at the edge midpoint). Array names are settable.
+ *
+ * Output: vtkUnstructuredGrid with three cubic VTK_BEZIER_TRIANGLE cells per input triangle (the
+ * Clough-Tocher micro-triangles), double-precision control points shared by all cells that use
+ * them, point data `UV` (each control point's domain point), cell data `MacroTriangleId` and
+ * `MicroTriangleId` (k of micro-triangle T_k, the one opposite vertex k), field data naming the
+ * construction, split point and boundary mode.
+ *
+ * Constructions follow "Watertight conversion of trimmed CAD surfaces to Clough-Tocher splines":
+ * CTo, CTi, MGo, MGi with split points Bary, Inc2, Inc3 and four boundary modes for the
+ * constructions that read neighbours. Bad input (non-triangles, missing or wrong-sized arrays,
+ * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
+ * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.
+ */
+#ifndef vtkCloughTocherSplineFilter_h
+#define vtkCloughTocherSplineFilter_h
+
+#include "CTSplinesFiltersModule.h" // For export macro
+#include "vtkUnstructuredGridAlgorithm.h"
+
+#include <string> // for std::string
+
+class CTSPLINESFILTERS_EXPORT vtkCloughTocherSplineFilter : public vtkUnstructuredGridAlgorithm
+{
+public:
+  static vtkCloughTocherSplineFilter* New();
+  vtkTypeMacro(vtkCloughTocherSplineFilter, vtkUnstructuredGridAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// Constructions of the study (values match the kernel's ctk::Construction).
+  enum ConstructionType
+  {
+    CTo = 0,
+    CTi = 1,
+    Fa = 2,
+    FO = 3,
+    Ka = 4,
+    MGo = 5,
+    MGi = 6,
+    KaG = 7
+  };
+  enum SplitPointType
+  {
+    Bary = 0,
+    Inc2 = 1,
+    Inc3 = 2
+  };
+  enum BoundaryModeType
+  {
+    Perpendicular = 0,
+    Midpoint = 1,
+    GradientPerpendicular = 2,
+    GradientToSplitPoint = 3
+  };
+
+  ///@{
+  /// The construction that fixes the central control points (Step 2). Default CTi.
+  vtkSetClampMacro(Construction, int, CTo, KaG);
+  vtkGetMacro(Construction, int);
+  void SetConstructionToCTo() { this->SetConstruction(CTo); }
+  void SetConstructionToCTi() { this->SetConstruction(CTi); }
+  void SetConstructionToFa() { this->SetConstruction(Fa); }
+  void SetConstructionToFO() { this->SetConstruction(FO); }
+  void SetConstructionToKa() { this->SetConstruction(Ka); }
+  void SetConstructionToMGo() { this->SetConstruction(MGo); }
+  void SetConstructionToMGi() { this->SetConstruction(MGi); }
+  void SetConstructionToKaG() { this->SetConstruction(KaG); }
+  ///@}
+
+  ///@{
+  /// Split point of every macro-triangle. Default Bary.
+  vtkSetClampMacro(SplitPoint, int, Bary, Inc3);
+  vtkGetMacro(SplitPoint, int);
+  void SetSplitPointToBary() { this->SetSplitPoint(Bary); }
+  void SetSplitPointToInc2() { this->SetSplitPoint(Inc2); }
+  void SetSplitPointToInc3() { this->SetSplitPoint(Inc3); }
+  ///@}
+
+  ///@{
+  /// Rule for boundary edges of the constructions that read neighbours. Default Midpoint
+  /// (invariant to affine reparameterisation, needs no extra data).
+  vtkSetClampMacro(BoundaryMode, int, Perpendicular, GradientToSplitPoint);
+  vtkGetMacro(BoundaryMode, int);
+  void SetBoundaryModeToPerpendicular() { this->SetBoundaryMode(Perpendicular); }
+  void SetBoundaryModeToMidpoint() { this->SetBoundaryMode(Midpoint); }
+  void SetBoundaryModeToGradientPerpendicular() { this->SetBoundaryMode(GradientPerpendicular); }
+  void SetBoundaryModeToGradientToSplitPoint() { this->SetBoundaryMode(GradientToSplitPoint); }
+  ///@}
+
+  ///@{
+  /// Number of IM steps (iterative C2 minimisation) applied after the construction. Default 0.
+  vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(Iterations, int);
+  ///@}
+
+  ///@{
+  /// Names of the input arrays. Defaults: "UV", "dFdu", "dFdv", "EdgeGradients".
+  vtkSetStdStringFromCharMacro(UVArrayName);
+  vtkGetCharFromStdStringMacro(UVArrayName);
+  vtkSetStdStringFromCharMacro(DuArrayName);
+  vtkGetCharFromStdStringMacro(DuArrayName);
+  vtkSetStdStringFromCharMacro(DvArrayName);
+  vtkGetCharFromStdStringMacro(DvArrayName);
+  vtkSetStdStringFromCharMacro(EdgeGradientsArrayName);
+  vtkGetCharFromStdStringMacro(EdgeGradientsArrayName);
+  ///@}
+
+  /// Name of a construction, split point or boundary mode value ("CTi", "Inc3", ...).
+  static const char* GetConstructionName(int construction);
+  static const char* GetSplitPointName(int splitPoint);
+  static const char* GetBoundaryModeName(int mode);
+
+protected:
+  vtkCloughTocherSplineFilter();
+  ~vtkCloughTocherSplineFilter() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Construction = CTi;
+  int SplitPoint = Bary;
+  int BoundaryMode = Midpoint;
+  int Iterations = 0;
+  std::string UVArrayName = "UV";
+  std::string DuArrayName = "dFdu";
+  std::string DvArrayName = "dFdv";
+  std::string EdgeGradientsArrayName = "EdgeGradients";
+
+private:
+  vtkCloughTocherSplineFilter(const vtkCloughTocherSplineFilter&) = delete;
+  void operator=(const vtkCloughTocherSplineFilter&) = delete;
+};
+
+#endif

@@ -1,0 +1,34 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""CTSplines: Clough-Tocher splines of parametrised triangle meshes, as VTK filters.
+
+    import vtk                      # the same VTK: objects pass freely between both
+    from ctsplines import vtkCloughTocherSplineFilter
+
+The wrapped classes come from the C++ module CTSplines::Filters.
+"""
+import os as _os
+
+# Wrapped classes build on VTK's own Python modules: import them first so that both packages
+# share one set of VTK types.
+from vtkmodules import vtkCommonCore as _vtkCommonCore  # noqa: F401
+from vtkmodules import vtkCommonDataModel as _vtkCommonDataModel  # noqa: F401
+from vtkmodules import vtkCommonExecutionModel as _vtkCommonExecutionModel  # noqa: F401
+
+from .CTSplinesFilters import *  # noqa: F401,F403
+
+
+def _use_threads():
+    """Debian's VTK defaults to the sequential SMP backend; use threads unless told otherwise."""
+    if "VTK_SMP_BACKEND_IN_USE" in _os.environ:
+        return
+    try:
+        from vtkmodules.vtkCommonCore import vtkSMPTools
+
+        vtkSMPTools.SetBackend("STDThread")
+    except Exception:  # pragma: no cover - backend not compiled in
+        pass
+
+
+_use_threads()
+
+__version__ = "0.1.0"
