@@ -141,6 +141,13 @@ int vtkCloughTocherSplineFilter::RequestData(
 
   const ctk::Id nV = input->GetNumberOfPoints();
   const ctk::Id nT = static_cast<ctk::Id>(triangles.size() / 3);
+  ctk::MeshTopology topology;
+  const ctk::TopologyStatus topo = ctk::BuildMeshTopology(nV, nT, triangles.data(), topology);
+  if (!topo.Ok)
+  {
+    vtkErrorMacro(<< "invalid mesh: " << topo.Message);
+    return 0;
+  }
   // Zero-area parameter triangles have no barycentric coordinates: reject them by name.
   {
     double lo[2] = { UV[0], UV[1] }, hi[2] = { UV[0], UV[1] };
@@ -165,13 +172,6 @@ int vtkCloughTocherSplineFilter::RequestData(
         return 0;
       }
     }
-  }
-  ctk::MeshTopology topology;
-  const ctk::TopologyStatus topo = ctk::BuildMeshTopology(nV, nT, triangles.data(), topology);
-  if (!topo.Ok)
-  {
-    vtkErrorMacro(<< "invalid mesh: " << topo.Message);
-    return 0;
   }
   this->UpdateProgress(0.2);
   if (this->GetAbortExecute())

@@ -1,0 +1,388 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The spline filter through VTK: output layout (shared points, cell types, arrays), agreement with
+// VTK's own Bézier evaluation, precision and C1 of the output grid, and every bad-input case.
+#include "vtkCloughTocherSplineFilter.h"
+
+#include "ErrorCapture.h"
+#include "FilterTestUtilities.h"
+#include "RuleA.h"
+
+#include "vtkBezierTriangle.h"
+#include "vtkCellData.h"
+#include "vtkCellTypes.h"
+#include "vtkExecutive.h"
+#include "vtkFieldData.h"
+#include "vtkGenericCell.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkPointData.h"
+#include "vtkStringArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+
+using namespace ctsplines_test;
+
+namespace
+{
+vtkSmartPointer<vtkUnstructuredGrid> Convert(vtkPolyData* input, int construction,
+  int splitPoint = vtkCloughTocherSplineFilter::Bary,
+  int boundary = vtkCloughTocherSplineFilter::Midpoint)
+{
+  vtkNew<vtkCloughTocherSplineFilter> f;
+  f->SetInputData(input);
+  f->SetConstruction(construction);
+  f->SetSplitPoint(splitPoint);
+  f->SetBoundaryMode(boundary);
+  f->Update();
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->ShallowCopy(f->GetOutput());
+  return out;
+}
+
+// Runs the filter expecting failure; returns the error text.
+std::string ExpectFailure(vtkPolyData* input, int construction = vtkCloughTocherSplineFilter::CTi,
+  int boundary = vtkCloughTocherSplineFilter::Midpoint)
+{
+  vtkNew<vtkCloughTocherSplineFilter> f;
+  f->SetInputData(input);
+  f->SetConstruction(construction);
+  f->SetBoundaryMode(boundary);
+  auto capture = ErrorCapture::Attach(f);
+  auto pipelineCapture = ErrorCapture::Attach(f->GetExecutive());
+  f->Update();
+  EXPECT_GE(capture->Count, 1);
+  EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 0);
+  return capture->Message;
+}
+
+vtkSmartPointer<vtkPolyData> Franke(int n = 4)
+{
+  return MakeSampledPolyData(
+    ctk::RegularGridMesh(n, ctk::GridDiagonal::Alternating), ctk::AnalyticSurface::Franke);
+}
+
+// Evaluates cell c of the output with VTK's vtkBezierTriangle at parametric (r, s).
+ctk::Vec3 VtkEvaluate(vtkUnstructuredGrid* grid, vtkIdType c, double r, double s)
+{
+  vtkNew<vtkGenericCell> cell;
+  grid->GetCell(c, cell);
+  int subId = 0;
+  double pcoords[3] = { r, s, 0.0 }, x[3], weights[64];
+  cell->EvaluateLocation(subId, pcoords, x, weights);
+  return ctk::Vec3(x[0], x[1], x[2]);
+}
+} // namespace
+
+TEST(vtkCloughTocherSplineFilter, OutputLayoutAndArrays)
+{
+  const int n = 3;
+  vtkSmartPointer<vtkPolyData> input = Franke(n);
+  vtkSmartPointer<vtkUnstructuredGrid> out = Convert(input, vtkCloughTocherSplineFilter::CTi);
+  const vtkIdType nV = (n + 1) * (n + 1), nE = 3 * n * n + 2 * n, nT = 2 * n * n;
+  EXPECT_EQ(out->GetNumberOfPoints(), nV + 2 * nE + 10 * nT);
+  EXPECT_EQ(out->GetNumberOfCells(), 3 * nT);
+  EXPECT_EQ(out->GetPoints()->GetDataType(), VTK_DOUBLE);
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    ASSERT_EQ(out->GetCellType(c), VTK_BEZIER_TRIANGLE);
+    ASSERT_EQ(out->GetCellSize(c), 10);
+  }
+  // Every control point is used; shared ones (vertices, macro-edge points, inner points) by
+  // several cells.
+  std::vector<int> uses(out->GetNumberOfPoints(), 0);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    out->GetCellPoints(c, ids);
+    for (vtkIdType a = 0; a < ids->GetNumberOfIds(); ++a)
+    {
+      ++uses[ids->GetId(a)];
+    }
+  }
+  for (int u : uses)
+  {
+    ASSERT_GE(u, 1);
+  }
+  ASSERT_NE(out->GetPointData()->GetArray("UV"), nullptr);
+  EXPECT_EQ(out->GetPointData()->GetArray("UV")->GetNumberOfComponents(), 2);
+  auto* macro = vtkIdTypeArray::SafeDownCast(out->GetCellData()->GetArray("MacroTriangleId"));
+  ASSERT_NE(macro, nullptr);
+  ASSERT_NE(out->GetCellData()->GetArray("MicroTriangleId"), nullptr);
+  EXPECT_EQ(macro->GetValue(3 * 5 + 2), 5);
+  auto* name = vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("Construction"));
+  ASSERT_NE(name, nullptr);
+  EXPECT_EQ(name->GetValue(0), "CTi");
+  EXPECT_EQ(vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("SplitPoint"))
+              ->GetValue(0),
+    "Bary");
+}
+
+TEST(vtkCloughTocherSplineFilter, PointOrderAgreesWithVtkBezierEvaluation)
+{
+  // The cell's points, read as VTK's Bézier ordinates, must give the kernel's micro-patch:
+  // the corner UVs map the cell's parametric (r, s) to the domain, and the spline reproduces
+  // quadratic data exactly, so VTK's evaluation must land on the exact surface.
+  vtkSmartPointer<vtkPolyData> input = MakeSampledPolyData(
+    ctk::RegularGridMesh(3, ctk::GridDiagonal::Forward), ctk::AnalyticSurface::Quadratic);
+  for (int construction : { vtkCloughTocherSplineFilter::CTo, vtkCloughTocherSplineFilter::CTi,
+         vtkCloughTocherSplineFilter::MGo, vtkCloughTocherSplineFilter::MGi })
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> out =
+      Convert(input, construction, vtkCloughTocherSplineFilter::Inc3);
+    vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    vtkNew<vtkIdList> ids;
+    double worst = 0.0;
+    for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+    {
+      out->GetCellPoints(c, ids);
+      ctk::Vec2 A[3];
+      for (int i = 0; i < 3; ++i)
+      {
+        A[i] = ctk::Vec2(uv->GetComponent(ids->GetId(i), 0), uv->GetComponent(ids->GetId(i), 1));
+      }
+      for (int k = 0; k < 5; ++k)
+      {
+        double r = U(rng), s = U(rng);
+        if (r + s > 1.0)
+        {
+          r = 1.0 - r;
+          s = 1.0 - s;
+        }
+        const ctk::Vec2 X = (1.0 - r - s) * A[0] + r * A[1] + s * A[2];
+        const ctk::Vec3 exact =
+          ctk::EvaluateAnalyticSurface(ctk::AnalyticSurface::Quadratic, X.x(), X.y()).F;
+        worst = std::max(worst, (VtkEvaluate(out, c, r, s) - exact).norm());
+      }
+    }
+    EXPECT_LT(worst, 1e-13) << vtkCloughTocherSplineFilter::GetConstructionName(construction);
+  }
+}
+
+TEST(vtkCloughTocherSplineFilter, OutputIsC1AcrossEveryCellEdge)
+{
+  // Rule A on the output grid itself: every pair of cells sharing an edge (two corner ids).
+  vtkSmartPointer<vtkPolyData> input = MakeSampledPolyData(
+    ctk::RefinedTriangleMesh(ctk::Vec2(0, 0), ctk::Vec2(1, 0), ctk::Vec2(0.3, 0.8), 2),
+    ctk::AnalyticSurface::SineWave);
+  vtkSmartPointer<vtkUnstructuredGrid> out = Convert(input, vtkCloughTocherSplineFilter::MGi,
+    vtkCloughTocherSplineFilter::Inc2, vtkCloughTocherSplineFilter::GradientToSplitPoint);
+  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(3);
+  auto net = [&](vtkIdType c, ctk::Vec3* P, ctk::Vec2* A, vtkIdType* corners) {
+    vtkNew<vtkIdList> ids;
+    out->GetCellPoints(c, ids);
+    for (int a = 0; a < 10; ++a)
+    {
+      double x[3];
+      out->GetPoint(ids->GetId(a), x);
+      P[order[a]] = ctk::Vec3(x[0], x[1], x[2]);
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      corners[i] = ids->GetId(i);
+      A[i] = ctk::Vec2(uv->GetComponent(corners[i], 0), uv->GetComponent(corners[i], 1));
+    }
+  };
+  std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeCells;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    ctk::Vec3 P[10];
+    ctk::Vec2 A[3];
+    vtkIdType corners[3];
+    net(c, P, A, corners);
+    for (int l = 0; l < 3; ++l)
+    {
+      const vtkIdType a = corners[l], b = corners[(l + 1) % 3];
+      edgeCells[{ std::min(a, b), std::max(a, b) }].push_back(c);
+    }
+  }
+  int interior = 0;
+  double worst[2] = { 0.0, 0.0 };
+  for (const auto& [edge, cells] : edgeCells)
+  {
+    ASSERT_LE(cells.size(), 2u);
+    if (cells.size() < 2)
+    {
+      continue;
+    }
+    ++interior;
+    ctk::Vec3 PA[10], PB[10];
+    ctk::Vec2 A[3], B[3];
+    vtkIdType ca[3], cb[3];
+    net(cells[0], PA, A, ca);
+    net(cells[1], PB, B, cb);
+    double j[2];
+    ctk::RuleAJumps(3, PA, A, PB, B, 1, j);
+    worst[0] = std::max(worst[0], j[0]);
+    worst[1] = std::max(worst[1], j[1]);
+  }
+  EXPECT_GT(interior, 40);
+  EXPECT_LT(worst[0], 1e-14);
+  EXPECT_LT(worst[1], 1e-13);
+}
+
+TEST(vtkCloughTocherSplineFilter, FallsBackToActiveTextureCoordinates)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  vtkDataArray* uv = input->GetPointData()->GetArray("UV");
+  uv->SetName("tcoords");
+  input->GetPointData()->SetTCoords(uv);
+  vtkSmartPointer<vtkUnstructuredGrid> out = Convert(input, vtkCloughTocherSplineFilter::CTo);
+  EXPECT_EQ(out->GetNumberOfCells(), 3 * 8);
+}
+
+TEST(vtkCloughTocherSplineFilter, SettableArrayNames)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  input->GetPointData()->GetArray("dFdu")->SetName("Su");
+  vtkNew<vtkCloughTocherSplineFilter> f;
+  f->SetInputData(input);
+  f->SetDuArrayName("Su");
+  f->Update();
+  EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 3 * 8);
+}
+
+// --- Bad input: each case names the problem and the offending element. -------------------------
+
+TEST(vtkCloughTocherSplineFilter, RejectsEmptyInput)
+{
+  vtkNew<vtkPolyData> empty;
+  EXPECT_NE(ExpectFailure(empty).find("empty input"), std::string::npos);
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsNonTriangleCells)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  vtkIdType quad[4] = { 0, 1, 4, 3 };
+  input->GetPolys()->InsertNextCell(4, quad);
+  input->GetCellData()->Initialize();
+  const std::string msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("cell 8 is a polygon with 4 points"), std::string::npos) << msg;
+
+  vtkSmartPointer<vtkPolyData> withLine = Franke(2);
+  vtkNew<vtkCellArray> lines;
+  vtkIdType line[2] = { 0, 1 };
+  lines->InsertNextCell(2, line);
+  withLine->SetLines(lines);
+  EXPECT_NE(ExpectFailure(withLine).find("line cell"), std::string::npos);
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsMissingAndWrongSizedArrays)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  input->GetPointData()->RemoveArray("dFdv");
+  std::string msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("'dFdv'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("missing"), std::string::npos) << msg;
+
+  input = Franke(2);
+  input->GetPointData()->RemoveArray("UV");
+  msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("no parameter coordinates"), std::string::npos) << msg;
+
+  input = Franke(2);
+  vtkNew<vtkDoubleArray> uv3;
+  uv3->SetName("UV");
+  uv3->SetNumberOfComponents(3);
+  uv3->SetNumberOfTuples(input->GetNumberOfPoints());
+  uv3->Fill(0.0);
+  input->GetPointData()->AddArray(uv3);
+  msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("has 3 components, expected 2"), std::string::npos) << msg;
+
+  // Mid-edge gradients: needed by MGi, wrong size.
+  input = Franke(2);
+  input->GetCellData()->RemoveArray("EdgeGradients");
+  msg = ExpectFailure(input, vtkCloughTocherSplineFilter::MGi);
+  EXPECT_NE(msg.find("'EdgeGradients'"), std::string::npos) << msg;
+  vtkNew<vtkDoubleArray> eg;
+  eg->SetName("EdgeGradients");
+  eg->SetNumberOfComponents(6);
+  eg->SetNumberOfTuples(input->GetNumberOfCells());
+  eg->Fill(0.0);
+  input->GetCellData()->AddArray(eg);
+  msg = ExpectFailure(input, vtkCloughTocherSplineFilter::CTi,
+    vtkCloughTocherSplineFilter::GradientToSplitPoint);
+  EXPECT_NE(msg.find("has 6 components, expected 18"), std::string::npos) << msg;
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsNonFiniteValues)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  input->GetPointData()->GetArray("dFdu")->SetComponent(4, 2, std::nan(""));
+  std::string msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("non-finite value"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("point 4"), std::string::npos) << msg;
+
+  input = Franke(2);
+  double p[3] = { 0.0, std::numeric_limits<double>::infinity(), 0.0 };
+  input->GetPoints()->SetPoint(7, p);
+  msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("point 7"), std::string::npos) << msg;
+
+  input = Franke(2);
+  input->GetCellData()->GetArray("EdgeGradients")->SetComponent(3, 11, std::nan(""));
+  msg = ExpectFailure(input, vtkCloughTocherSplineFilter::MGo);
+  EXPECT_NE(msg.find("cell 3"), std::string::npos) << msg;
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsZeroAreaParameterTriangles)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  // Point 4 (the centre) moved onto the line through points 0 and 8 makes cell 0 flat in (u, v)
+  // for the forward/alternating diagonal of cell (0, 0): triangle (0, 1, 4) -> move 1 onto 0-4.
+  vtkDataArray* uv = input->GetPointData()->GetArray("UV");
+  uv->SetComponent(1, 0, 0.25);
+  uv->SetComponent(1, 1, 0.25);
+  const std::string msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("degenerate parameter triangle: cell 0"), std::string::npos) << msg;
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsNonManifoldEdges)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  // A third triangle on the interior edge (0, 4), with a new point off the mesh.
+  double p[3] = { 0.25, -0.5, 0.0 };
+  const vtkIdType extra = input->GetPoints()->InsertNextPoint(p);
+  for (const char* name : { "UV", "dFdu", "dFdv" })
+  {
+    vtkDataArray* a = input->GetPointData()->GetArray(name);
+    std::vector<double> t(a->GetNumberOfComponents(), 0.0);
+    t[0] = name[0] == 'U' ? 0.25 : 1.0;
+    if (name[0] == 'U')
+    {
+      t[1] = -0.5;
+    }
+    a->InsertNextTuple(t.data());
+  }
+  vtkIdType tri[3] = { 0, 4, extra };
+  input->GetPolys()->InsertNextCell(3, tri);
+  input->GetCellData()->Initialize();
+  const std::string msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("non-manifold edge (0, 4)"), std::string::npos) << msg;
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsRepeatedVertices)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  vtkIdType tri[3] = { 2, 2, 5 };
+  input->GetPolys()->InsertNextCell(3, tri);
+  input->GetCellData()->Initialize();
+  const std::string msg = ExpectFailure(input);
+  EXPECT_NE(msg.find("repeats a vertex"), std::string::npos) << msg;
+}
+
+TEST(vtkCloughTocherSplineFilter, ReportsConstructionsNotInThisVersion)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  const std::string msg = ExpectFailure(input, vtkCloughTocherSplineFilter::Ka);
+  EXPECT_NE(msg.find("Ka"), std::string::npos) << msg;
+}
