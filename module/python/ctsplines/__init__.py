@@ -15,6 +15,7 @@ from vtkmodules import vtkCommonDataModel as _vtkCommonDataModel  # noqa: F401
 from vtkmodules import vtkCommonExecutionModel as _vtkCommonExecutionModel  # noqa: F401
 
 from .CTSplinesFilters import *  # noqa: F401,F403
+from .arrays import functional_mesh, mesh_from_arrays  # noqa: F401
 
 
 def _use_threads():
