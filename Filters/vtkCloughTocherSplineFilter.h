@@ -16,8 +16,10 @@
  * construction, split point and boundary mode.
  *
  * Constructions follow "Watertight conversion of trimmed CAD surfaces to Clough-Tocher splines":
- * CTo, CTi, MGo, MGi with split points Bary, Inc2, Inc3 and four boundary modes for the
- * constructions that read neighbours. Bad input (non-triangles, missing or wrong-sized arrays,
+ * CTo, CTi, Fa, FO, Ka, MGo, MGi, KaG, the IM iteration, split points Bary, Inc2, Inc3 and four
+ * boundary modes for the constructions that read neighbours (CTo and MGo are local and ignore
+ * it; KaG uses GradientToSplitPoint unless a gradient mode is chosen), and Kashyap's cubic
+ * fairing scheme from "A Quartic Clough-Tocher Interpolant" (Fang, Mann). Bad input (non-triangles, missing or wrong-sized arrays,
  * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
  * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.
  */
@@ -46,7 +48,8 @@ public:
     Ka = 4,
     MGo = 5,
     MGi = 6,
-    KaG = 7
+    KaG = 7,
+    Kashyap = 8
   };
   enum SplitPointType
   {
@@ -64,7 +67,9 @@ public:
 
   ///@{
   /// The construction that fixes the central control points (Step 2). Default CTi.
-  vtkSetClampMacro(Construction, int, CTo, KaG);
+  /// Kashyap is Kashyap's cubic fairing scheme (FO, then Iterations rounds of exterior and
+  /// interior fairing, then C1 smoothing).
+  vtkSetClampMacro(Construction, int, CTo, Kashyap);
   vtkGetMacro(Construction, int);
   void SetConstructionToCTo() { this->SetConstruction(CTo); }
   void SetConstructionToCTi() { this->SetConstruction(CTi); }
@@ -74,6 +79,7 @@ public:
   void SetConstructionToMGo() { this->SetConstruction(MGo); }
   void SetConstructionToMGi() { this->SetConstruction(MGi); }
   void SetConstructionToKaG() { this->SetConstruction(KaG); }
+  void SetConstructionToKashyap() { this->SetConstruction(Kashyap); }
   ///@}
 
   ///@{
@@ -97,7 +103,10 @@ public:
   ///@}
 
   ///@{
-  /// Number of IM steps (iterative C2 minimisation) applied after the construction. Default 0.
+  /// Number of IM steps (iterative C2 minimisation, study section 3.7) applied after the
+  /// construction; for Kashyap, the number of fairing rounds. Default 0. IM converges to the
+  /// data's cubic only when boundary edges are fixed by mid-edge gradients; with the
+  /// Perpendicular or Midpoint boundary the boundary error stalls it and spreads inwards.
   vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(Iterations, int);
   ///@}

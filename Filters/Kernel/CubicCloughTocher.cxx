@@ -2,6 +2,10 @@
 #include "CubicCloughTocher.h"
 
 #include "CrossDerivativeRules.h"
+#include "KashyapFairing.h"
+#include "MacroEdgeCubicPrecision.h"
+#include "MicroEdgeC2Minimisation.h"
+#include "RuleA.h"
 
 #include <cmath>
 
@@ -27,6 +31,8 @@ const char* ToString(Construction c)
       return "MGi";
     case Construction::KaG:
       return "KaG";
+    case Construction::Kashyap:
+      return "Kashyap";
   }
   return "Unknown";
 }
@@ -47,13 +53,35 @@ const char* ToString(BoundaryMode m)
   return "Unknown";
 }
 
+namespace
+{
+bool IsGradientMode(BoundaryMode m)
+{
+  return m == BoundaryMode::GradientPerpendicular || m == BoundaryMode::GradientToSplitPoint;
+}
+
+// The boundary rule actually used: KaG is Ka with mid-edge gradients on boundary edges.
+BoundaryMode EffectiveBoundary(const SplineOptions& o)
+{
+  if (o.Method == Construction::KaG && !IsGradientMode(o.Boundary))
+  {
+    return BoundaryMode::GradientToSplitPoint;
+  }
+  return o.Boundary;
+}
+
+// Constructions whose central points at an interior macro-edge come from both sides' data.
+bool IsEdgeBased(Construction c)
+{
+  return c == Construction::Fa || c == Construction::FO || c == Construction::Ka ||
+    c == Construction::KaG || c == Construction::Kashyap;
+}
+} // namespace
+
 bool UsesEdgeGradients(const SplineOptions& o)
 {
   return o.Method == Construction::MGo || o.Method == Construction::MGi ||
-    o.Method == Construction::KaG ||
-    ((o.Boundary == BoundaryMode::GradientPerpendicular ||
-       o.Boundary == BoundaryMode::GradientToSplitPoint) &&
-      o.Method != Construction::CTo);
+    (o.Method != Construction::CTo && IsGradientMode(EffectiveBoundary(o)));
 }
 
 void SerialFor(Id n, const std::function<void(Id, Id)>& body)
@@ -72,218 +100,368 @@ inline Vec3 Row3(const double* a, Id v)
   return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]);
 }
 
-// Step 2 of one macro-triangle for the constructions whose central points follow from a
-// cross-boundary derivative rule (eq. 15 or eq. 25).
-class CrossDerivativeStep2
+// Shared state of one construction run and the per-edge and per-triangle steps.
+class Builder
 {
 public:
-  CrossDerivativeStep2(const SplineData& data, const MeshTopology& topo, const SplineOptions& o,
-    const std::vector<Vec2>& splitPoints, const std::vector<Vec3>& edgeGradients)
+  Builder(const SplineData& data, const MeshTopology& topo, const SplineOptions& options,
+    CubicSpline& spline, const ParallelFor& parallelFor)
     : Data(data)
     , Topo(topo)
-    , Options(o)
-    , SplitPoints(splitPoints)
-    , EdgeGradients(edgeGradients)
+    , Options(options)
+    , Boundary(EffectiveBoundary(options))
+    , Spline(spline)
+    , For(parallelFor)
   {
   }
 
-  Vec3 Centre(Id t, int l, const MacroElementIds& ids, const Vec3* points) const
-  {
-    const int i = l, j = (l + 1) % 3;
-    const Id* p = this->Data.Triangles + 3 * t;
-    const Vec2 Ui = UVOf(this->Data, p[i]), Uj = UVOf(this->Data, p[j]);
-    const Vec2& Z = this->SplitPoints[t];
-    const EdgeRows rows{ points[ids.V[i]], points[ids.T[i][j]], points[ids.T[j][i]],
-      points[ids.V[j]], points[ids.I1[i]], points[ids.I1[j]] };
-    const Id e = this->Topo.TriangleEdges[t][l];
-    const Id nb = this->Topo.Neighbor(t, l);
-
-    auto gradientRule = [&](const Vec2& w) {
-      return MidEdgeGradientCentre(
-        rows, Ui, Uj, Z, this->EdgeGradients[2 * e], this->EdgeGradients[2 * e + 1], w);
-    };
-    // v_eps along Z Zbar, unless that line is (nearly) parallel to the edge.
-    auto splitLine = [&](Vec2& d) {
-      d = this->SplitPoints[nb] - Z;
-      return std::abs(Cross2(Uj - Ui, d)) > 1e-12 * (Uj - Ui).norm() * d.norm();
-    };
-
-    switch (this->Options.Method)
-    {
-      case Construction::CTo:
-        return LinearCrossDerivativeCentre(rows, PerpendicularLambda(Ui, Uj, Z));
-      case Construction::MGo:
-        return gradientRule(EdgePerpendicular(Ui, Uj));
-      case Construction::CTi:
-      {
-        Vec2 d;
-        if (nb >= 0 && splitLine(d))
-        {
-          return LinearCrossDerivativeCentre(rows, SplitLineLambda(Ui, Uj, Z, this->SplitPoints[nb]));
-        }
-        break;
-      }
-      case Construction::MGi:
-      {
-        Vec2 d;
-        if (nb >= 0 && splitLine(d))
-        {
-          return gradientRule(d);
-        }
-        break;
-      }
-      default:
-        break;
-    }
-    switch (this->Options.Boundary)
-    {
-      case BoundaryMode::Perpendicular:
-        return LinearCrossDerivativeCentre(rows, PerpendicularLambda(Ui, Uj, Z));
-      case BoundaryMode::Midpoint:
-        return LinearCrossDerivativeCentre(rows, 0.5);
-      case BoundaryMode::GradientPerpendicular:
-        return gradientRule(EdgePerpendicular(Ui, Uj));
-      case BoundaryMode::GradientToSplitPoint:
-      default:
-        return gradientRule(0.5 * (Ui + Uj) - Z);
-    }
-  }
+  void Run();
 
 private:
+  MacroElementIds Ids(Id t) const
+  {
+    return GetMacroElementIds(this->Spline.Layout, this->Topo, this->Data.Triangles, t);
+  }
+  Vec2 U(Id t, int i) const { return UVOf(this->Data, this->Data.Triangles[3 * t + i]); }
+
+  // Micro-triangle of t at local edge l, over (U_l, U_{l+1}, Z), from the current points.
+  void MicroNet(Id t, int l, Vec3* P, Vec2* A) const
+  {
+    const std::array<Id, 10> net = MicroTriangleNet(this->Ids(t), (l + 2) % 3);
+    for (int a = 0; a < 10; ++a)
+    {
+      P[a] = this->Spline.ControlPoints[net[a]];
+    }
+    this->MicroDomain(t, l, A);
+  }
+  void MicroDomain(Id t, int l, Vec2* A) const
+  {
+    A[0] = this->U(t, l);
+    A[1] = this->U(t, (l + 1) % 3);
+    A[2] = this->SplitPoints[t];
+  }
+  Vec3& Centre(Id t, int l) { return this->Spline.ControlPoints[this->Ids(t).C[(l + 2) % 3]]; }
+
+  void SplitPointsAndStep1();
+  void Step2();
+  void Step3();
+  // Central point from a cross-boundary derivative rule (eq. 15 or 25).
+  Vec3 CrossDerivativeCentre(Id t, int l) const;
+  // Per interior edge: body(e, t0, l0, t1, l1), in parallel.
+  template <typename Body>
+  void ForInteriorEdges(Body&& body);
+  void InitialEdgeCentres(Id t0, int l0, Id t1, int l1);
+  void MinimiseC2AcrossMacroEdges();
+  void RestoreC1AcrossMacroEdges();
+
   const SplineData& Data;
   const MeshTopology& Topo;
   const SplineOptions& Options;
-  const std::vector<Vec2>& SplitPoints;
-  const std::vector<Vec3>& EdgeGradients;
+  const BoundaryMode Boundary;
+  CubicSpline& Spline;
+  const ParallelFor& For;
+  std::vector<Vec2> SplitPoints;
+  std::vector<Vec3> EdgeGradients; // f_u, f_v per edge
 };
+
+void Builder::Run()
+{
+  this->SplitPointsAndStep1();
+  this->Step2();
+  this->Step3();
+  if (this->Options.Method == Construction::Kashyap)
+  {
+    Vec3* P = this->Spline.ControlPoints.data();
+    for (int round = 0; round < this->Options.Iterations; ++round)
+    {
+      this->MinimiseC2AcrossMacroEdges(); // exterior fairing, eq. (1)-(3)
+      this->Step3();
+      this->For(this->Data.NumberOfTriangles, [&](Id b, Id e) {
+        for (Id t = b; t < e; ++t)
+        {
+          KashyapInteriorFairing(this->Ids(t), this->Spline.SplitTau[t], P); // eq. (4)-(6)
+        }
+      });
+      this->Step3();
+    }
+    this->RestoreC1AcrossMacroEdges(); // C1 smoothing
+    this->Step3();
+    return;
+  }
+  for (int step = 0; step < this->Options.Iterations; ++step)
+  {
+    this->MinimiseC2AcrossMacroEdges(); // IM: Step 2 by Fa's rule on the current points
+    this->Step3();
+  }
+}
+
+void Builder::SplitPointsAndStep1()
+{
+  const SplineData& d = this->Data;
+  const Id nV = d.NumberOfVertices, nT = d.NumberOfTriangles;
+  const Id nE = static_cast<Id>(this->Topo.Edges.size());
+  CubicSplineLayout& layout = this->Spline.Layout;
+  layout.NumberOfVertices = nV;
+  layout.NumberOfEdges = nE;
+  layout.NumberOfTriangles = nT;
+  this->Spline.ControlPoints.resize(layout.NumberOfPoints());
+  this->Spline.DomainPoints.resize(layout.NumberOfPoints());
+  this->Spline.SplitTau.resize(nT);
+  this->SplitPoints.resize(nT);
+  Vec3* P = this->Spline.ControlPoints.data();
+  Vec2* D = this->Spline.DomainPoints.data();
+
+  this->For(nT, [&](Id begin, Id end) {
+    for (Id t = begin; t < end; ++t)
+    {
+      const Id* p = d.Triangles + 3 * t;
+      const Vec3 tau = SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
+        this->U(t, 1), this->U(t, 2), Row3(d.F, p[0]), Row3(d.F, p[1]), Row3(d.F, p[2]));
+      this->Spline.SplitTau[t] = tau;
+      this->SplitPoints[t] = tau[0] * this->U(t, 0) + tau[1] * this->U(t, 1) + tau[2] * this->U(t, 2);
+    }
+  });
+
+  // Eq. (11): vertices and macro-edge points, each edge once.
+  this->For(nV, [&](Id begin, Id end) {
+    for (Id v = begin; v < end; ++v)
+    {
+      P[layout.Vertex(v)] = Row3(d.F, v);
+      D[layout.Vertex(v)] = UVOf(d, v);
+    }
+  });
+  this->EdgeGradients.resize(d.EdgeGradients ? 2 * nE : 0);
+  this->For(nE, [&](Id begin, Id end) {
+    for (Id e = begin; e < end; ++e)
+    {
+      for (int s = 0; s < 2; ++s)
+      {
+        const Id a = this->Topo.Edges[e][s], b = this->Topo.Edges[e][1 - s];
+        const Id id = layout.EdgePoint(this->Topo, e, a);
+        P[id] = EdgeControlPoint(Row3(d.F, a), Row3(d.Fu, a), Row3(d.Fv, a), UVOf(d, a), UVOf(d, b));
+        D[id] = (2.0 * UVOf(d, a) + UVOf(d, b)) / 3.0;
+      }
+      if (d.EdgeGradients)
+      {
+        Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();
+        int count = 0;
+        for (int s = 0; s < 2; ++s)
+        {
+          const Id t = this->Topo.EdgeTriangles[e][s];
+          if (t < 0)
+          {
+            continue;
+          }
+          const double* g = d.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
+          gu += Vec3(g[0], g[1], g[2]);
+          gv += Vec3(g[3], g[4], g[5]);
+          ++count;
+        }
+        this->EdgeGradients[2 * e] = gu / count;
+        this->EdgeGradients[2 * e + 1] = gv / count;
+      }
+    }
+  });
+
+  // Eq. (12), and the domain points of the triangle-owned control points.
+  this->For(nT, [&](Id begin, Id end) {
+    for (Id t = begin; t < end; ++t)
+    {
+      const MacroElementIds ids = this->Ids(t);
+      ComputeInnerRing1(ids, this->Spline.SplitTau[t], P);
+      const Vec2& Z = this->SplitPoints[t];
+      for (int i = 0; i < 3; ++i)
+      {
+        D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
+        D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
+        D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
+      }
+      D[ids.S] = Z;
+    }
+  });
+}
+
+Vec3 Builder::CrossDerivativeCentre(Id t, int l) const
+{
+  const Vec3* P = this->Spline.ControlPoints.data();
+  const MacroElementIds ids = this->Ids(t);
+  const int i = l, j = (l + 1) % 3;
+  const Vec2 Ui = this->U(t, i), Uj = this->U(t, j);
+  const Vec2& Z = this->SplitPoints[t];
+  const EdgeRows rows{ P[ids.V[i]], P[ids.T[i][j]], P[ids.T[j][i]], P[ids.V[j]], P[ids.I1[i]],
+    P[ids.I1[j]] };
+  const Id e = this->Topo.TriangleEdges[t][l];
+  const Id nb = this->Topo.Neighbor(t, l);
+  auto gradientRule = [&](const Vec2& w) {
+    return MidEdgeGradientCentre(
+      rows, Ui, Uj, Z, this->EdgeGradients[2 * e], this->EdgeGradients[2 * e + 1], w);
+  };
+  // v_eps along Z Zbar (CTi, MGi), unless that line is (nearly) parallel to the edge.
+  Vec2 d = Vec2::Zero();
+  const bool splitLine = nb >= 0 &&
+    (d = this->SplitPoints[nb] - Z, std::abs(Cross2(Uj - Ui, d)) > 1e-12 * (Uj - Ui).norm() * d.norm());
+  switch (this->Options.Method)
+  {
+    case Construction::CTo:
+      return LinearCrossDerivativeCentre(rows, PerpendicularLambda(Ui, Uj, Z));
+    case Construction::MGo:
+      return gradientRule(EdgePerpendicular(Ui, Uj));
+    case Construction::CTi:
+      if (splitLine)
+      {
+        return LinearCrossDerivativeCentre(rows, SplitLineLambda(Ui, Uj, Z, this->SplitPoints[nb]));
+      }
+      break;
+    case Construction::MGi:
+      if (splitLine)
+      {
+        return gradientRule(d);
+      }
+      break;
+    default:
+      break;
+  }
+  switch (this->Boundary)
+  {
+    case BoundaryMode::Perpendicular:
+      return LinearCrossDerivativeCentre(rows, PerpendicularLambda(Ui, Uj, Z));
+    case BoundaryMode::Midpoint:
+      return LinearCrossDerivativeCentre(rows, 0.5);
+    case BoundaryMode::GradientPerpendicular:
+      return gradientRule(EdgePerpendicular(Ui, Uj));
+    case BoundaryMode::GradientToSplitPoint:
+    default:
+      return gradientRule(0.5 * (Ui + Uj) - Z);
+  }
+}
+
+template <typename Body>
+void Builder::ForInteriorEdges(Body&& body)
+{
+  this->For(static_cast<Id>(this->Topo.Edges.size()), [&](Id begin, Id end) {
+    for (Id e = begin; e < end; ++e)
+    {
+      const auto& et = this->Topo.EdgeTriangles[e];
+      if (et[1] >= 0)
+      {
+        const auto& el = this->Topo.EdgeLocalIndex[e];
+        body(e, et[0], int(el[0]), et[1], int(el[1]));
+      }
+    }
+  });
+}
+
+void Builder::Step2()
+{
+  // Rules that read one side only (every edge of the local constructions, boundary edges).
+  const bool edgeBased = IsEdgeBased(this->Options.Method);
+  this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
+    for (Id t = begin; t < end; ++t)
+    {
+      for (int l = 0; l < 3; ++l)
+      {
+        if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
+        {
+          this->Centre(t, l) = this->CrossDerivativeCentre(t, l);
+        }
+      }
+    }
+  });
+  if (edgeBased)
+  {
+    this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
+      this->InitialEdgeCentres(t0, l0, t1, l1);
+    });
+  }
+}
+
+void Builder::InitialEdgeCentres(Id t0, int l0, Id t1, int l1)
+{
+  const Vec3* P = this->Spline.ControlPoints.data();
+  const MacroElementIds ids0 = this->Ids(t0), ids1 = this->Ids(t1);
+  const Vec2 A[3] = { this->U(t0, 0), this->U(t0, 1), this->U(t0, 2) };
+  const Vec2 B[3] = { this->U(t1, 0), this->U(t1, 1), this->U(t1, 2) };
+  Vec2 AM[3], AMbar[3];
+  this->MicroDomain(t0, l0, AM);
+  this->MicroDomain(t1, l1, AMbar);
+  if (this->Options.Method == Construction::Fa)
+  {
+    // Eq. (18)-(19): the quadratic-precision macro-patches subdivided at Z, then eq. (20)-(21).
+    std::array<Vec3, 10> macro0 = MacroNet(ids0, P, QuadraticPrecisionQ(ids0, P));
+    std::array<Vec3, 10> macro1 = MacroNet(ids1, P, QuadraticPrecisionQ(ids1, P));
+    Vec3 PM[10], PMbar[10];
+    auto corner = [](int i) { return Vec3(Vec3::Unit(i)); };
+    SubTriangle(3, macro0.data(), corner(l0), corner((l0 + 1) % 3), this->Spline.SplitTau[t0], PM);
+    SubTriangle(3, macro1.data(), corner(l1), corner((l1 + 1) % 3), this->Spline.SplitTau[t1], PMbar);
+    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(t0, l0), this->Centre(t1, l1));
+    return;
+  }
+  // FO (eq. 22), Ka and KaG (eq. 23); Kashyap's scheme starts from FO's cubic precision.
+  const MacroEdgeRule rule = this->Options.Method == Construction::FO ||
+      this->Options.Method == Construction::Kashyap
+    ? MacroEdgeRule::FoleyOpitz
+    : MacroEdgeRule::Kashyap;
+  std::array<Vec3, 10> macro0 = MacroNet(ids0, P, Vec3::Zero());
+  std::array<Vec3, 10> macro1 = MacroNet(ids1, P, Vec3::Zero());
+  macro0[CubicCentre] = MacroEdgeQ(rule, macro0.data(), A, macro1.data(), B);
+  macro1[CubicCentre] = TiedCubicCentre(macro0.data(), A, B);
+  // C = the macro-patch blossomed at the micro-triangle's vertices (its centre).
+  this->Centre(t0, l0) = TiedCubicCentre(macro0.data(), A, AM);
+  this->Centre(t1, l1) = TiedCubicCentre(macro1.data(), B, AMbar);
+}
+
+void Builder::MinimiseC2AcrossMacroEdges()
+{
+  this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
+    Vec3 PM[10], PMbar[10];
+    Vec2 AM[3], AMbar[3];
+    this->MicroNet(t0, l0, PM, AM);
+    this->MicroNet(t1, l1, PMbar, AMbar);
+    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(t0, l0), this->Centre(t1, l1));
+  });
+}
+
+void Builder::RestoreC1AcrossMacroEdges()
+{
+  this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
+    Vec3 PM[10];
+    Vec2 AM[3], AMbar[3];
+    this->MicroNet(t0, l0, PM, AM);
+    this->MicroDomain(t1, l1, AMbar);
+    RestoreMacroEdgeC1(PM, AM, AMbar, this->Centre(t0, l0), this->Centre(t1, l1));
+  });
+}
+
+void Builder::Step3()
+{
+  Vec3* P = this->Spline.ControlPoints.data();
+  this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
+    for (Id t = begin; t < end; ++t)
+    {
+      ComputeInnerRing2AndSplitPoint(this->Ids(t), this->Spline.SplitTau[t], P);
+    }
+  });
+}
 } // namespace
 
 BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& topo,
   const SplineOptions& options, CubicSpline& spline, const ParallelFor& parallelFor)
 {
   BuildStatus status;
-  switch (options.Method)
-  {
-    case Construction::CTo:
-    case Construction::CTi:
-    case Construction::MGo:
-    case Construction::MGi:
-      break;
-    default:
-      status.Ok = false;
-      status.Message = std::string("construction ") + ToString(options.Method) +
-        " is not available in this version (available: CTo, CTi, MGo, MGi)";
-      return status;
-  }
-  if (options.Iterations > 0)
+  if (options.Iterations < 0)
   {
     status.Ok = false;
-    status.Message = "the IM iteration is not available in this version (Iterations must be 0)";
+    status.Message = "Iterations must be >= 0";
     return status;
   }
   if (UsesEdgeGradients(options) && !data.EdgeGradients)
   {
     status.Ok = false;
-    status.Message = std::string("construction ") + ToString(options.Method) + " with boundary mode " +
-      ToString(options.Boundary) + " needs mid-edge gradients";
+    status.Message = std::string("construction ") + ToString(options.Method) +
+      " with boundary mode " + ToString(EffectiveBoundary(options)) + " needs mid-edge gradients";
     return status;
   }
-
-  const Id nV = data.NumberOfVertices, nT = data.NumberOfTriangles;
-  const Id nE = static_cast<Id>(topo.Edges.size());
-  CubicSplineLayout& layout = spline.Layout;
-  layout.NumberOfVertices = nV;
-  layout.NumberOfEdges = nE;
-  layout.NumberOfTriangles = nT;
-  spline.ControlPoints.resize(layout.NumberOfPoints());
-  spline.DomainPoints.resize(layout.NumberOfPoints());
-  spline.SplitTau.resize(nT);
-  std::vector<Vec2> splitPoints(nT);
-  Vec3* P = spline.ControlPoints.data();
-  Vec2* D = spline.DomainPoints.data();
-
-  // Split points.
-  parallelFor(nT, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
-    {
-      const Id* p = data.Triangles + 3 * t;
-      const Vec2 U0 = UVOf(data, p[0]), U1 = UVOf(data, p[1]), U2 = UVOf(data, p[2]);
-      const Vec3 tau = SplitPointBarycentric(options.SplitPoint, U0, U1, U2, Row3(data.F, p[0]),
-        Row3(data.F, p[1]), Row3(data.F, p[2]));
-      spline.SplitTau[t] = tau;
-      splitPoints[t] = tau[0] * U0 + tau[1] * U1 + tau[2] * U2;
-    }
-  });
-
-  // Step 1, eq. (11): vertices and macro-edge points (each edge once).
-  parallelFor(nV, [&](Id begin, Id end) {
-    for (Id v = begin; v < end; ++v)
-    {
-      P[layout.Vertex(v)] = Row3(data.F, v);
-      D[layout.Vertex(v)] = UVOf(data, v);
-    }
-  });
-  std::vector<Vec3> edgeGradients(data.EdgeGradients ? 2 * nE : 0);
-  parallelFor(nE, [&](Id begin, Id end) {
-    for (Id e = begin; e < end; ++e)
-    {
-      for (int s = 0; s < 2; ++s)
-      {
-        const Id a = topo.Edges[e][s], b = topo.Edges[e][1 - s];
-        const Id id = layout.EdgePoint(topo, e, a);
-        P[id] = EdgeControlPoint(
-          Row3(data.F, a), Row3(data.Fu, a), Row3(data.Fv, a), UVOf(data, a), UVOf(data, b));
-        D[id] = (2.0 * UVOf(data, a) + UVOf(data, b)) / 3.0;
-      }
-      if (data.EdgeGradients)
-      {
-        Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();
-        int count = 0;
-        for (int s = 0; s < 2; ++s)
-        {
-          const Id t = topo.EdgeTriangles[e][s];
-          if (t < 0)
-          {
-            continue;
-          }
-          const double* g = data.EdgeGradients + 18 * t + 6 * topo.EdgeLocalIndex[e][s];
-          gu += Vec3(g[0], g[1], g[2]);
-          gv += Vec3(g[3], g[4], g[5]);
-          ++count;
-        }
-        edgeGradients[2 * e] = gu / count;
-        edgeGradients[2 * e + 1] = gv / count;
-      }
-    }
-  });
-
-  // Step 1, eq. (12), then Step 2 and Step 3 (eq. 13-14) per macro-triangle. Step 2 reads only
-  // this triangle's points and the neighbours' split points, so one pass suffices.
-  const CrossDerivativeStep2 step2(data, topo, options, splitPoints, edgeGradients);
-  parallelFor(nT, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
-    {
-      const MacroElementIds ids = GetMacroElementIds(layout, topo, data.Triangles, t);
-      const Vec3& tau = spline.SplitTau[t];
-      ComputeInnerRing1(ids, tau, P);
-      for (int l = 0; l < 3; ++l)
-      {
-        P[ids.C[(l + 2) % 3]] = step2.Centre(t, l, ids, P);
-      }
-      ComputeInnerRing2AndSplitPoint(ids, tau, P);
-
-      const Id* p = data.Triangles + 3 * t;
-      const Vec2 U[3] = { UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]) };
-      const Vec2& Z = splitPoints[t];
-      for (int i = 0; i < 3; ++i)
-      {
-        D[ids.I1[i]] = (2.0 * U[i] + Z) / 3.0;
-        D[ids.I2[i]] = (U[i] + 2.0 * Z) / 3.0;
-        D[ids.C[i]] = (U[(i + 1) % 3] + U[(i + 2) % 3] + Z) / 3.0;
-      }
-      D[ids.S] = Z;
-    }
-  });
+  Builder(data, topo, options, spline, parallelFor).Run();
   return status;
 }
 

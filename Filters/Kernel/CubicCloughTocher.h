@@ -2,9 +2,11 @@
 // The cubic C1 Clough-Tocher spline of a parametrised triangle mesh (study section 3): Step 1
 // (eq. 11-12), Step 2 by the chosen construction, Step 3 (eq. 13-14), on shared control points.
 //
-// Constructions: CTo, CTi (eq. 15-17), MGo, MGi (eq. 24-25); boundary edges of the non-local
-// ones follow BoundaryMode (section 3.8). Fa, FO, Ka, KaG and the IM iteration are reported as
-// not available by this build.
+// Constructions: CTo, CTi (eq. 15-17), MGo, MGi (eq. 24-25), Fa (eq. 18-21), FO (eq. 22),
+// Ka (eq. 23), KaG (Ka with mid-edge gradients on boundary edges) and Kashyap's cubic fairing
+// scheme (quartic paper section 3); boundary edges of the non-local ones follow BoundaryMode
+// (section 3.8). Iterations: IM steps (section 3.7) after any construction but Kashyap, for
+// which it counts exterior + interior fairing rounds.
 #ifndef CTSplines_Kernel_CubicCloughTocher_h
 #define CTSplines_Kernel_CubicCloughTocher_h
 
@@ -27,7 +29,8 @@ enum class Construction
   Ka = 4,
   MGo = 5,
   MGi = 6,
-  KaG = 7
+  KaG = 7,
+  Kashyap = 8
 };
 
 enum class BoundaryMode
@@ -61,7 +64,7 @@ struct SplineOptions
   Construction Method = Construction::CTi;
   SplitPointRule SplitPoint = SplitPointRule::Bary;
   BoundaryMode Boundary = BoundaryMode::Midpoint;
-  int Iterations = 0; // IM steps
+  int Iterations = 0; // IM steps, or fairing rounds for Kashyap
 };
 
 /// Whether the options read SplineData::EdgeGradients (on all edges or on boundary edges).

@@ -36,6 +36,21 @@ std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k)
     ids.I1[j], ids.I2[j], ids.S };
 }
 
+std::array<Vec3, 10> MacroNet(const MacroElementIds& ids, const Vec3* P, const Vec3& Q)
+{
+  // Exponents 300 210 201 120 111 102 030 021 012 003.
+  return { P[ids.V[0]], P[ids.T[0][1]], P[ids.T[0][2]], P[ids.T[1][0]], Q, P[ids.T[2][0]],
+    P[ids.V[1]], P[ids.T[1][2]], P[ids.T[2][1]], P[ids.V[2]] };
+}
+
+Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* P)
+{
+  return (P[ids.T[0][1]] + P[ids.T[1][0]] + P[ids.T[1][2]] + P[ids.T[2][1]] + P[ids.T[2][0]] +
+           P[ids.T[0][2]]) /
+    4.0 -
+    (P[ids.V[0]] + P[ids.V[1]] + P[ids.V[2]]) / 6.0;
+}
+
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points)
 {
   for (int i = 0; i < 3; ++i)

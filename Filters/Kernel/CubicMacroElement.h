@@ -73,6 +73,13 @@ inline Vec3 EdgeControlPoint(const Vec3& fi, const Vec3& fui, const Vec3& fvi, c
   return fi + (d.x() * fui + d.y() * fvi) / 3.0;
 }
 
+/// The macro-patch net over (U0, U1, U2) in canonical order from the Step 1 points and a
+/// central point Q.
+std::array<Vec3, 10> MacroNet(const MacroElementIds& ids, const Vec3* points, const Vec3& Q);
+
+/// Eq. (18): Q of the quadratic-precision macro-patch (Fa).
+Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* points);
+
 /// Step 1, eq. (12): I_i1 = tau_i V_i + tau_j T_ij + tau_k T_ik.
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points);
 

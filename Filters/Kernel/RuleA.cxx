@@ -6,8 +6,10 @@
 
 namespace ctk
 {
-void RuleAJumps(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B, int maxOrder,
-  double* jumps)
+namespace
+{
+// B's off-edge vertex: the one farthest from A's vertices.
+int OffEdgeVertex(const Vec2* A, const Vec2* B)
 {
   int opposite = 0;
   double farthest = -1.0;
@@ -24,15 +26,19 @@ void RuleAJumps(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2
       opposite = b;
     }
   }
-  // B's vertices in A's barycentric coordinates.
+  return opposite;
+}
+
+// Calls visit(row, canonical index, residual) for every ordinate of B in rows <= maxRow.
+template <typename Visit>
+void ForEachResidual(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B,
+  int maxRow, int onlyRow, Visit&& visit)
+{
+  const int opposite = OffEdgeVertex(A, B);
   Vec3 bary[3];
   for (int b = 0; b < 3; ++b)
   {
     bary[b] = Barycentric(A[0], A[1], A[2], B[b]);
-  }
-  for (int r = 0; r <= maxOrder; ++r)
-  {
-    jumps[r] = 0.0;
   }
   Vec3 args[MaxDegree];
   int idx = 0;
@@ -41,10 +47,9 @@ void RuleAJumps(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2
     const int i = n - row;
     for (int k = 0; k <= row; ++k, ++idx)
     {
-      const int j = row - k;
-      const int e[3] = { i, j, k };
+      const int e[3] = { i, row - k, k };
       const int r = e[opposite];
-      if (r > maxOrder)
+      if (r > maxRow || (onlyRow >= 0 && r != onlyRow))
       {
         continue;
       }
@@ -56,9 +61,37 @@ void RuleAJumps(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2
           args[a++] = bary[v];
         }
       }
-      jumps[r] = std::max(jumps[r], (PB[idx] - Blossom(n, PA, args)).norm());
+      visit(r, PB[idx] - Blossom(n, PA, args));
     }
   }
+}
+} // namespace
+
+void RuleAJumps(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B, int maxOrder,
+  double* jumps)
+{
+  std::fill(jumps, jumps + maxOrder + 1, 0.0);
+  ForEachResidual(n, PA, A, PB, B, maxOrder, -1,
+    [&](int r, const Vec3& res) { jumps[r] = std::max(jumps[r], res.norm()); });
+}
+
+int RuleAResiduals(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B, int row,
+  Vec3* residuals)
+{
+  int count = 0;
+  ForEachResidual(
+    n, PA, A, PB, B, row, row, [&](int, const Vec3& res) { residuals[count++] = res; });
+  return count;
+}
+
+Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B)
+{
+  Vec3 args[3];
+  for (int b = 0; b < 3; ++b)
+  {
+    args[b] = Barycentric(A[0], A[1], A[2], B[b]);
+  }
+  return Blossom(3, PA, args);
 }
 
 } // namespace ctk

@@ -17,6 +17,16 @@ namespace ctk
 void RuleAJumps(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B, int maxOrder,
   double* jumps);
 
+/// The residuals behind RuleAJumps for one row r: for each ordinate of B whose exponent of B's
+/// off-edge vertex is r (in B's canonical order), B's ordinate minus A's blossom at its domain
+/// point. Returns the number of residuals written (n + 1 - r).
+int RuleAResiduals(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B, int row,
+  Vec3* residuals);
+
+/// The central ordinate (1, 1, 1) of the cubic over B that joins A's cubic with C1 across their
+/// shared edge (Rule A, row 1): A's blossom at B's three vertices.
+Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B);
+
 } // namespace ctk
 
 #endif

@@ -131,7 +131,9 @@ TEST(vtkCloughTocherSplineFilter, PointOrderAgreesWithVtkBezierEvaluation)
   vtkSmartPointer<vtkPolyData> input = MakeSampledPolyData(
     ctk::RegularGridMesh(3, ctk::GridDiagonal::Forward), ctk::AnalyticSurface::Quadratic);
   for (int construction : { vtkCloughTocherSplineFilter::CTo, vtkCloughTocherSplineFilter::CTi,
-         vtkCloughTocherSplineFilter::MGo, vtkCloughTocherSplineFilter::MGi })
+         vtkCloughTocherSplineFilter::MGo, vtkCloughTocherSplineFilter::MGi,
+         vtkCloughTocherSplineFilter::Fa, vtkCloughTocherSplineFilter::Ka,
+         vtkCloughTocherSplineFilter::KaG, vtkCloughTocherSplineFilter::Kashyap })
   {
     vtkSmartPointer<vtkUnstructuredGrid> out =
       Convert(input, construction, vtkCloughTocherSplineFilter::Inc3);
@@ -380,9 +382,12 @@ TEST(vtkCloughTocherSplineFilter, RejectsRepeatedVertices)
   EXPECT_NE(msg.find("repeats a vertex"), std::string::npos) << msg;
 }
 
-TEST(vtkCloughTocherSplineFilter, ReportsConstructionsNotInThisVersion)
+TEST(vtkCloughTocherSplineFilter, KaGNeedsEdgeGradients)
 {
   vtkSmartPointer<vtkPolyData> input = Franke(2);
-  const std::string msg = ExpectFailure(input, vtkCloughTocherSplineFilter::Ka);
-  EXPECT_NE(msg.find("Ka"), std::string::npos) << msg;
+  input->GetCellData()->RemoveArray("EdgeGradients");
+  const std::string msg = ExpectFailure(input, vtkCloughTocherSplineFilter::KaG);
+  EXPECT_NE(msg.find("needed by KaG"), std::string::npos) << msg;
+  // Ka itself needs none.
+  EXPECT_EQ(Convert(input, vtkCloughTocherSplineFilter::Ka)->GetNumberOfCells(), 24);
 }

@@ -3,6 +3,7 @@
 // micro- and macro-edge (Rule A), invariance to affine reparameterisation.
 #include "CubicCloughTocher.h"
 #include "RuleA.h"
+#include "SplineMeasures.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
@@ -35,96 +36,6 @@ const Variant LocalAndSplitLineVariants[] = {
 const SplitPointRule AllSplitPoints[] = { SplitPointRule::Bary, SplitPointRule::Inc2,
   SplitPointRule::Inc3 };
 
-CubicSpline Build(const SampledMesh& mesh, const SplineOptions& o)
-{
-  CubicSpline spline;
-  const BuildStatus st = BuildCubicCloughTocher(mesh.Data(), mesh.Topology, o, spline);
-  EXPECT_TRUE(st.Ok) << st.Message;
-  return spline;
-}
-
-std::string Describe(const SampledMesh& m, const SplineOptions& o)
-{
-  return m.Name + " " + ToString(o.Method) + "/" + ToString(o.SplitPoint) + "/" +
-    ToString(o.Boundary);
-}
-
-// Largest |spline - surface| over random points of every macro-triangle (functional surfaces:
-// the spline's (x, y) must also equal (u, v)).
-double MaxError(const SampledMesh& mesh, const CubicSpline& spline, AnalyticSurface s)
-{
-  std::mt19937 rng(17);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
-  double err = 0.0;
-  for (Id t = 0; t < static_cast<Id>(mesh.Triangles.size() / 3); ++t)
-  {
-    Vec2 A[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      const Id v = mesh.Triangles[3 * t + i];
-      A[i] = Vec2(mesh.UV[2 * v], mesh.UV[2 * v + 1]);
-    }
-    for (int k = 0; k < 12; ++k)
-    {
-      Vec3 b(U(rng), U(rng), U(rng));
-      b /= b.sum();
-      const Vec2 X = b[0] * A[0] + b[1] * A[1] + b[2] * A[2];
-      const Vec3 exact = EvaluateAnalyticSurface(s, X.x(), X.y()).F;
-      err = std::max(err, (EvaluateSpline(mesh, spline, t, X, 0).Value - exact).norm());
-    }
-  }
-  return err;
-}
-
-// Largest C0 and C1 jumps over all micro-edges and interior macro-edges.
-std::array<double, 3> MaxJumps(const SampledMesh& mesh, const CubicSpline& spline)
-{
-  auto net = [&](Id t, int k, Vec3* P, Vec2* A) {
-    const MacroElementIds ids =
-      GetMacroElementIds(spline.Layout, mesh.Topology, mesh.Triangles.data(), t);
-    const std::array<Id, 10> n = MicroTriangleNet(ids, k);
-    for (int a = 0; a < 10; ++a)
-    {
-      P[a] = spline.ControlPoints[n[a]];
-    }
-    // Domain corners: the canonical net's exponent-3 points.
-    A[0] = spline.DomainPoints[n[0]];
-    A[1] = spline.DomainPoints[n[6]];
-    A[2] = spline.DomainPoints[n[9]];
-  };
-  std::array<double, 3> worst{ 0.0, 0.0, 0.0 };
-  auto check = [&](Id ta, int ka, Id tb, int kb) {
-    Vec3 PA[10], PB[10];
-    Vec2 A[3], B[3];
-    net(ta, ka, PA, A);
-    net(tb, kb, PB, B);
-    double j[3];
-    RuleAJumps(3, PA, A, PB, B, 2, j);
-    for (int r = 0; r < 3; ++r)
-    {
-      worst[r] = std::max(worst[r], j[r]);
-    }
-  };
-  const Id nT = static_cast<Id>(mesh.Triangles.size() / 3);
-  for (Id t = 0; t < nT; ++t)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      check(t, k, t, (k + 1) % 3); // micro-edge (U_{k+2}, Z)
-    }
-  }
-  for (Id e = 0; e < static_cast<Id>(mesh.Topology.Edges.size()); ++e)
-  {
-    const auto& et = mesh.Topology.EdgeTriangles[e];
-    if (et[1] < 0)
-    {
-      continue;
-    }
-    const auto& el = mesh.Topology.EdgeLocalIndex[e];
-    check(et[0], (el[0] + 2) % 3, et[1], (el[1] + 2) % 3);
-  }
-  return worst;
-}
 } // namespace
 
 TEST(CubicCloughTocher, QuadraticPrecisionForEveryVariant)
@@ -139,7 +50,7 @@ TEST(CubicCloughTocher, QuadraticPrecisionForEveryVariant)
         for (SplitPointRule sp : AllSplitPoints)
         {
           const SplineOptions o{ v.Method, sp, v.Boundary, 0 };
-          EXPECT_LT(MaxError(mesh, Build(mesh, o), s), 1e-13) << Describe(mesh, o);
+          EXPECT_LT(MaxError(mesh, BuildOrFail(mesh, o), s, false), 1e-13) << Describe(mesh, o);
         }
       }
     }
@@ -158,7 +69,7 @@ TEST(CubicCloughTocher, MidEdgeGradientsGiveCubicPrecision)
       for (SplitPointRule sp : AllSplitPoints)
       {
         const SplineOptions o{ v.Method, sp, v.Boundary, 0 };
-        const double err = MaxError(mesh, Build(mesh, o), AnalyticSurface::FarinCubic);
+        const double err = MaxError(mesh, BuildOrFail(mesh, o), AnalyticSurface::FarinCubic, false);
         if (everywhere)
         {
           EXPECT_LT(err, 1e-13) << Describe(mesh, o);
@@ -181,7 +92,7 @@ TEST(CubicCloughTocher, InterpolatesPositionsAndGradients)
     for (const Variant& v : LocalAndSplitLineVariants)
     {
       const SplineOptions o{ v.Method, SplitPointRule::Inc3, v.Boundary, 0 };
-      const CubicSpline spline = Build(mesh, o);
+      const CubicSpline spline = BuildOrFail(mesh, o);
       for (Id t = 0; t < static_cast<Id>(mesh.Triangles.size() / 3); ++t)
       {
         for (int i = 0; i < 3; ++i)
@@ -211,7 +122,7 @@ TEST(CubicCloughTocher, C1AcrossEveryMicroAndMacroEdge)
         for (SplitPointRule sp : AllSplitPoints)
         {
           const SplineOptions o{ v.Method, sp, v.Boundary, 0 };
-          const std::array<double, 3> j = MaxJumps(mesh, Build(mesh, o));
+          const std::array<double, 3> j = MaxJumps(mesh, BuildOrFail(mesh, o));
           EXPECT_LT(j[0], 1e-14) << Describe(mesh, o);
           EXPECT_LT(j[1], 1e-13) << Describe(mesh, o);
           // Not C2: the check can see a jump when there is one.
@@ -246,28 +157,9 @@ TEST(CubicCloughTocher, AffineInvarianceOfCTiAndMGi)
     { { Construction::CTo, SplitPointRule::Bary, BoundaryMode::Midpoint, 0 }, false },
     { { Construction::MGo, SplitPointRule::Bary, BoundaryMode::Midpoint, 0 }, false },
   };
-  std::mt19937 rng(29);
-  std::uniform_real_distribution<double> U(0.0, 1.0);
   for (const Case& c : cases)
   {
-    const CubicSpline sa = Build(a, c.Options), sb = Build(b, c.Options);
-    double dev = 0.0;
-    for (Id t = 0; t < static_cast<Id>(pm.Triangles.size() / 3); ++t)
-    {
-      for (int k = 0; k < 10; ++k)
-      {
-        Vec3 w(U(rng), U(rng), U(rng));
-        w /= w.sum();
-        Vec2 X = Vec2::Zero();
-        for (int i = 0; i < 3; ++i)
-        {
-          X += w[i] * pm.UV[pm.Triangles[3 * t + i]];
-        }
-        const Vec2 Y = affine.A * X + affine.t;
-        dev = std::max(dev,
-          (EvaluateSpline(a, sa, t, X, 0).Value - EvaluateSpline(b, sb, t, Y, 0).Value).norm());
-      }
-    }
+    const double dev = MaxDeviation(a, BuildOrFail(a, c.Options), b, BuildOrFail(b, c.Options), affine);
     if (c.Invariant)
     {
       EXPECT_LT(dev, 1e-12) << Describe(a, c.Options);
@@ -283,7 +175,7 @@ TEST(CubicCloughTocher, ResultDoesNotDependOnHowWorkIsSplit)
 {
   const SampledMesh mesh = Sample("jittered", JitteredGrid(6, 0.3, 5u), AnalyticSurface::Franke);
   const SplineOptions o{ Construction::MGi, SplitPointRule::Inc3, BoundaryMode::GradientToSplitPoint, 0 };
-  const CubicSpline serial = Build(mesh, o);
+  const CubicSpline serial = BuildOrFail(mesh, o);
   CubicSpline chunked;
   auto chunks = [](Id n, const std::function<void(Id, Id)>& body) {
     for (Id b = n; b > 0; b -= 3)

@@ -1,0 +1,29 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// FO (study section 3.4, eq. 22; Foley-Opitz as modified by Mann) and Ka (section 3.5, eq. 23;
+// Kashyap, Mann): per macro-edge, the central point Q of the cubic macro-patch over T is chosen
+// from the neighbour's data so that the macro-patch has cubic precision across that edge; the
+// micro-triangle's centre C is then read off the macro-patch subdivided at Z.
+// Both compare the neighbour macro-patch's second row (its edge points T30, T31 at U3, fixed by
+// U3's data) with T's macro-patch extended there (Rule A, row 2): FO solves the sum of the two
+// residuals (eq. 22), Ka minimises their squares (eq. 23).
+#ifndef CTSplines_Kernel_MacroEdgeCubicPrecision_h
+#define CTSplines_Kernel_MacroEdgeCubicPrecision_h
+
+#include "BezierTriangle.h"
+
+namespace ctk
+{
+enum class MacroEdgeRule
+{
+  FoleyOpitz, // eq. (22)
+  Kashyap     // eq. (23)
+};
+
+/// macroT, macroTbar: cubic macro nets (canonical order) over domains A (T's vertices) and B
+/// (Tbar's vertices, any order); their central points are ignored. Returns T's Q.
+Vec3 MacroEdgeQ(MacroEdgeRule rule, const Vec3* macroT, const Vec2* A, const Vec3* macroTbar,
+  const Vec2* B);
+
+} // namespace ctk
+
+#endif

@@ -1,0 +1,24 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Fa (study section 3.3, eq. 20-21) and the IM step (section 3.7), also Kashyap's exterior
+// fairing (quartic paper eq. 1-3): across one interior macro-edge, the central points C and Cbar
+// of the two micro-triangles at the edge are tied by the C1 condition (Rule A, row 1) and C is
+// chosen to minimise the two C2 residuals across the edge (Rule A, row 2).
+#ifndef CTSplines_Kernel_MicroEdgeC2Minimisation_h
+#define CTSplines_Kernel_MicroEdgeC2Minimisation_h
+
+#include "BezierTriangle.h"
+
+namespace ctk
+{
+/// Canonical index of the central ordinate (1, 1, 1) of a cubic net.
+constexpr int CubicCentre = 4;
+
+/// PM, PMbar: the cubic nets (canonical order) of the micro-triangles at a macro-edge, over
+/// domains AM = (U_i, U_j, Z) and AMbar (the same edge and Zbar, any vertex order). Their
+/// central points are ignored and replaced by the optimum C, Cbar (returned).
+void MinimiseMicroEdgeC2Jump(
+  const Vec3* PM, const Vec2* AM, const Vec3* PMbar, const Vec2* AMbar, Vec3& C, Vec3& Cbar);
+
+} // namespace ctk
+
+#endif

@@ -1,0 +1,223 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The non-local constructions of the study (Fa, FO, Ka, KaG), the IM iteration and Kashyap's
+// fairing scheme: precision, C1, invariance and IM's convergence, measured on the output.
+#include "CubicCloughTocher.h"
+#include "MacroEdgeCubicPrecision.h"
+#include "MicroEdgeC2Minimisation.h"
+#include "RuleA.h"
+#include "SplineMeasures.h"
+#include "TestMeshes.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+using namespace ctk;
+using namespace ctk_test;
+
+namespace
+{
+struct Variant
+{
+  Construction Method;
+  BoundaryMode Boundary;
+  int Iterations;
+};
+
+const Variant NonLocalVariants[] = {
+  { Construction::Fa, BoundaryMode::Midpoint, 0 },
+  { Construction::Fa, BoundaryMode::Perpendicular, 0 },
+  { Construction::FO, BoundaryMode::Midpoint, 0 },
+  { Construction::FO, BoundaryMode::GradientPerpendicular, 0 },
+  { Construction::Ka, BoundaryMode::Midpoint, 0 },
+  { Construction::Ka, BoundaryMode::Perpendicular, 0 },
+  { Construction::KaG, BoundaryMode::GradientToSplitPoint, 0 },
+  { Construction::KaG, BoundaryMode::GradientPerpendicular, 0 },
+  { Construction::Kashyap, BoundaryMode::Midpoint, 3 },
+  { Construction::CTi, BoundaryMode::Midpoint, 3 },
+  { Construction::CTo, BoundaryMode::Midpoint, 2 },
+  { Construction::Ka, BoundaryMode::GradientToSplitPoint, 4 },
+};
+
+SplineOptions Options(const Variant& v, SplitPointRule sp = SplitPointRule::Bary)
+{
+  return { v.Method, sp, v.Boundary, v.Iterations };
+}
+} // namespace
+
+TEST(CubicConstructions, QuadraticPrecision)
+{
+  for (const auto& [name, pm] : MeshSuite())
+  {
+    const SampledMesh mesh = Sample(name, pm, AnalyticSurface::Quadratic);
+    for (const Variant& v : NonLocalVariants)
+    {
+      for (SplitPointRule sp : { SplitPointRule::Bary, SplitPointRule::Inc2, SplitPointRule::Inc3 })
+      {
+        const SplineOptions o = Options(v, sp);
+        const CubicSpline spline = BuildOrFail(mesh, o);
+        EXPECT_LT(MaxError(mesh, spline, AnalyticSurface::Quadratic, false), 1e-13) << Describe(mesh, o);
+      }
+    }
+  }
+}
+
+TEST(CubicConstructions, CubicPrecisionOfFOAndKaOnInteriorTriangles)
+{
+  for (const auto& [name, pm] : MeshSuite())
+  {
+    const SampledMesh mesh = Sample(name, pm, AnalyticSurface::FarinCubic);
+    for (Construction c : { Construction::FO, Construction::Ka })
+    {
+      for (SplitPointRule sp : { SplitPointRule::Bary, SplitPointRule::Inc3 })
+      {
+        const SplineOptions o{ c, sp, BoundaryMode::Midpoint, 0 };
+        const CubicSpline spline = BuildOrFail(mesh, o);
+        EXPECT_LT(MaxError(mesh, spline, AnalyticSurface::FarinCubic, true), 1e-13) << Describe(mesh, o);
+        // Boundary triangles use the quadratic-precision boundary rule: visibly not exact.
+        EXPECT_GT(MaxError(mesh, spline, AnalyticSurface::FarinCubic, false), 1e-10) << Describe(mesh, o);
+      }
+    }
+    // Fa has quadratic precision only, even inside (on irregular meshes; regular ones are
+    // symmetric enough for its C2 minimisation to find the cubic).
+    const SplineOptions fa{ Construction::Fa, SplitPointRule::Bary, BoundaryMode::Midpoint, 0 };
+    if (name == "jittered")
+    {
+      EXPECT_GT(MaxError(mesh, BuildOrFail(mesh, fa), AnalyticSurface::FarinCubic, true), 1e-10);
+    }
+  }
+}
+
+TEST(CubicConstructions, KaGIsExactEverywhereWithMidEdgeGradients)
+{
+  for (const auto& [name, pm] : MeshSuite())
+  {
+    const SampledMesh mesh = Sample(name, pm, AnalyticSurface::FarinCubic);
+    for (BoundaryMode b : { BoundaryMode::GradientToSplitPoint, BoundaryMode::GradientPerpendicular,
+           BoundaryMode::Midpoint /* KaG overrides a non-gradient mode */ })
+    {
+      const SplineOptions o{ Construction::KaG, SplitPointRule::Inc3, b, 0 };
+      EXPECT_LT(MaxError(mesh, BuildOrFail(mesh, o), AnalyticSurface::FarinCubic, false), 1e-12)
+        << Describe(mesh, o);
+    }
+  }
+}
+
+TEST(CubicConstructions, C1AcrossEveryEdgeIncludingAfterIterations)
+{
+  for (const auto& [name, pm] : MeshSuite())
+  {
+    const SampledMesh mesh = Sample(name, pm, AnalyticSurface::Franke);
+    for (const Variant& v : NonLocalVariants)
+    {
+      for (SplitPointRule sp : { SplitPointRule::Bary, SplitPointRule::Inc2, SplitPointRule::Inc3 })
+      {
+        const SplineOptions o = Options(v, sp);
+        const std::array<double, 3> j = MaxJumps(mesh, BuildOrFail(mesh, o));
+        EXPECT_LT(j[0], 1e-14) << Describe(mesh, o);
+        EXPECT_LT(j[1], 1e-13) << Describe(mesh, o);
+        EXPECT_GT(j[2], 1e-9) << Describe(mesh, o);
+      }
+    }
+  }
+}
+
+TEST(CubicConstructions, AffineInvariance)
+{
+  const ParameterMesh pm = JitteredGrid(5, 0.3, 31u);
+  Affine affine;
+  affine.A << 0.4, -1.1, 0.9, 0.6;
+  affine.t = Vec2(-2.0, 0.5);
+  const SampledMesh a = Sample("jittered", pm, AnalyticSurface::Franke);
+  const SampledMesh b = Sample("jittered-affine", pm, AnalyticSurface::Franke, affine);
+  for (Construction c : { Construction::Fa, Construction::FO, Construction::Ka, Construction::KaG,
+         Construction::Kashyap })
+  {
+    for (SplitPointRule sp : { SplitPointRule::Bary, SplitPointRule::Inc3, SplitPointRule::Inc2 })
+    {
+      for (int iterations : { 0, 3 })
+      {
+        const SplineOptions o{ c, sp, BoundaryMode::GradientToSplitPoint, iterations };
+        const double dev = MaxDeviation(a, BuildOrFail(a, o), b, BuildOrFail(b, o), affine);
+        if (sp == SplitPointRule::Inc2)
+        {
+          EXPECT_GT(dev, 1e-5) << Describe(a, o);
+        }
+        else
+        {
+          EXPECT_LT(dev, 1e-12) << Describe(a, o) << " iterations " << iterations;
+        }
+      }
+    }
+  }
+}
+
+TEST(CubicConstructions, IMConvergesToTheCubicWithExactBoundaryGradients)
+{
+  // Farin's cubic, boundary edges fixed by exact mid-edge gradients: IM drives the
+  // quadratic-precision constructions to the cubic, leaves KaG exact. (CTo and MGo are local
+  // and take no boundary mode.)
+  const SampledMesh mesh = Sample("jittered", JitteredGrid(4, 0.25, 3u), AnalyticSurface::FarinCubic);
+  for (Construction c : { Construction::CTi, Construction::Fa })
+  {
+    const SplineOptions o0{ c, SplitPointRule::Bary, BoundaryMode::GradientToSplitPoint, 0 };
+    SplineOptions o20 = o0, o40 = o0;
+    o20.Iterations = 20;
+    o40.Iterations = 40;
+    const double e0 = MaxError(mesh, BuildOrFail(mesh, o0), AnalyticSurface::FarinCubic, false);
+    const double e20 = MaxError(mesh, BuildOrFail(mesh, o20), AnalyticSurface::FarinCubic, false);
+    const double e40 = MaxError(mesh, BuildOrFail(mesh, o40), AnalyticSurface::FarinCubic, false);
+    std::cout << ToString(c) << " IM error: 0 steps " << e0 << ", 20 steps " << e20
+              << ", 40 steps " << e40 << "\n";
+    EXPECT_GT(e0, 1e-4) << ToString(c);
+    EXPECT_LT(e20, 1e-3 * e0) << ToString(c);
+    EXPECT_LT(e40, 1e-9) << ToString(c);
+  }
+  const SplineOptions kag{ Construction::KaG, SplitPointRule::Bary, BoundaryMode::GradientToSplitPoint, 40 };
+  EXPECT_LT(MaxError(mesh, BuildOrFail(mesh, kag), AnalyticSurface::FarinCubic, false), 1e-12);
+}
+
+TEST(CubicConstructions, IMStallsAndSpreadsBoundaryErrorWithoutBoundaryGradients)
+{
+  const SampledMesh mesh = Sample("jittered", JitteredGrid(4, 0.25, 3u), AnalyticSurface::FarinCubic);
+  for (BoundaryMode b : { BoundaryMode::Midpoint, BoundaryMode::Perpendicular })
+  {
+    // CTi stalls: the boundary rule keeps an O(h^3) error that IM cannot remove.
+    const SplineOptions cti{ Construction::CTi, SplitPointRule::Bary, b, 40 };
+    EXPECT_GT(MaxError(mesh, BuildOrFail(mesh, cti), AnalyticSurface::FarinCubic, false), 1e-5);
+    // Ka is exact inside before IM; IM spreads the boundary error into the interior.
+    SplineOptions ka{ Construction::Ka, SplitPointRule::Bary, b, 0 };
+    EXPECT_LT(MaxError(mesh, BuildOrFail(mesh, ka), AnalyticSurface::FarinCubic, true), 1e-13);
+    ka.Iterations = 20;
+    const double spread = MaxError(mesh, BuildOrFail(mesh, ka), AnalyticSurface::FarinCubic, true);
+    std::cout << "Ka interior error after 20 IM steps, boundary " << ToString(b) << ": " << spread << "\n";
+    EXPECT_GT(spread, 1e-6);
+  }
+}
+
+TEST(CubicConstructions, FOAgreesWithThePrintedClosedForm)
+{
+  // Eq. (22): with U3 = t0 U2 + t1 U0 + t2 U1, Q = (T30 - t1^2 V0 - 2 t1 t2 T01 - 2 t0 t1 T02
+  // - t2^2 T10 - t0^2 T20 + T31 - t1^2 T01 - 2 t1 t2 T10 - 2 t0 t2 T12 - t2^2 V1 - t0^2 T21)
+  // / (2 t0 (t1 + t2)).
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> R(-1.0, 1.0);
+  auto rnd = [&] { return Vec3(R(rng), R(rng), R(rng)); };
+  const Vec2 A[3] = { Vec2(0, 0), Vec2(1, 0.1), Vec2(0.3, 0.9) };
+  const Vec2 U3(0.9, -0.7);
+  const Vec2 B[3] = { A[1], A[0], U3 };
+  const Vec3 V0 = rnd(), V1 = rnd(), V2 = rnd(), T01 = rnd(), T10 = rnd(), T02 = rnd(), T20 = rnd(),
+             T12 = rnd(), T21 = rnd(), T30 = rnd(), T31 = rnd(), V3 = rnd();
+  const Vec3 macroT[10] = { V0, T01, T02, T10, Vec3::Zero(), T20, V1, T12, T21, V2 };
+  // Tbar over (U1, U0, U3): exponents 300=V1 210=T10 201=T13 120=T01 111=Qbar 102=T31 030=V0
+  // 021=T03 012=T30 003=V3; only T30 and T31 (row 2 at U3) enter.
+  const Vec3 macroTbar[10] = { V1, T10, rnd(), T01, rnd(), T31, V0, rnd(), T30, V3 };
+  const Vec3 b = Barycentric(A[2], A[0], A[1], U3);
+  const double t0 = b[0], t1 = b[1], t2 = b[2];
+  const Vec3 printed = (T30 - t1 * t1 * V0 - 2 * t1 * t2 * T01 - 2 * t0 * t1 * T02 - t2 * t2 * T10 -
+                         t0 * t0 * T20 + T31 - t1 * t1 * T01 - 2 * t1 * t2 * T10 -
+                         2 * t0 * t2 * T12 - t2 * t2 * V1 - t0 * t0 * T21) /
+    (2 * t0 * (t1 + t2));
+  const Vec3 ours = MacroEdgeQ(MacroEdgeRule::FoleyOpitz, macroT, A, macroTbar, B);
+  EXPECT_LT((ours - printed).norm(), 1e-12 * printed.norm());
+}
