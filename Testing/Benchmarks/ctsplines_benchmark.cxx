@@ -147,11 +147,17 @@ double Best(int repeat, const std::function<bool()>& run, bool& ok)
   return best;
 }
 
+/// One table row; ns/triangle only for the stages that process the input triangles.
 void Row(long long triangles, const std::string& stage, double seconds, long long items,
-  const char* unit)
+  const char* unit, bool perTriangle = true)
 {
-  std::printf("%11lld  %-22s %11.4f %12.1f %14.4g %s\n", triangles, stage.c_str(), seconds,
-    1e9 * seconds / double(triangles), double(items) / seconds, unit);
+  char per[32] = "-";
+  if (perTriangle)
+  {
+    std::snprintf(per, sizeof(per), "%.1f", 1e9 * seconds / double(triangles));
+  }
+  std::printf("%11lld  %-22s %11.4f %12s %14.4g %s\n", triangles, stage.c_str(), seconds, per,
+    double(items) / seconds, unit);
   std::fflush(stdout);
 }
 } // namespace
@@ -259,7 +265,7 @@ int main(int argc, char** argv)
           },
           ok);
         allOk = allOk && ok;
-        Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s");
+        Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false);
       }
     }
 #endif
@@ -292,7 +298,7 @@ int main(int argc, char** argv)
       allOk = allOk && ok;
       std::ostringstream stage;
       stage << "probe " << double(np) << " pts (CTi)";
-      Row(nT, stage.str(), t, np, "evaluations/s");
+      Row(nT, stage.str(), t, np, "evaluations/s", false);
     }
 #endif
   }
