@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkBezierTriangleTessellator
+ * @brief   Samples VTK_BEZIER_TRIANGLE cells of any order on a uniform grid into triangles.
+ *
+ * Input: any vtkDataSet whose cells are all VTK_BEZIER_TRIANGLE, of any order up to the
+ * kernel's maximum degree (10); rational cells read the active rational weights attribute of the point data
+ * (vtkPointData::GetRationalWeights(), what VTK's own Bézier cells use) or, when none is
+ * active, the point data array `RationalWeights`.
+ * Each cell is evaluated exactly (kernel Bézier evaluation, no linearisation) at the points
+ * (i, j, k) / SubdivisionLevel of its parameter triangle and replaced by SubdivisionLevel^2
+ * triangles with the cell's orientation.
+ *
+ * The output is conforming: a corner shared by cells (same point id) and an edge shared by cells
+ * (same two corner point ids) produce their points once. Each output point is evaluated by a
+ * single owner cell (the lowest cell id using it), so results do not depend on the number of
+ * threads. Output points are numbered corners first (in order of first use), then the inner
+ * points of the edges, then cell interiors.
+ *
+ * Output arrays: point data `Normals` (unit normal from the cross product of the two parametric
+ * derivatives, i.e. oriented by the cell's corner order), `UV` (when the input has the 2-component
+ * point data array named by UVArrayName: interpolated with the cell's Bézier basis, rational when
+ * the cell is), cell data `BezierCellId` (the source cell of each triangle) and, when present in
+ * the input, `MacroTriangleId` and `MicroTriangleId`.
+ *
+ * Other cell types, point counts that are not (n+1)(n+2)/2 for a supported order n, and a
+ * `RationalWeights` array that is not one finite component per point are reported with
+ * vtkErrorMacro naming the cell or array, and RequestData returns 0. An input without cells gives
+ * an empty output.
+ */
+#ifndef vtkBezierTriangleTessellator_h
+#define vtkBezierTriangleTessellator_h
+
+#include "CTSplinesFiltersModule.h" // For export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
+
+class CTSPLINESFILTERS_EXPORT vtkBezierTriangleTessellator : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkBezierTriangleTessellator* New();
+  vtkTypeMacro(vtkBezierTriangleTessellator, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Number of segments each cell edge is divided into (SubdivisionLevel^2 triangles per cell).
+  /// Default 8.
+  vtkSetClampMacro(SubdivisionLevel, int, 1, 4096);
+  vtkGetMacro(SubdivisionLevel, int);
+  ///@}
+
+  ///@{
+  /// Name of the 2-component point data array carried over as `UV`. Default "UV".
+  vtkSetStdStringFromCharMacro(UVArrayName);
+  vtkGetCharFromStdStringMacro(UVArrayName);
+  ///@}
+
+protected:
+  vtkBezierTriangleTessellator();
+  ~vtkBezierTriangleTessellator() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int SubdivisionLevel = 8;
+  std::string UVArrayName = "UV";
+
+private:
+  vtkBezierTriangleTessellator(const vtkBezierTriangleTessellator&) = delete;
+  void operator=(const vtkBezierTriangleTessellator&) = delete;
+};
+
+#endif

@@ -1,0 +1,416 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkSplineParameterProbe.h"
+
+#include "BezierTriangle.h"
+#include "CTSplinesInput.h"
+#include "ParameterLocator.h"
+
+#include <Eigen/Geometry> // for cross
+
+#include "vtkAlgorithmOutput.h"
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkCellTypes.h"
+#include "vtkCharArray.h"
+#include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <vector>
+
+vtkStandardNewMacro(vtkSplineParameterProbe);
+
+vtkSplineParameterProbe::vtkSplineParameterProbe()
+{
+  this->SetNumberOfInputPorts(2);
+}
+
+vtkSplineParameterProbe::~vtkSplineParameterProbe() = default;
+
+void vtkSplineParameterProbe::SetSourceConnection(vtkAlgorithmOutput* algOutput)
+{
+  this->SetInputConnection(1, algOutput);
+}
+
+void vtkSplineParameterProbe::SetSourceData(vtkDataObject* source)
+{
+  this->SetInputData(1, source);
+}
+
+vtkDataObject* vtkSplineParameterProbe::GetSource()
+{
+  if (this->GetNumberOfInputConnections(1) < 1)
+  {
+    return nullptr;
+  }
+  return this->GetExecutive()->GetInputData(1, 0);
+}
+
+int vtkSplineParameterProbe::FillInputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
+  if (port == 1)
+  {
+    // Optional for the pipeline so that a missing source gets a clear message from RequestData.
+    info->Set(vtkAlgorithm::INPUT_IS_OPTIONAL(), 1);
+  }
+  return 1;
+}
+
+int vtkSplineParameterProbe::RequestDataObject(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataSet* input = vtkDataSet::GetData(inputVector[0]);
+  if (!input)
+  {
+    return 0;
+  }
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkDataObject* output = vtkDataObject::GetData(outInfo);
+  // Point sets keep their type (and structure); anything else becomes a cloud of points.
+  const char* type = vtkPointSet::SafeDownCast(input) ? input->GetClassName() : "vtkPolyData";
+  if (!output || std::strcmp(output->GetClassName(), type) != 0)
+  {
+    vtkSmartPointer<vtkDataObject> newOutput;
+    if (vtkPointSet::SafeDownCast(input))
+    {
+      newOutput.TakeReference(input->NewInstance());
+    }
+    else
+    {
+      newOutput = vtkSmartPointer<vtkPolyData>::New();
+    }
+    outInfo->Set(vtkDataObject::DATA_OBJECT(), newOutput);
+  }
+  return 1;
+}
+
+int vtkSplineParameterProbe::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // Every query point may fall in any cell: always ask for the whole spline.
+  if (vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0))
+  {
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+    sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+    if (sourceInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    {
+      sourceInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+        sourceInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    }
+  }
+  // A structured input feeding a point cloud output has no extent request from downstream.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  }
+  return 1;
+}
+
+namespace
+{
+// The source spline flattened into plain arrays, read concurrently by the queries.
+struct Spline
+{
+  std::vector<vtkIdType> Offsets{ 0 };
+  std::vector<vtkIdType> Ids;
+  std::vector<signed char> Degree;
+  std::vector<ctk::Vec3> Points;
+  std::vector<double> Weights; // empty: polynomial
+  std::vector<ctk::Vec2> Corners; // parameter triangle of each cell
+  std::vector<vtkIdType> MacroIds;
+  std::vector<std::vector<int>> Orders = std::vector<std::vector<int>>(ctk::MaxDegree + 1);
+};
+
+std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
+{
+  std::ostringstream os;
+  vtkPointData* pd = source->GetPointData();
+  vtkDataArray* uvArray = ctsplines::FindArray(pd, uvName);
+  if (!uvArray)
+  {
+    os << "the source spline has no point data array '" << uvName
+       << "' (the domain point (u, v) of each control point)";
+    return os.str();
+  }
+  std::vector<double> uv;
+  std::string error = ctsplines::CopyArray(
+    uvArray, "the source's point data array '" + uvName + "'", 2, "point", uv);
+  const vtkIdType nPoints = source->GetNumberOfPoints();
+  if (error.empty() && uvArray->GetNumberOfTuples() != nPoints)
+  {
+    os << "the source's point data array '" << uvName << "' has "
+       << uvArray->GetNumberOfTuples() << " tuples for " << nPoints << " points";
+    error = os.str();
+  }
+  // VTK's Bézier cells read the active rational weights attribute; the spec names the array.
+  vtkDataArray* w = pd->GetRationalWeights();
+  if (!w)
+  {
+    w = ctsplines::FindArray(pd, "RationalWeights");
+  }
+  if (error.empty() && w)
+  {
+    const std::string what = std::string("the source's point data array '") +
+      (w->GetName() ? w->GetName() : "") + "' (rational weights)";
+    error = ctsplines::CopyArray(w, what, 1, "point", s.Weights);
+    if (error.empty() && w->GetNumberOfTuples() != nPoints)
+    {
+      os << what << " has " << w->GetNumberOfTuples() << " tuples for " << nPoints << " points";
+      error = os.str();
+    }
+  }
+  if (!error.empty())
+  {
+    return error;
+  }
+
+  const vtkIdType nCells = source->GetNumberOfCells();
+  s.Degree.resize(nCells);
+  s.Offsets.resize(nCells + 1);
+  s.Corners.resize(3 * nCells);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    const int type = source->GetCellType(c);
+    if (type != VTK_BEZIER_TRIANGLE)
+    {
+      os << "source cell " << c << " is a " << vtkCellTypes::GetClassNameFromTypeId(type)
+         << " (VTK cell type " << type << "); the spline must consist of VTK_BEZIER_TRIANGLE cells";
+      return os.str();
+    }
+    source->GetCellPoints(c, ids);
+    const vtkIdType npts = ids->GetNumberOfIds();
+    int degree = 1;
+    while (degree < ctk::MaxDegree && ctk::BezierPointCount(degree) < npts)
+    {
+      ++degree;
+    }
+    if (ctk::BezierPointCount(degree) != npts)
+    {
+      os << "source cell " << c << " has " << npts
+         << " points, which is not (n+1)(n+2)/2 for an order n in 1.." << ctk::MaxDegree;
+      return os.str();
+    }
+    s.Degree[c] = static_cast<signed char>(degree);
+    if (s.Orders[degree].empty())
+    {
+      s.Orders[degree] = ctk::VtkBezierTriangleOrder(degree);
+    }
+    s.Ids.insert(s.Ids.end(), ids->GetPointer(0), ids->GetPointer(0) + npts);
+    s.Offsets[c + 1] = static_cast<vtkIdType>(s.Ids.size());
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType p = ids->GetId(a);
+      s.Corners[3 * c + a] = ctk::Vec2(uv[2 * p], uv[2 * p + 1]);
+    }
+  }
+
+  // Zero-area parameter triangles have no barycentric coordinates (same test as the spline
+  // filter: relative to the extent of the parameter domain).
+  if (nCells > 0)
+  {
+    ctk::Vec2 lo = s.Corners[0], hi = s.Corners[0];
+    for (const ctk::Vec2& p : s.Corners)
+    {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const double diag2 = (hi - lo).squaredNorm();
+    for (vtkIdType c = 0; c < nCells; ++c)
+    {
+      const ctk::Vec2* A = &s.Corners[3 * c];
+      if (!(std::abs(ctk::SignedArea2(A[0], A[1], A[2])) > 1e-13 * diag2))
+      {
+        os << "degenerate parameter triangle: source cell " << c << " (corner points "
+           << s.Ids[s.Offsets[c]] << ", " << s.Ids[s.Offsets[c] + 1] << ", "
+           << s.Ids[s.Offsets[c] + 2] << ") has zero area in (u, v)";
+        return os.str();
+      }
+    }
+  }
+
+  s.Points.resize(nPoints);
+  for (vtkIdType p = 0; p < nPoints; ++p)
+  {
+    source->GetPoint(p, s.Points[p].data());
+  }
+  s.MacroIds.resize(nCells);
+  vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId");
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    s.MacroIds[c] = macro ? static_cast<vtkIdType>(macro->GetComponent(c, 0)) : c;
+  }
+  return {};
+}
+} // namespace
+
+int vtkSplineParameterProbe::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkDataSet* input = vtkDataSet::GetData(inputVector[0]);
+  vtkDataSet* output = vtkDataSet::GetData(outputVector);
+  vtkInformation* sourceInfo = inputVector[1]->GetInformationObject(0);
+  vtkDataSet* source = sourceInfo ? vtkDataSet::GetData(sourceInfo) : nullptr;
+  if (!input || !output)
+  {
+    vtkErrorMacro(<< "missing input or output data object");
+    return 0;
+  }
+  if (!source)
+  {
+    vtkErrorMacro(<< "no spline source: set the spline (VTK_BEZIER_TRIANGLE cells with point "
+                     "data '"
+                  << this->UVArrayName << "') with SetSourceConnection() or SetSourceData()");
+    return 0;
+  }
+  Spline spline;
+  const std::string error = ReadSpline(source, this->UVArrayName, spline);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  ctk::ParameterLocator locator;
+  locator.Build(static_cast<ctk::Id>(spline.Degree.size()), spline.Corners.data());
+  this->UpdateProgress(0.1);
+
+  const vtkIdType nPoints = input->GetNumberOfPoints();
+  vtkNew<vtkDoubleArray> coords, du, dv, normals;
+  for (vtkDoubleArray* a : { coords.Get(), du.Get(), dv.Get(), normals.Get() })
+  {
+    a->SetNumberOfComponents(3);
+    a->SetNumberOfTuples(nPoints);
+  }
+  du->SetName("dFdu");
+  dv->SetName("dFdv");
+  normals->SetName("Normals");
+  vtkNew<vtkIdTypeArray> macroIds;
+  macroIds->SetName("MacroTriangleId");
+  macroIds->SetNumberOfTuples(nPoints);
+  vtkNew<vtkCharArray> mask;
+  mask->SetName("vtkValidPointMask");
+  mask->SetNumberOfTuples(nPoints);
+  double* xyz = coords->GetPointer(0);
+  double* fu = du->GetPointer(0);
+  double* fv = dv->GetPointer(0);
+  double* nrm = normals->GetPointer(0);
+  vtkIdType* macro = macroIds->GetPointer(0);
+  char* valid = mask->GetPointer(0);
+  if (nPoints > 0)
+  {
+    // vtkDataSet::GetPoint is thread safe once it has been called from one thread.
+    double x[3];
+    input->GetPoint(0, x);
+  }
+
+  const bool rational = !spline.Weights.empty();
+  auto probe = [&](vtkIdType begin, vtkIdType end) {
+    ctk::Vec3 P[ctk::MaxBezierPoints];
+    double w[ctk::MaxBezierPoints];
+    for (vtkIdType i = begin; i < end; ++i)
+    {
+      double x[3];
+      input->GetPoint(i, x);
+      const ctk::ParameterLocator::Hit hit = locator.Locate(x[0], x[1]);
+      if (!hit.Found())
+      {
+        xyz[3 * i] = x[0];
+        xyz[3 * i + 1] = x[1];
+        xyz[3 * i + 2] = 0.0;
+        std::fill_n(fu + 3 * i, 3, 0.0);
+        std::fill_n(fv + 3 * i, 3, 0.0);
+        std::fill_n(nrm + 3 * i, 3, 0.0);
+        macro[i] = -1;
+        valid[i] = 0;
+        continue;
+      }
+      const vtkIdType c = hit.Triangle;
+      const int n = spline.Degree[c];
+      const std::vector<int>& order = spline.Orders[n];
+      const vtkIdType* ids = &spline.Ids[spline.Offsets[c]];
+      for (int p = 0; p < ctk::BezierPointCount(n); ++p)
+      {
+        P[order[p]] = spline.Points[ids[p]];
+        if (rational)
+        {
+          w[order[p]] = spline.Weights[ids[p]];
+        }
+      }
+      const ctk::Vec2* A = &spline.Corners[3 * c];
+      const ctk::ParametricJet jet = ctk::EvaluateOverDomain(
+        n, P, rational ? w : nullptr, A[0], A[1], A[2], hit.Barycentric, 1);
+      ctk::Vec3 normal = jet.Du.cross(jet.Dv);
+      const double length = normal.norm();
+      if (length > 0)
+      {
+        normal /= length;
+      }
+      std::copy_n(jet.Value.data(), 3, xyz + 3 * i);
+      std::copy_n(jet.Du.data(), 3, fu + 3 * i);
+      std::copy_n(jet.Dv.data(), 3, fv + 3 * i);
+      std::copy_n(normal.data(), 3, nrm + 3 * i);
+      macro[i] = spline.MacroIds[c];
+      valid[i] = 1;
+    }
+  };
+  // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.
+  const vtkIdType nBlocks = std::min<vtkIdType>(nPoints, 20);
+  for (vtkIdType b = 0; b < nBlocks; ++b)
+  {
+    vtkSMPTools::For(b * nPoints / nBlocks, (b + 1) * nPoints / nBlocks, probe);
+    this->UpdateProgress(0.1 + 0.85 * double(b + 1) / double(nBlocks));
+    if (this->GetAbortExecute())
+    {
+      output->Initialize();
+      return 1;
+    }
+  }
+
+  vtkNew<vtkPoints> points;
+  points->SetData(coords);
+  if (vtkPointSet* pointSet = vtkPointSet::SafeDownCast(output))
+  {
+    if (vtkPointSet::SafeDownCast(input))
+    {
+      pointSet->CopyStructure(input);
+      pointSet->GetCellData()->PassData(input->GetCellData());
+    }
+    pointSet->SetPoints(points);
+  }
+  vtkPointData* outPD = output->GetPointData();
+  outPD->PassData(input->GetPointData());
+  outPD->AddArray(du);
+  outPD->AddArray(dv);
+  outPD->SetNormals(normals);
+  outPD->AddArray(macroIds);
+  outPD->AddArray(mask);
+  this->UpdateProgress(1.0);
+  return 1;
+}
+
+void vtkSplineParameterProbe::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Source: " << this->GetSource() << "\n";
+  os << indent << "UVArrayName: " << this->UVArrayName << "\n";
+}

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkSplineParameterProbe
+ * @brief   Evaluates a Bézier-triangle spline at given parameter values (u, v).
+ *
+ * Called like vtkProbeFilter: the input (port 0) is any vtkDataSet whose point coordinates x, y
+ * are the parameters (u, v) to evaluate (z is ignored); the spline comes in as the source (port
+ * 1, SetSourceConnection / SetSourceData): a data set of VTK_BEZIER_TRIANGLE cells of any order
+ * whose point data array `UV` (name settable) gives each control point's domain point, as
+ * produced by vtkCloughTocherSplineFilter. Each cell is the polynomial (or, with rational
+ * weights: the active rational weights attribute, else the point data array `RationalWeights`,
+ * rational) patch over the parameter triangle spanned by the UV of its three
+ * corner control points.
+ *
+ * Output: for a vtkPointSet input, the same type with the input's structure (shallow) and its
+ * points replaced by the surface points; otherwise a vtkPolyData holding only the points. The
+ * input's point and cell data are passed, and point data is added:
+ * `dFdu`, `dFdv` (parameter derivatives), `Normals` (dFdu x dFdv, normalised),
+ * `MacroTriangleId` (the source's cell data of that name at the evaluated cell, else the
+ * source cell id) and `vtkValidPointMask` (1 where (u, v) lies in a parameter triangle). Outside
+ * the parameter domain the mask is 0, the point is (u, v, 0), derivatives and normal are 0 and
+ * MacroTriangleId is -1.
+ *
+ * Points are located with a bucket grid over the parameter triangles (constant expected time per
+ * query) and evaluated exactly with the kernel; the loop over points runs with vtkSMPTools.
+ * A missing source, a missing or non-2-component UV array, source cells that are not Bézier
+ * triangles, and zero-area parameter triangles are reported with vtkErrorMacro and RequestData
+ * returns 0.
+ */
+#ifndef vtkSplineParameterProbe_h
+#define vtkSplineParameterProbe_h
+
+#include "CTSplinesFiltersModule.h" // For export macro
+#include "vtkDataSetAlgorithm.h"
+
+#include <string> // for std::string
+
+class vtkAlgorithmOutput;
+
+class CTSPLINESFILTERS_EXPORT vtkSplineParameterProbe : public vtkDataSetAlgorithm
+{
+public:
+  static vtkSplineParameterProbe* New();
+  vtkTypeMacro(vtkSplineParameterProbe, vtkDataSetAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// The spline to evaluate (input port 1), as a data object or a pipeline connection.
+  void SetSourceData(vtkDataObject* source);
+  vtkDataObject* GetSource();
+  void SetSourceConnection(vtkAlgorithmOutput* algOutput);
+  ///@}
+
+  ///@{
+  /// Name of the source's point data array of domain points. Default "UV".
+  vtkSetStdStringFromCharMacro(UVArrayName);
+  vtkGetCharFromStdStringMacro(UVArrayName);
+  ///@}
+
+protected:
+  vtkSplineParameterProbe();
+  ~vtkSplineParameterProbe() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  std::string UVArrayName = "UV";
+
+private:
+  vtkSplineParameterProbe(const vtkSplineParameterProbe&) = delete;
+  void operator=(const vtkSplineParameterProbe&) = delete;
+};
+
+#endif

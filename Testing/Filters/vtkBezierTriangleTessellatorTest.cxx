@@ -1,0 +1,538 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkBezierTriangleTessellator.h"
+
+#include "FilterTestUtilities.h"
+#include "vtkCloughTocherSplineFilter.h"
+
+#include "vtkBezierTriangle.h"
+#include "vtkCallbackCommand.h"
+#include "vtkCellType.h"
+#include "vtkExecutive.h"
+#include "vtkIdTypeArray.h"
+#include "vtkSMPTools.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+
+namespace
+{
+// Collects the error messages of an algorithm and its executive (which also keeps them off the
+// console).
+struct ErrorCapture
+{
+  std::string Messages;
+  vtkNew<vtkCallbackCommand> Callback;
+  explicit ErrorCapture(vtkAlgorithm* algorithm)
+  {
+    this->Callback->SetClientData(this);
+    this->Callback->SetCallback([](vtkObject*, unsigned long, void* self, void* message) {
+      static_cast<ErrorCapture*>(self)->Messages += static_cast<const char*>(message);
+      static_cast<ErrorCapture*>(self)->Messages += "\n";
+    });
+    algorithm->AddObserver(vtkCommand::ErrorEvent, this->Callback);
+    algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, this->Callback);
+  }
+};
+
+vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(ctk::AnalyticSurface surface, int n)
+{
+  const ctk::ParameterMesh m = ctk::RegularGridMesh(n, ctk::GridDiagonal::Alternating);
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputData(ctsplines_test::MakeSampledPolyData(m, surface));
+  spline->SetConstructionToCTi();
+  spline->Update();
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->ShallowCopy(spline->GetOutput());
+  return out;
+}
+
+vtkSmartPointer<vtkPolyData> Tessellate(vtkDataSet* input, int level)
+{
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  tessellator->SetInputData(input);
+  tessellator->SetSubdivisionLevel(level);
+  tessellator->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(tessellator->GetOutput());
+  return out;
+}
+
+ctk::Vec3 Point(vtkDataSet* ds, vtkIdType i)
+{
+  ctk::Vec3 x;
+  ds->GetPoint(i, x.data());
+  return x;
+}
+
+ctk::Vec3 Tuple3(vtkDataArray* a, vtkIdType i)
+{
+  return ctk::Vec3(a->GetComponent(i, 0), a->GetComponent(i, 1), a->GetComponent(i, 2));
+}
+
+// VTK's own evaluation of cell c at parametric (r, s), rational weights included.
+ctk::Vec3 VtkEvaluate(vtkUnstructuredGrid* grid, vtkIdType c, double r, double s)
+{
+  vtkBezierTriangle* cell = vtkBezierTriangle::SafeDownCast(grid->GetCell(c));
+  EXPECT_NE(cell, nullptr);
+  // VTK reads the active rational weights attribute only (set by the tests' grids).
+  cell->SetRationalWeightsFromPointData(grid->GetPointData(), cell->GetNumberOfPoints());
+  const double pcoords[3] = { r, s, 0.0 };
+  double weights[ctk::MaxBezierPoints];
+  int subId = 0;
+  ctk::Vec3 x;
+  cell->EvaluateLocation(subId, pcoords, x.data(), weights);
+  return x;
+}
+
+// Parametric coordinates (r, s) of a domain point in cell c of a spline, from the corners' UV.
+ctk::Vec2 CellParametric(vtkUnstructuredGrid* spline, vtkIdType c, const ctk::Vec2& uv)
+{
+  vtkDataArray* UV = spline->GetPointData()->GetArray("UV");
+  vtkNew<vtkIdList> ids;
+  spline->GetCellPoints(c, ids);
+  ctk::Vec2 A[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    A[a] = ctk::Vec2(UV->GetComponent(ids->GetId(a), 0), UV->GetComponent(ids->GetId(a), 1));
+  }
+  const ctk::Vec3 t = ctk::Barycentric(A[0], A[1], A[2], uv);
+  return ctk::Vec2(t[1], t[2]);
+}
+
+// Number of points of a conforming tessellation: unique corners and edges of the cells.
+vtkIdType ExpectedPointCount(vtkUnstructuredGrid* grid, int L)
+{
+  std::set<vtkIdType> corners;
+  std::set<std::pair<vtkIdType, vtkIdType>> edges;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    grid->GetCellPoints(c, ids);
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType p = ids->GetId(a), q = ids->GetId((a + 1) % 3);
+      corners.insert(p);
+      edges.insert({ std::min(p, q), std::max(p, q) });
+    }
+  }
+  const vtkIdType T = grid->GetNumberOfCells();
+  return static_cast<vtkIdType>(corners.size()) +
+    static_cast<vtkIdType>(edges.size()) * (L - 1) + T * (L - 1) * (L - 2) / 2;
+}
+
+// Smallest distance between two distinct output points (brute force).
+double MinimumSeparation(vtkPolyData* pd)
+{
+  double best = std::numeric_limits<double>::infinity();
+  for (vtkIdType i = 0; i < pd->GetNumberOfPoints(); ++i)
+  {
+    for (vtkIdType j = i + 1; j < pd->GetNumberOfPoints(); ++j)
+    {
+      best = std::min(best, (Point(pd, i) - Point(pd, j)).norm());
+    }
+  }
+  return best;
+}
+
+// Edges used by exactly one output triangle.
+vtkIdType BoundaryEdgeCount(vtkPolyData* pd)
+{
+  std::map<std::pair<vtkIdType, vtkIdType>, int> uses;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < pd->GetNumberOfCells(); ++c)
+  {
+    pd->GetCellPoints(c, ids);
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType p = ids->GetId(a), q = ids->GetId((a + 1) % 3);
+      ++uses[{ std::min(p, q), std::max(p, q) }];
+    }
+  }
+  vtkIdType boundary = 0;
+  for (const auto& e : uses)
+  {
+    EXPECT_LE(e.second, 2);
+    boundary += e.second == 1;
+  }
+  return boundary;
+}
+
+// One rational quartic cell (the sphere octant); with mirrored = true a second cell, the octant
+// reflected in z = 0, shares the corners (1,0,0), (0,1,0) and the edge between them. The weights
+// are the active rational weights attribute (what VTK's cells read) or only a named array.
+vtkSmartPointer<vtkUnstructuredGrid> SphereOctants(bool mirrored, bool active = true)
+{
+  std::array<ctk::Vec3, 15> P;
+  std::array<double, 15> w;
+  ctk::SphereOctantNet(P, w);
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(4);
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> weights;
+  weights->SetName("RationalWeights");
+  vtkIdType ids[15];
+  for (int p = 0; p < 15; ++p)
+  {
+    ids[p] = points->InsertNextPoint(P[order[p]].data());
+    weights->InsertNextValue(w[order[p]]);
+  }
+  grid->SetPoints(points);
+  if (active)
+  {
+    grid->GetPointData()->SetRationalWeights(weights);
+  }
+  else
+  {
+    grid->GetPointData()->AddArray(weights);
+  }
+  grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 15, ids);
+  if (mirrored)
+  {
+    // VTK points 0, 1 (corners) and 3, 4, 5 (edge 0->1) lie in z = 0: shared.
+    vtkIdType mirror[15];
+    for (int p = 0; p < 15; ++p)
+    {
+      if (p == 0 || p == 1 || (p >= 3 && p <= 5))
+      {
+        mirror[p] = ids[p];
+        continue;
+      }
+      const ctk::Vec3 q = P[order[p]].cwiseProduct(ctk::Vec3(1, 1, -1));
+      mirror[p] = points->InsertNextPoint(q.data());
+      weights->InsertNextValue(w[order[p]]);
+    }
+    grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 15, mirror);
+  }
+  return grid;
+}
+} // namespace
+
+TEST(vtkBezierTriangleTessellator, CubicSplineMatchesVtkEvaluation)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke, 3);
+  const int L = 5;
+  vtkSmartPointer<vtkPolyData> out = Tessellate(spline, L);
+  ASSERT_EQ(out->GetNumberOfCells(), spline->GetNumberOfCells() * L * L);
+  EXPECT_EQ(out->GetPoints()->GetDataType(), VTK_DOUBLE);
+  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+  vtkDataArray* cellIds = out->GetCellData()->GetArray("BezierCellId");
+  ASSERT_NE(uv, nullptr);
+  ASSERT_NE(cellIds, nullptr);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType t = 0; t < out->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType c = static_cast<vtkIdType>(cellIds->GetComponent(t, 0));
+    out->GetCellPoints(t, ids);
+    ASSERT_EQ(ids->GetNumberOfIds(), 3);
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType p = ids->GetId(a);
+      const ctk::Vec2 rs =
+        CellParametric(spline, c, ctk::Vec2(uv->GetComponent(p, 0), uv->GetComponent(p, 1)));
+      // Samples lie on the uniform lattice of the cell...
+      EXPECT_NEAR(rs.x() * L, std::round(rs.x() * L), 1e-9);
+      EXPECT_NEAR(rs.y() * L, std::round(rs.y() * L), 1e-9);
+      // ...and are the cell's exact points there.
+      const ctk::Vec3 x = VtkEvaluate(spline, c, rs.x(), rs.y());
+      EXPECT_LE((x - Point(out, p)).norm(), 1e-12 * (1 + x.norm())) << "triangle " << t;
+    }
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, ConformingPointCountsAndTopology)
+{
+  const int n = 3;
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::FarinCubic, n);
+  for (int L : { 1, 2, 3, 5, 8 })
+  {
+    vtkSmartPointer<vtkPolyData> out = Tessellate(spline, L);
+    EXPECT_EQ(out->GetNumberOfPoints(), ExpectedPointCount(spline, L)) << "L = " << L;
+    EXPECT_EQ(out->GetNumberOfCells(), spline->GetNumberOfCells() * L * L);
+    // Shared points are stored once: no two points coincide.
+    EXPECT_GT(MinimumSeparation(out), 1e-12) << "L = " << L;
+    // Watertight: only the 4n boundary macro-edges, each cut into L pieces, are open.
+    EXPECT_EQ(BoundaryEdgeCount(out), 4 * n * L) << "L = " << L;
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, NormalsAreUnitAndOrthogonalToTangents)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke, 2);
+  vtkSmartPointer<vtkPolyData> out = Tessellate(spline, 4);
+  vtkDataArray* normals = out->GetPointData()->GetNormals();
+  ASSERT_NE(normals, nullptr);
+  ASSERT_STREQ(normals->GetName(), "Normals");
+  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+  vtkDataArray* cellIds = out->GetCellData()->GetArray("BezierCellId");
+  vtkNew<vtkIdList> ids;
+  const double h = 1e-6;
+  for (vtkIdType t = 0; t < out->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType c = static_cast<vtkIdType>(cellIds->GetComponent(t, 0));
+    out->GetCellPoints(t, ids);
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType p = ids->GetId(a);
+      const ctk::Vec3 N = Tuple3(normals, p);
+      EXPECT_NEAR(N.norm(), 1.0, 1e-14);
+      const ctk::Vec2 rs =
+        CellParametric(spline, c, ctk::Vec2(uv->GetComponent(p, 0), uv->GetComponent(p, 1)));
+      // Central differences of the cell's polynomial (C1 spline: any cell at the point agrees).
+      const ctk::Vec3 Tr =
+        VtkEvaluate(spline, c, rs.x() + h, rs.y()) - VtkEvaluate(spline, c, rs.x() - h, rs.y());
+      const ctk::Vec3 Ts =
+        VtkEvaluate(spline, c, rs.x(), rs.y() + h) - VtkEvaluate(spline, c, rs.x(), rs.y() - h);
+      EXPECT_LT(std::abs(N.dot(Tr)) / Tr.norm(), 1e-8);
+      EXPECT_LT(std::abs(N.dot(Ts)) / Ts.norm(), 1e-8);
+      // Oriented like the cell (its parameter triangles are counter-clockwise).
+      EXPECT_GT(N.dot(Tr.cross(Ts)), 0.0);
+    }
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, RationalQuarticSphereOctant)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> octant = SphereOctants(false);
+  const int L = 8;
+  vtkSmartPointer<vtkPolyData> out = Tessellate(octant, L);
+  ASSERT_EQ(out->GetNumberOfPoints(), (L + 1) * (L + 2) / 2);
+  ASSERT_EQ(out->GetNumberOfCells(), L * L);
+  vtkDataArray* normals = out->GetPointData()->GetNormals();
+  for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+  {
+    const ctk::Vec3 x = Point(out, p);
+    EXPECT_NEAR(x.norm(), 1.0, 1e-12);
+    EXPECT_GE(x.minCoeff(), -1e-12);
+    // On the unit sphere the normal is the position (outward for this orientation).
+    EXPECT_LE((Tuple3(normals, p) - x).norm(), 1e-12);
+  }
+  // Every lattice point evaluated by VTK is exactly one output point.
+  std::vector<int> matched(out->GetNumberOfPoints(), 0);
+  for (int k = 0; k <= L; ++k)
+  {
+    for (int j = 0; j <= L - k; ++j)
+    {
+      const ctk::Vec3 x = VtkEvaluate(octant, 0, double(j) / L, double(k) / L);
+      int hits = 0;
+      for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+      {
+        if ((Point(out, p) - x).norm() <= 1e-12)
+        {
+          ++hits;
+          ++matched[p];
+        }
+      }
+      EXPECT_EQ(hits, 1) << "lattice point " << j << ", " << k;
+    }
+  }
+  EXPECT_EQ(std::count(matched.begin(), matched.end(), 1), out->GetNumberOfPoints());
+}
+
+TEST(vtkBezierTriangleTessellator, RationalCellsSharingAnEdge)
+{
+  // Weights only by name here: the tessellator reads them all the same.
+  vtkSmartPointer<vtkUnstructuredGrid> octants = SphereOctants(true, false);
+  for (int L : { 1, 3, 6 })
+  {
+    vtkSmartPointer<vtkPolyData> out = Tessellate(octants, L);
+    // 4 corners, 5 edges, 2 cells.
+    EXPECT_EQ(out->GetNumberOfPoints(), 4 + 5 * (L - 1) + 2 * (L - 1) * (L - 2) / 2);
+    EXPECT_EQ(out->GetNumberOfPoints(), ExpectedPointCount(octants, L));
+    EXPECT_GT(MinimumSeparation(out), 1e-12);
+    EXPECT_EQ(BoundaryEdgeCount(out), 4 * L);
+    vtkDataArray* normals = out->GetPointData()->GetNormals();
+    for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+    {
+      const ctk::Vec3 x = Point(out, p);
+      EXPECT_NEAR(x.norm(), 1.0, 1e-12);
+      EXPECT_LE(Tuple3(normals, p).cross(x).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, HigherOrderCellsAndArbitraryPointOrder)
+{
+  // Degree 1..7 cells built from random nets; compare with VTK at every output triangle corner.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  for (int n = 1; n <= 7; ++n)
+  {
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    vtkNew<vtkDoubleArray> weights;
+    weights->SetName("RationalWeights");
+    std::vector<vtkIdType> ids(ctk::BezierPointCount(n));
+    for (vtkIdType& id : ids)
+    {
+      id = points->InsertNextPoint(U(rng), U(rng), U(rng));
+      weights->InsertNextValue(1.5 + U(rng));
+    }
+    // Reversed storage: connectivity, not storage order, defines the net.
+    std::reverse(ids.begin(), ids.end());
+    grid->SetPoints(points);
+    grid->GetPointData()->SetRationalWeights(weights);
+    grid->InsertNextCell(VTK_BEZIER_TRIANGLE, static_cast<vtkIdType>(ids.size()), ids.data());
+    const int L = 4;
+    vtkSmartPointer<vtkPolyData> out = Tessellate(grid, L);
+    ASSERT_EQ(out->GetNumberOfPoints(), (L + 1) * (L + 2) / 2) << "degree " << n;
+    for (int k = 0; k <= L; ++k)
+    {
+      for (int j = 0; j <= L - k; ++j)
+      {
+        const ctk::Vec3 x = VtkEvaluate(grid, 0, double(j) / L, double(k) / L);
+        double best = std::numeric_limits<double>::infinity();
+        for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+        {
+          best = std::min(best, (Point(out, p) - x).norm());
+        }
+        EXPECT_LE(best, 1e-12 * (1 + x.norm())) << "degree " << n;
+      }
+    }
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, CellDataCarriedOver)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane, 2);
+  const int L = 3;
+  vtkSmartPointer<vtkPolyData> out = Tessellate(spline, L);
+  vtkDataArray* source = out->GetCellData()->GetArray("BezierCellId");
+  vtkDataArray* macro = out->GetCellData()->GetArray("MacroTriangleId");
+  vtkDataArray* micro = out->GetCellData()->GetArray("MicroTriangleId");
+  ASSERT_NE(source, nullptr);
+  ASSERT_NE(macro, nullptr);
+  ASSERT_NE(micro, nullptr);
+  EXPECT_EQ(macro->GetDataType(), spline->GetCellData()->GetArray("MacroTriangleId")->GetDataType());
+  std::vector<int> count(spline->GetNumberOfCells(), 0);
+  for (vtkIdType t = 0; t < out->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType c = static_cast<vtkIdType>(source->GetComponent(t, 0));
+    ++count[c];
+    EXPECT_EQ(macro->GetComponent(t, 0),
+      spline->GetCellData()->GetArray("MacroTriangleId")->GetComponent(c, 0));
+    EXPECT_EQ(micro->GetComponent(t, 0),
+      spline->GetCellData()->GetArray("MicroTriangleId")->GetComponent(c, 0));
+  }
+  for (int c : count)
+  {
+    EXPECT_EQ(c, L * L);
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, ResultIndependentOfThreadCount)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke, 6);
+  const std::string backend = vtkSMPTools::GetBackend();
+  ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
+  vtkSmartPointer<vtkPolyData> a = Tessellate(spline, 7);
+  // STDThread is always compiled in (VTK >= 9.1); several threads even on one core.
+  ASSERT_TRUE(vtkSMPTools::SetBackend("STDThread"));
+  vtkSMPTools::Initialize(4);
+  vtkSmartPointer<vtkPolyData> b = Tessellate(spline, 7);
+  vtkSMPTools::SetBackend(backend.c_str());
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < a->GetNumberOfPoints(); ++p)
+  {
+    ASSERT_EQ(Point(a, p), Point(b, p));
+    ASSERT_EQ(Tuple3(a->GetPointData()->GetNormals(), p),
+      Tuple3(b->GetPointData()->GetNormals(), p));
+  }
+  ASSERT_EQ(a->GetNumberOfCells(), b->GetNumberOfCells());
+  vtkNew<vtkIdList> ia, ib;
+  for (vtkIdType c = 0; c < a->GetNumberOfCells(); ++c)
+  {
+    a->GetCellPoints(c, ia);
+    b->GetCellPoints(c, ib);
+    for (int k = 0; k < 3; ++k)
+    {
+      ASSERT_EQ(ia->GetId(k), ib->GetId(k));
+    }
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, EmptyInputGivesEmptyOutput)
+{
+  vtkNew<vtkUnstructuredGrid> empty;
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  ErrorCapture errors(tessellator);
+  tessellator->SetInputData(empty);
+  EXPECT_EQ(tessellator->GetExecutive()->Update(), 1);
+  EXPECT_TRUE(errors.Messages.empty()) << errors.Messages;
+  EXPECT_EQ(tessellator->GetOutput()->GetNumberOfPoints(), 0);
+  EXPECT_EQ(tessellator->GetOutput()->GetNumberOfCells(), 0);
+}
+
+TEST(vtkBezierTriangleTessellator, RejectsOtherCellTypes)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane, 1);
+  const vtkIdType bad = spline->GetNumberOfCells();
+  const vtkIdType tri[3] = { 0, 1, 2 };
+  spline->InsertNextCell(VTK_TRIANGLE, 3, tri);
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  ErrorCapture errors(tessellator);
+  tessellator->SetInputData(spline);
+  EXPECT_EQ(tessellator->GetExecutive()->Update(), 0);
+  EXPECT_NE(errors.Messages.find("cell " + std::to_string(bad) + " is a vtkTriangle"),
+    std::string::npos)
+    << errors.Messages;
+}
+
+TEST(vtkBezierTriangleTessellator, RejectsBadPointCounts)
+{
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkNew<vtkPoints> points;
+  for (int p = 0; p < 7; ++p)
+  {
+    points->InsertNextPoint(p, p * p, 0);
+  }
+  grid->SetPoints(points);
+  const vtkIdType ids[7] = { 0, 1, 2, 3, 4, 5, 6 };
+  grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 6, ids);
+  grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 7, ids);
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  ErrorCapture errors(tessellator);
+  tessellator->SetInputData(grid);
+  EXPECT_EQ(tessellator->GetExecutive()->Update(), 0);
+  EXPECT_NE(errors.Messages.find("cell 1 has 7 points"), std::string::npos) << errors.Messages;
+}
+
+TEST(vtkBezierTriangleTessellator, RejectsBadRationalWeights)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> octant = SphereOctants(false);
+  vtkNew<vtkDoubleArray> weights;
+  weights->SetName("RationalWeights");
+  weights->SetNumberOfComponents(2);
+  weights->SetNumberOfTuples(octant->GetNumberOfPoints());
+  weights->Fill(1.0);
+  octant->GetPointData()->AddArray(weights);
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  ErrorCapture errors(tessellator);
+  tessellator->SetInputData(octant);
+  EXPECT_EQ(tessellator->GetExecutive()->Update(), 0);
+  EXPECT_NE(errors.Messages.find("'RationalWeights' has 2 components"), std::string::npos)
+    << errors.Messages;
+}
+
+TEST(vtkBezierTriangleTessellator, PrintSelfAndDefaults)
+{
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  EXPECT_EQ(tessellator->GetSubdivisionLevel(), 8);
+  EXPECT_STREQ(tessellator->GetUVArrayName(), "UV");
+  tessellator->SetSubdivisionLevel(0);
+  EXPECT_EQ(tessellator->GetSubdivisionLevel(), 1);
+  std::ostringstream os;
+  tessellator->Print(os);
+  EXPECT_NE(os.str().find("SubdivisionLevel: 1"), std::string::npos);
+}

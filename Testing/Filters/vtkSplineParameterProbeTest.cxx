@@ -1,0 +1,446 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkSplineParameterProbe.h"
+
+#include "FilterTestUtilities.h"
+#include "vtkBezierTriangleTessellator.h"
+#include "vtkCloughTocherSplineFilter.h"
+
+#include "vtkCallbackCommand.h"
+#include "vtkCellType.h"
+#include "vtkCharArray.h"
+#include "vtkExecutive.h"
+#include "vtkImageData.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <string>
+
+namespace
+{
+// Collects the error messages of an algorithm and its executive (which also keeps them off the
+// console).
+struct ErrorCapture
+{
+  std::string Messages;
+  vtkNew<vtkCallbackCommand> Callback;
+  explicit ErrorCapture(vtkAlgorithm* algorithm)
+  {
+    this->Callback->SetClientData(this);
+    this->Callback->SetCallback([](vtkObject*, unsigned long, void* self, void* message) {
+      static_cast<ErrorCapture*>(self)->Messages += static_cast<const char*>(message);
+      static_cast<ErrorCapture*>(self)->Messages += "\n";
+    });
+    algorithm->AddObserver(vtkCommand::ErrorEvent, this->Callback);
+    algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, this->Callback);
+  }
+};
+
+const ctk::ParameterMesh& Grid()
+{
+  static const ctk::ParameterMesh m = ctk::RegularGridMesh(4, ctk::GridDiagonal::Alternating);
+  return m;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(ctk::AnalyticSurface surface,
+  const Eigen::Matrix2d& A = Eigen::Matrix2d::Identity(), const ctk::Vec2& t = ctk::Vec2::Zero())
+{
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputData(ctsplines_test::MakeSampledPolyData(Grid(), surface, A, t));
+  spline->SetConstructionToCTi();
+  spline->Update();
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->ShallowCopy(spline->GetOutput());
+  return out;
+}
+
+vtkSmartPointer<vtkPolyData> QueryPoints(const std::vector<ctk::Vec2>& uv)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  for (const ctk::Vec2& p : uv)
+  {
+    points->InsertNextPoint(p.x(), p.y(), 0.7); // z is ignored
+  }
+  pd->SetPoints(points);
+  return pd;
+}
+
+ctk::Vec3 Tuple3(vtkDataArray* a, vtkIdType i)
+{
+  return ctk::Vec3(a->GetComponent(i, 0), a->GetComponent(i, 1), a->GetComponent(i, 2));
+}
+
+ctk::Vec3 Point(vtkDataSet* ds, vtkIdType i)
+{
+  ctk::Vec3 x;
+  ds->GetPoint(i, x.data());
+  return x;
+}
+
+// Random points of [0, 1]^2, the grid's vertices and edge midpoints (shared edges and vertices).
+std::vector<ctk::Vec2> DomainPoints(std::mt19937& rng, int nRandom)
+{
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<ctk::Vec2> uv;
+  for (int i = 0; i < nRandom; ++i)
+  {
+    uv.emplace_back(U(rng), U(rng));
+  }
+  const ctk::ParameterMesh& m = Grid();
+  uv.insert(uv.end(), m.UV.begin(), m.UV.end());
+  for (ctk::Id t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      uv.push_back(0.5 * (m.UV[m.Triangles[3 * t + l]] + m.UV[m.Triangles[3 * t + (l + 1) % 3]]));
+    }
+  }
+  return uv;
+}
+
+vtkSmartPointer<vtkDataSet> Probe(vtkDataSet* input, vtkDataObject* source)
+{
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetInputData(input);
+  probe->SetSourceData(source);
+  probe->Update();
+  vtkSmartPointer<vtkDataSet> out;
+  out.TakeReference(probe->GetOutput()->NewInstance());
+  out->ShallowCopy(probe->GetOutput());
+  return out;
+}
+} // namespace
+
+TEST(vtkSplineParameterProbe, QuadraticIsReproducedExactly)
+{
+  // CTi has quadratic precision: the spline is the sampled quadratic.
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Quadratic);
+  std::mt19937 rng(1);
+  const std::vector<ctk::Vec2> uv = DomainPoints(rng, 300);
+  vtkSmartPointer<vtkDataSet> out = Probe(QueryPoints(uv), spline);
+  ASSERT_EQ(out->GetNumberOfPoints(), static_cast<vtkIdType>(uv.size()));
+  vtkPointData* pd = out->GetPointData();
+  vtkDataArray* du = pd->GetArray("dFdu");
+  vtkDataArray* dv = pd->GetArray("dFdv");
+  vtkDataArray* normals = pd->GetNormals();
+  vtkDataArray* mask = pd->GetArray("vtkValidPointMask");
+  vtkDataArray* macro = pd->GetArray("MacroTriangleId");
+  ASSERT_TRUE(du && dv && normals && mask && macro);
+  EXPECT_EQ(mask->GetDataType(), VTK_CHAR);
+  const ctk::ParameterMesh& m = Grid();
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    const ctk::SurfacePoint exact =
+      ctk::EvaluateAnalyticSurface(ctk::AnalyticSurface::Quadratic, uv[i].x(), uv[i].y());
+    ASSERT_EQ(mask->GetComponent(i, 0), 1) << "point " << i;
+    EXPECT_LE((Point(out, i) - exact.F).norm(), 1e-12) << "point " << i;
+    EXPECT_LE((Tuple3(du, i) - exact.Fu).norm(), 1e-10) << "point " << i;
+    EXPECT_LE((Tuple3(dv, i) - exact.Fv).norm(), 1e-10) << "point " << i;
+    const ctk::Vec3 N = Tuple3(normals, i);
+    EXPECT_NEAR(N.norm(), 1.0, 1e-14);
+    EXPECT_LE((N - exact.Fu.cross(exact.Fv).normalized()).norm(), 1e-10);
+    // The macro-triangle reported contains the parameter point.
+    const vtkIdType t = static_cast<vtkIdType>(macro->GetComponent(i, 0));
+    ASSERT_GE(t, 0);
+    ASSERT_LT(t, m.NumberOfTriangles());
+    const ctk::Vec3 b = ctk::Barycentric(
+      m.UV[m.Triangles[3 * t]], m.UV[m.Triangles[3 * t + 1]], m.UV[m.Triangles[3 * t + 2]], uv[i]);
+    EXPECT_GE(b.minCoeff(), -1e-12);
+  }
+}
+
+TEST(vtkSplineParameterProbe, AffinelyReparametrisedQuadratic)
+{
+  // CTi is invariant: probing at A U + t gives the surface point of U, derivatives J A^-1.
+  Eigen::Matrix2d A;
+  A << 1.7, -0.4, 0.3, 0.6;
+  const ctk::Vec2 shift(-2.0, 5.0);
+  vtkSmartPointer<vtkUnstructuredGrid> spline =
+    MakeSpline(ctk::AnalyticSurface::Quadratic, A, shift);
+  std::mt19937 rng(2);
+  std::vector<ctk::Vec2> uv = DomainPoints(rng, 200), mapped;
+  for (const ctk::Vec2& p : uv)
+  {
+    mapped.push_back(A * p + shift);
+  }
+  vtkSmartPointer<vtkDataSet> out = Probe(QueryPoints(mapped), spline);
+  vtkPointData* pd = out->GetPointData();
+  const Eigen::Matrix2d Ainv = A.inverse();
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    const ctk::SurfacePoint exact =
+      ctk::EvaluateAnalyticSurface(ctk::AnalyticSurface::Quadratic, uv[i].x(), uv[i].y());
+    Eigen::Matrix<double, 3, 2> J;
+    J << exact.Fu, exact.Fv;
+    const Eigen::Matrix<double, 3, 2> Jp = J * Ainv;
+    ASSERT_EQ(pd->GetArray("vtkValidPointMask")->GetComponent(i, 0), 1);
+    EXPECT_LE((Point(out, i) - exact.F).norm(), 1e-12);
+    EXPECT_LE((Tuple3(pd->GetArray("dFdu"), i) - Jp.col(0)).norm(), 1e-10);
+    EXPECT_LE((Tuple3(pd->GetArray("dFdv"), i) - Jp.col(1)).norm(), 1e-10);
+  }
+}
+
+TEST(vtkSplineParameterProbe, PointsOutsideTheDomainAreMasked)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke);
+  const std::vector<ctk::Vec2> uv = { ctk::Vec2(-0.1, 0.5), ctk::Vec2(0.5, 1.0 + 1e-9),
+    ctk::Vec2(2.0, 2.0), ctk::Vec2(1e30, -1e30), ctk::Vec2(0.5, 0.5), ctk::Vec2(1.0, 1.0) };
+  vtkSmartPointer<vtkDataSet> out = Probe(QueryPoints(uv), spline);
+  vtkPointData* pd = out->GetPointData();
+  for (vtkIdType i = 0; i < 4; ++i)
+  {
+    EXPECT_EQ(pd->GetArray("vtkValidPointMask")->GetComponent(i, 0), 0) << i;
+    EXPECT_EQ(Point(out, i), ctk::Vec3(uv[i].x(), uv[i].y(), 0.0));
+    EXPECT_EQ(Tuple3(pd->GetArray("dFdu"), i), ctk::Vec3::Zero());
+    EXPECT_EQ(Tuple3(pd->GetArray("dFdv"), i), ctk::Vec3::Zero());
+    EXPECT_EQ(pd->GetArray("MacroTriangleId")->GetComponent(i, 0), -1);
+  }
+  EXPECT_EQ(pd->GetArray("vtkValidPointMask")->GetComponent(4, 0), 1);
+  EXPECT_EQ(pd->GetArray("vtkValidPointMask")->GetComponent(5, 0), 1);
+}
+
+TEST(vtkSplineParameterProbe, AgreesWithTheTessellator)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke);
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  tessellator->SetInputData(spline);
+  tessellator->SetSubdivisionLevel(6);
+  tessellator->Update();
+  vtkPolyData* tess = tessellator->GetOutput();
+  vtkDataArray* uvArray = tess->GetPointData()->GetArray("UV");
+  ASSERT_NE(uvArray, nullptr);
+  std::vector<ctk::Vec2> uv;
+  for (vtkIdType p = 0; p < tess->GetNumberOfPoints(); ++p)
+  {
+    uv.emplace_back(uvArray->GetComponent(p, 0), uvArray->GetComponent(p, 1));
+  }
+  vtkSmartPointer<vtkDataSet> out = Probe(QueryPoints(uv), spline);
+  vtkPointData* pd = out->GetPointData();
+  for (vtkIdType p = 0; p < tess->GetNumberOfPoints(); ++p)
+  {
+    ASSERT_EQ(pd->GetArray("vtkValidPointMask")->GetComponent(p, 0), 1) << p;
+    const ctk::Vec3 x = Point(tess, p);
+    EXPECT_LE((Point(out, p) - x).norm(), 1e-12 * (1 + x.norm())) << p;
+    // Counter-clockwise parameter triangles: both normals have the same orientation.
+    EXPECT_GT(Tuple3(pd->GetNormals(), p).dot(Tuple3(tess->GetPointData()->GetNormals(), p)),
+      1 - 1e-12)
+      << p;
+  }
+}
+
+TEST(vtkSplineParameterProbe, RationalSphereOctant)
+{
+  // One rational quartic cell over the octant's equilateral domain: UV = domain points.
+  std::array<ctk::Vec3, 15> P;
+  std::array<double, 15> w;
+  ctk::SphereOctantNet(P, w);
+  const std::array<ctk::Vec2, 3> D = ctk::SphereOctantDomain();
+  const std::vector<std::array<int, 3>> exponents = ctk::BezierExponents(4);
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(4);
+  vtkNew<vtkUnstructuredGrid> grid;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  vtkNew<vtkDoubleArray> weights, uvArray;
+  weights->SetName("RationalWeights");
+  uvArray->SetName("UV");
+  uvArray->SetNumberOfComponents(2);
+  vtkIdType ids[15];
+  for (int p = 0; p < 15; ++p)
+  {
+    const int q = order[p];
+    ids[p] = points->InsertNextPoint(P[q].data());
+    weights->InsertNextValue(w[q]);
+    const ctk::Vec2 U =
+      (exponents[q][0] * D[0] + exponents[q][1] * D[1] + exponents[q][2] * D[2]) / 4.0;
+    uvArray->InsertNextTuple(U.data());
+  }
+  grid->SetPoints(points);
+  grid->GetPointData()->AddArray(weights);
+  grid->GetPointData()->AddArray(uvArray);
+  grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 15, ids);
+
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<ctk::Vec2> uv = { D[0], D[1], D[2], 0.5 * (D[0] + D[2]) };
+  for (int i = 0; i < 200; ++i)
+  {
+    ctk::Vec3 t(U(rng), U(rng), U(rng));
+    t /= t.sum();
+    uv.push_back(t[0] * D[0] + t[1] * D[1] + t[2] * D[2]);
+  }
+  vtkSmartPointer<vtkDataSet> out = Probe(QueryPoints(uv), grid);
+  vtkPointData* pd = out->GetPointData();
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    const ctk::SurfacePoint exact =
+      ctk::EvaluateAnalyticSurface(ctk::AnalyticSurface::SphereOctant, uv[i].x(), uv[i].y());
+    ASSERT_EQ(pd->GetArray("vtkValidPointMask")->GetComponent(i, 0), 1);
+    const ctk::Vec3 x = Point(out, i);
+    EXPECT_NEAR(x.norm(), 1.0, 1e-12);
+    EXPECT_LE((x - exact.F).norm(), 1e-12);
+    EXPECT_LE((Tuple3(pd->GetArray("dFdu"), i) - exact.Fu).norm(), 1e-10);
+    EXPECT_LE((Tuple3(pd->GetArray("dFdv"), i) - exact.Fv).norm(), 1e-10);
+    // Tangents of a sphere are orthogonal to the position.
+    EXPECT_LE(std::abs(Tuple3(pd->GetArray("dFdu"), i).dot(x)), 1e-12);
+    EXPECT_LE((Tuple3(pd->GetNormals(), i) - x).norm(), 1e-12);
+  }
+}
+
+TEST(vtkSplineParameterProbe, OutputTypeFollowsTheInput)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane);
+  // A point set keeps its type and cells; its own arrays are passed.
+  vtkSmartPointer<vtkPolyData> sampled =
+    ctsplines_test::MakeSampledPolyData(ctk::RegularGridMesh(3, ctk::GridDiagonal::Forward),
+      ctk::AnalyticSurface::Plane);
+  vtkNew<vtkPoints> flat;
+  for (vtkIdType i = 0; i < sampled->GetNumberOfPoints(); ++i)
+  {
+    const double* uv = sampled->GetPointData()->GetArray("UV")->GetTuple2(i);
+    flat->InsertNextPoint(uv[0], uv[1], 0.0);
+  }
+  sampled->SetPoints(flat);
+  vtkSmartPointer<vtkDataSet> out = Probe(sampled, spline);
+  ASSERT_TRUE(out->IsA("vtkPolyData"));
+  EXPECT_EQ(out->GetNumberOfCells(), sampled->GetNumberOfCells());
+  EXPECT_NE(out->GetPointData()->GetArray("UV"), nullptr);
+  EXPECT_NE(out->GetCellData()->GetArray("EdgeGradients"), nullptr);
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    const ctk::Vec3 x = Point(out, i);
+    EXPECT_NEAR(x.z(), 0.3 + 0.5 * x.x() - 0.2 * x.y(), 1e-13);
+  }
+
+  vtkNew<vtkUnstructuredGrid> ugrid;
+  ugrid->SetPoints(flat);
+  vtkSmartPointer<vtkDataSet> outGrid = Probe(ugrid, spline);
+  EXPECT_TRUE(outGrid->IsA("vtkUnstructuredGrid"));
+  EXPECT_EQ(outGrid->GetNumberOfPoints(), flat->GetNumberOfPoints());
+
+  // Image data is not a point set: a vtkPolyData of the points.
+  vtkNew<vtkImageData> image;
+  image->SetDimensions(5, 4, 1);
+  image->SetSpacing(0.25, 1.0 / 3.0, 1.0);
+  vtkSmartPointer<vtkDataSet> outImage = Probe(image, spline);
+  ASSERT_TRUE(outImage->IsA("vtkPolyData"));
+  EXPECT_EQ(outImage->GetNumberOfPoints(), 20);
+  EXPECT_EQ(outImage->GetNumberOfCells(), 0);
+  vtkDataArray* mask = outImage->GetPointData()->GetArray("vtkValidPointMask");
+  for (vtkIdType i = 0; i < 20; ++i)
+  {
+    EXPECT_EQ(mask->GetComponent(i, 0), 1);
+    double uv[3];
+    image->GetPoint(i, uv);
+    EXPECT_NEAR(Point(outImage, i).z(), 0.3 + 0.5 * uv[0] - 0.2 * uv[1], 1e-13);
+  }
+}
+
+TEST(vtkSplineParameterProbe, EmptySourceMasksEverything)
+{
+  vtkNew<vtkUnstructuredGrid> empty;
+  vtkNew<vtkPoints> points;
+  empty->SetPoints(points);
+  vtkNew<vtkDoubleArray> uv;
+  uv->SetName("UV");
+  uv->SetNumberOfComponents(2);
+  empty->GetPointData()->AddArray(uv);
+  vtkNew<vtkSplineParameterProbe> probe;
+  ErrorCapture errors(probe);
+  probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5) }));
+  probe->SetSourceData(empty);
+  EXPECT_EQ(probe->GetExecutive()->Update(), 1);
+  EXPECT_TRUE(errors.Messages.empty()) << errors.Messages;
+  EXPECT_EQ(probe->GetOutput()->GetPointData()->GetArray("vtkValidPointMask")->GetComponent(0, 0), 0);
+}
+
+namespace
+{
+// Runs the probe on a bad source (or none) and returns the error messages; RequestData must fail.
+std::string FailingProbe(vtkDataObject* source)
+{
+  vtkNew<vtkSplineParameterProbe> probe;
+  ErrorCapture errors(probe);
+  probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5), ctk::Vec2(0.1, 0.2) }));
+  if (source)
+  {
+    probe->SetSourceData(source);
+  }
+  EXPECT_EQ(probe->GetExecutive()->Update(), 0);
+  return errors.Messages;
+}
+} // namespace
+
+TEST(vtkSplineParameterProbe, MissingSource)
+{
+  const std::string m = FailingProbe(nullptr);
+  EXPECT_NE(m.find("no spline source"), std::string::npos) << m;
+}
+
+TEST(vtkSplineParameterProbe, SourceWithoutUV)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane);
+  spline->GetPointData()->RemoveArray("UV");
+  const std::string m = FailingProbe(spline);
+  EXPECT_NE(m.find("no point data array 'UV'"), std::string::npos) << m;
+
+  // A custom name is looked up instead.
+  vtkSmartPointer<vtkUnstructuredGrid> good = MakeSpline(ctk::AnalyticSurface::Plane);
+  vtkNew<vtkSplineParameterProbe> probe;
+  ErrorCapture errors(probe);
+  probe->SetUVArrayName("Params");
+  probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5) }));
+  probe->SetSourceData(good);
+  EXPECT_EQ(probe->GetExecutive()->Update(), 0);
+  EXPECT_NE(errors.Messages.find("'Params'"), std::string::npos) << errors.Messages;
+}
+
+TEST(vtkSplineParameterProbe, UVWithWrongComponentCount)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane);
+  vtkNew<vtkDoubleArray> uv3;
+  uv3->SetName("UV");
+  uv3->SetNumberOfComponents(3);
+  uv3->SetNumberOfTuples(spline->GetNumberOfPoints());
+  uv3->Fill(0.0);
+  spline->GetPointData()->AddArray(uv3);
+  const std::string m = FailingProbe(spline);
+  EXPECT_NE(m.find("'UV' has 3 components, expected 2"), std::string::npos) << m;
+}
+
+TEST(vtkSplineParameterProbe, NonBezierSourceCell)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane);
+  const vtkIdType bad = spline->GetNumberOfCells();
+  const vtkIdType quad[4] = { 0, 1, 2, 3 };
+  spline->InsertNextCell(VTK_QUAD, 4, quad);
+  const std::string m = FailingProbe(spline);
+  EXPECT_NE(m.find("source cell " + std::to_string(bad) + " is a vtkQuad"), std::string::npos)
+    << m;
+}
+
+TEST(vtkSplineParameterProbe, DegenerateParameterTriangle)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Plane);
+  vtkNew<vtkIdList> ids;
+  spline->GetCellPoints(0, ids);
+  vtkDataArray* uv = spline->GetPointData()->GetArray("UV");
+  uv->SetTuple(ids->GetId(1), uv->GetTuple(ids->GetId(0)));
+  const std::string m = FailingProbe(spline);
+  EXPECT_NE(m.find("degenerate parameter triangle: source cell 0"), std::string::npos) << m;
+}
+
+TEST(vtkSplineParameterProbe, PrintSelfAndDefaults)
+{
+  vtkNew<vtkSplineParameterProbe> probe;
+  EXPECT_STREQ(probe->GetUVArrayName(), "UV");
+  EXPECT_EQ(probe->GetSource(), nullptr);
+  std::ostringstream os;
+  probe->Print(os);
+  EXPECT_NE(os.str().find("UVArrayName: UV"), std::string::npos);
+}

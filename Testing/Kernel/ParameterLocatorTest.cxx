@@ -1,0 +1,257 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "AnalyticSurfaces.h"
+#include "ParameterLocator.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <thread>
+
+using namespace ctk;
+
+namespace
+{
+// The locator's documented rule evaluated over all triangles.
+ParameterLocator::Hit BruteForce(const std::vector<Vec2>& corners, const Vec2& X)
+{
+  ParameterLocator::Hit hit;
+  double bestMin = -ParameterLocator::Tolerance;
+  for (Id t = 0; t < static_cast<Id>(corners.size() / 3); ++t)
+  {
+    const Vec2* c = &corners[3 * t];
+    if (SignedArea2(c[0], c[1], c[2]) == 0.0)
+    {
+      continue;
+    }
+    const Vec3 b = Barycentric(c[0], c[1], c[2], X);
+    if (b.minCoeff() > bestMin || (b.minCoeff() == bestMin && hit.Triangle < 0))
+    {
+      bestMin = b.minCoeff();
+      hit.Triangle = t;
+      hit.Barycentric = b;
+    }
+  }
+  return hit;
+}
+
+std::vector<Vec2> Corners(const ParameterMesh& m)
+{
+  std::vector<Vec2> c;
+  for (Id i : m.Triangles)
+  {
+    c.push_back(m.UV[i]);
+  }
+  return c;
+}
+
+// Grid with interior vertices jittered by up to 0.15 h (keeps every triangle's orientation),
+// then mapped by a random rotation and anisotropic scale.
+ParameterMesh RandomMesh(std::mt19937& rng, int n, GridDiagonal diagonal)
+{
+  ParameterMesh m = RegularGridMesh(n, diagonal);
+  std::uniform_real_distribution<double> J(-0.15 / n, 0.15 / n);
+  for (Vec2& p : m.UV)
+  {
+    const bool boundary = p.x() == 0.0 || p.x() == 1.0 || p.y() == 0.0 || p.y() == 1.0;
+    if (!boundary)
+    {
+      p += Vec2(J(rng), J(rng));
+    }
+  }
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double angle = 6.0 * U(rng);
+  Eigen::Matrix2d R;
+  R << std::cos(angle), -std::sin(angle), std::sin(angle), std::cos(angle);
+  const Eigen::Matrix2d A = R * Eigen::Vector2d(0.2 + 5 * U(rng), 0.2 + 5 * U(rng)).asDiagonal();
+  const Vec2 shift(10 * U(rng) - 5, 10 * U(rng) - 5);
+  for (Vec2& p : m.UV)
+  {
+    p = A * p + shift;
+  }
+  return m;
+}
+
+// Queries: random points around the domain (many outside), every vertex, points on every edge.
+std::vector<Vec2> QueryPoints(const ParameterMesh& m, std::mt19937& rng, int nRandom)
+{
+  Vec2 lo = m.UV[0], hi = m.UV[0];
+  for (const Vec2& p : m.UV)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const Vec2 pad = 0.2 * (hi - lo);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<Vec2> q;
+  for (int i = 0; i < nRandom; ++i)
+  {
+    const Vec2 s(U(rng), U(rng));
+    q.push_back(lo - pad + s.cwiseProduct(hi - lo + 2 * pad));
+  }
+  for (const Vec2& p : m.UV)
+  {
+    q.push_back(p);
+  }
+  for (Id t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      const Vec2& A = m.UV[m.Triangles[3 * t + l]];
+      const Vec2& B = m.UV[m.Triangles[3 * t + (l + 1) % 3]];
+      const double s = U(rng);
+      q.push_back((1 - s) * A + s * B);
+      q.push_back(0.5 * (A + B));
+    }
+  }
+  return q;
+}
+
+void CheckAgainstBruteForce(const ParameterMesh& m, std::mt19937& rng)
+{
+  const std::vector<Vec2> corners = Corners(m);
+  ParameterLocator locator;
+  locator.Build(m.UV, m.NumberOfTriangles(), m.Triangles.data());
+  ASSERT_EQ(locator.GetNumberOfTriangles(), m.NumberOfTriangles());
+  // About one bucket per triangle.
+  EXPECT_LE(locator.GetNumberOfBuckets(), 2 * m.NumberOfTriangles() + 2);
+  const std::vector<Vec2> queries = QueryPoints(m, rng, 400);
+  const size_t firstOnMesh = 400;
+  for (size_t i = 0; i < queries.size(); ++i)
+  {
+    const Vec2& X = queries[i];
+    const ParameterLocator::Hit expected = BruteForce(corners, X);
+    const ParameterLocator::Hit hit = locator.Locate(X.x(), X.y());
+    ASSERT_EQ(hit.Triangle, expected.Triangle) << "query " << i << " at " << X.transpose();
+    if (i >= firstOnMesh)
+    {
+      // Vertices and edge points belong to the closed domain.
+      ASSERT_TRUE(hit.Found()) << "vertex/edge query " << i << " at " << X.transpose();
+    }
+    if (hit.Found())
+    {
+      EXPECT_GE(hit.Barycentric.minCoeff(), -ParameterLocator::Tolerance);
+      EXPECT_NEAR(hit.Barycentric.sum(), 1.0, 1e-14);
+      const Vec2* c = &corners[3 * hit.Triangle];
+      const Vec2 back =
+        hit.Barycentric[0] * c[0] + hit.Barycentric[1] * c[1] + hit.Barycentric[2] * c[2];
+      EXPECT_LE((back - X).norm(), 1e-12 * (1 + X.norm()));
+    }
+  }
+}
+} // namespace
+
+TEST(ParameterLocator, MatchesBruteForceOnRandomGrids)
+{
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 12; ++trial)
+  {
+    const int n = 1 + trial * 2;
+    CheckAgainstBruteForce(RandomMesh(rng, n, static_cast<GridDiagonal>(trial % 3)), rng);
+  }
+}
+
+TEST(ParameterLocator, MatchesBruteForceOnRefinedTriangles)
+{
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-3.0, 3.0);
+  for (int level = 0; level <= 4; ++level)
+  {
+    Vec2 A[3];
+    do
+    {
+      for (Vec2& a : A)
+      {
+        a = Vec2(U(rng), U(rng));
+      }
+    } while (std::abs(SignedArea2(A[0], A[1], A[2])) < 1.0);
+    CheckAgainstBruteForce(RefinedTriangleMesh(A[0], A[1], A[2], level), rng);
+  }
+}
+
+TEST(ParameterLocator, BoundaryOfTheUnitSquare)
+{
+  const ParameterMesh m = RegularGridMesh(7, GridDiagonal::Alternating);
+  ParameterLocator locator;
+  locator.Build(m.UV, m.NumberOfTriangles(), m.Triangles.data());
+  for (double s : { 0.0, 0.1, 1.0 / 3.0, 0.5, 0.77, 1.0 })
+  {
+    EXPECT_TRUE(locator.Locate(s, 0.0).Found()) << s;
+    EXPECT_TRUE(locator.Locate(0.0, s).Found()) << s;
+    EXPECT_TRUE(locator.Locate(s, 1.0).Found()) << s;
+    EXPECT_TRUE(locator.Locate(1.0, s).Found()) << s;
+    EXPECT_FALSE(locator.Locate(s, -1e-9).Found()) << s;
+    EXPECT_FALSE(locator.Locate(-1e-9, s).Found()) << s;
+    EXPECT_FALSE(locator.Locate(s, 1 + 1e-9).Found()) << s;
+    EXPECT_FALSE(locator.Locate(1 + 1e-9, s).Found()) << s;
+  }
+  EXPECT_FALSE(locator.Locate(1e300, -1e300).Found());
+  EXPECT_FALSE(locator.Locate(std::nan(""), 0.5).Found());
+  EXPECT_FALSE(locator.Locate(0.5, std::numeric_limits<double>::infinity()).Found());
+}
+
+TEST(ParameterLocator, EmptyAndDegenerateTriangles)
+{
+  ParameterLocator empty;
+  EXPECT_FALSE(empty.Locate(0.0, 0.0).Found());
+  empty.Build(0, nullptr);
+  EXPECT_FALSE(empty.Locate(0.0, 0.0).Found());
+
+  // A zero-area triangle is never reported; the good one still is.
+  const std::vector<Vec2> corners = { Vec2(0, 0), Vec2(1, 1), Vec2(2, 2), Vec2(0, 0), Vec2(1, 0),
+    Vec2(0, 1) };
+  ParameterLocator locator;
+  locator.Build(2, corners.data());
+  EXPECT_EQ(locator.Locate(0.5, 0.5).Triangle, 1);
+  EXPECT_EQ(locator.Locate(0.2, 0.1).Triangle, 1);
+  EXPECT_FALSE(locator.Locate(1.5, 1.5).Found());
+
+  ParameterLocator onlyDegenerate;
+  onlyDegenerate.Build(1, corners.data());
+  EXPECT_FALSE(onlyDegenerate.Locate(1.0, 1.0).Found());
+}
+
+TEST(ParameterLocator, ClockwiseTrianglesAndSharedVertex)
+{
+  // A fan of clockwise triangles around (0, 0): the centre is found, with a unit coordinate.
+  std::vector<Vec2> corners;
+  const int k = 7;
+  for (int i = 0; i < k; ++i)
+  {
+    const double a0 = 2 * M_PI * i / k, a1 = 2 * M_PI * (i + 1) / k;
+    corners.insert(corners.end(),
+      { Vec2(0, 0), Vec2(std::cos(a1), std::sin(a1)), Vec2(std::cos(a0), std::sin(a0)) });
+  }
+  ParameterLocator locator;
+  locator.Build(k, corners.data());
+  const ParameterLocator::Hit hit = locator.Locate(0.0, 0.0);
+  ASSERT_TRUE(hit.Found());
+  EXPECT_EQ(hit.Triangle, BruteForce(corners, Vec2(0, 0)).Triangle);
+  EXPECT_NEAR(hit.Barycentric[0], 1.0, 1e-15);
+  EXPECT_EQ(locator.Locate(0.3, 0.01).Triangle, 0);
+}
+
+TEST(ParameterLocator, ConcurrentQueriesAgree)
+{
+  std::mt19937 rng(3);
+  const ParameterMesh m = RandomMesh(rng, 20, GridDiagonal::Forward);
+  ParameterLocator locator;
+  locator.Build(m.UV, m.NumberOfTriangles(), m.Triangles.data());
+  const std::vector<Vec2> queries = QueryPoints(m, rng, 5000);
+  std::vector<Id> serial(queries.size()), a(queries.size()), b(queries.size());
+  for (size_t i = 0; i < queries.size(); ++i)
+  {
+    serial[i] = locator.Locate(queries[i].x(), queries[i].y()).Triangle;
+  }
+  auto run = [&](std::vector<Id>& out) {
+    for (size_t i = 0; i < queries.size(); ++i)
+    {
+      out[i] = locator.Locate(queries[i].x(), queries[i].y()).Triangle;
+    }
+  };
+  std::thread t1(run, std::ref(a)), t2(run, std::ref(b));
+  t1.join();
+  t2.join();
+  EXPECT_EQ(a, serial);
+  EXPECT_EQ(b, serial);
+}
