@@ -4,6 +4,7 @@
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
 #include "CubicCloughTocher.h"
+#include "QuarticCloughTocher.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -34,7 +35,7 @@ vtkCloughTocherSplineFilter::~vtkCloughTocherSplineFilter() = default;
 
 const char* vtkCloughTocherSplineFilter::GetConstructionName(int c)
 {
-  return ctk::ToString(static_cast<ctk::Construction>(c));
+  return c == Quartic ? "Quartic" : ctk::ToString(static_cast<ctk::Construction>(c));
 }
 
 const char* vtkCloughTocherSplineFilter::GetSplitPointName(int s)
@@ -121,7 +122,9 @@ int vtkCloughTocherSplineFilter::RequestData(
       "point data array '" + this->DvArrayName + "' (derivative d/dv)", 3, "point", Fv);
   }
   ctk::SplineOptions options;
-  options.Method = static_cast<ctk::Construction>(this->Construction);
+  const bool quartic = this->Construction == Quartic;
+  // The quartic scheme starts from FO's cubic-precision interpolant.
+  options.Method = quartic ? ctk::Construction::FO : static_cast<ctk::Construction>(this->Construction);
   options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
   options.Iterations = this->Iterations;
@@ -189,9 +192,11 @@ int vtkCloughTocherSplineFilter::RequestData(
   data.Fu = Fu.data();
   data.Fv = Fv.data();
   data.EdgeGradients = edgeGradients.empty() ? nullptr : edgeGradients.data();
-  ctk::CubicSpline spline;
-  const ctk::BuildStatus built =
-    ctk::BuildCubicCloughTocher(data, topology, options, spline, ctsplines::SMPFor);
+  ctk::CubicSpline cubic;
+  ctk::QuarticSpline quarticSpline;
+  const ctk::BuildStatus built = quartic
+    ? ctk::BuildQuarticCloughTocher(data, topology, options, quarticSpline, ctsplines::SMPFor)
+    : ctk::BuildCubicCloughTocher(data, topology, options, cubic, ctsplines::SMPFor);
   if (!built.Ok)
   {
     vtkErrorMacro(<< built.Message);
@@ -203,8 +208,10 @@ int vtkCloughTocherSplineFilter::RequestData(
     return 1;
   }
 
-  // 3. Fill the output: shared control points, three cubic Bézier cells per triangle.
-  const vtkIdType nP = static_cast<vtkIdType>(spline.ControlPoints.size());
+  // 3. Fill the output: shared control points, three Bézier cells per triangle.
+  const std::vector<ctk::Vec3>& controlPoints = quartic ? quarticSpline.ControlPoints : cubic.ControlPoints;
+  const std::vector<ctk::Vec2>& domainPoints = quartic ? quarticSpline.DomainPoints : cubic.DomainPoints;
+  const vtkIdType nP = static_cast<vtkIdType>(controlPoints.size());
   vtkNew<vtkDoubleArray> coords;
   coords->SetNumberOfComponents(3);
   coords->SetNumberOfTuples(nP);
@@ -217,15 +224,17 @@ int vtkCloughTocherSplineFilter::RequestData(
   vtkSMPTools::For(0, nP, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i)
     {
-      std::copy_n(spline.ControlPoints[i].data(), 3, xyz + 3 * i);
-      std::copy_n(spline.DomainPoints[i].data(), 2, uvw + 2 * i);
+      std::copy_n(controlPoints[i].data(), 3, xyz + 3 * i);
+      std::copy_n(domainPoints[i].data(), 2, uvw + 2 * i);
     }
   });
 
+  const int degree = quartic ? 4 : 3;
+  const vtkIdType perCell = ctk::BezierPointCount(degree);
   const vtkIdType nCells = 3 * nT;
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   offsets->SetNumberOfTuples(nCells + 1);
-  connectivity->SetNumberOfTuples(10 * nCells);
+  connectivity->SetNumberOfTuples(perCell * nCells);
   vtkNew<vtkUnsignedCharArray> types;
   types->SetNumberOfTuples(nCells);
   vtkNew<vtkIdTypeArray> macroIds;
@@ -234,30 +243,41 @@ int vtkCloughTocherSplineFilter::RequestData(
   vtkNew<vtkSignedCharArray> microIds;
   microIds->SetName("MicroTriangleId");
   microIds->SetNumberOfTuples(nCells);
-  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
+  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(degree);
   vtkIdType* off = offsets->GetPointer(0);
   vtkIdType* conn = connectivity->GetPointer(0);
+  auto fillCell = [&](vtkIdType t, int k, const ctk::Id* net) {
+    const vtkIdType c = 3 * t + k;
+    for (vtkIdType a = 0; a < perCell; ++a)
+    {
+      conn[perCell * c + a] = net[vtkOrder[a]];
+    }
+    off[c] = perCell * c;
+    types->SetValue(c, VTK_BEZIER_TRIANGLE);
+    macroIds->SetValue(c, t);
+    microIds->SetValue(c, static_cast<signed char>(k));
+  };
   vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType t = b; t < e; ++t)
     {
+      if (quartic)
+      {
+        for (int k = 0; k < 3; ++k)
+        {
+          fillCell(t, k,
+            ctk::QuarticMicroNet(quarticSpline.Layout, topology, triangles.data(), t, k).data());
+        }
+        continue;
+      }
       const ctk::MacroElementIds ids =
-        ctk::GetMacroElementIds(spline.Layout, topology, triangles.data(), t);
+        ctk::GetMacroElementIds(cubic.Layout, topology, triangles.data(), t);
       for (int k = 0; k < 3; ++k)
       {
-        const vtkIdType c = 3 * t + k;
-        const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, k);
-        for (int a = 0; a < 10; ++a)
-        {
-          conn[10 * c + a] = net[vtkOrder[a]];
-        }
-        off[c] = 10 * c;
-        types->SetValue(c, VTK_BEZIER_TRIANGLE);
-        macroIds->SetValue(c, t);
-        microIds->SetValue(c, static_cast<signed char>(k));
+        fillCell(t, k, ctk::MicroTriangleNet(ids, k).data());
       }
     }
   });
-  off[nCells] = 10 * nCells;
+  off[nCells] = perCell * nCells;
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
 

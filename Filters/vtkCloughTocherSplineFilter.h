@@ -9,8 +9,9 @@
  * read the cell data `EdgeGradients` (18 components: for the local edges (p0,p1), (p1,p2),
  * (p2,p0) in that order, f_u then f_v at the edge midpoint). Array names are settable.
  *
- * Output: vtkUnstructuredGrid with three cubic VTK_BEZIER_TRIANGLE cells per input triangle (the
- * Clough-Tocher micro-triangles), double-precision control points shared by all cells that use
+ * Output: vtkUnstructuredGrid with three cubic (quartic for the Quartic construction)
+ * VTK_BEZIER_TRIANGLE cells per input triangle (the Clough-Tocher micro-triangles),
+ * double-precision control points shared by all cells that use
  * them, point data `UV` (each control point's domain point), cell data `MacroTriangleId` and
  * `MicroTriangleId` (k of micro-triangle T_k, the one opposite vertex k), field data naming the
  * construction, split point and boundary mode.
@@ -19,7 +20,7 @@
  * CTo, CTi, Fa, FO, Ka, MGo, MGi, KaG, the IM iteration, split points Bary, Inc2, Inc3 and four
  * boundary modes for the constructions that read neighbours (CTo and MGo are local and ignore
  * it; KaG uses GradientToSplitPoint unless a gradient mode is chosen), and Kashyap's cubic
- * fairing scheme from "A Quartic Clough-Tocher Interpolant" (Fang, Mann). Bad input (non-triangles, missing or wrong-sized arrays,
+ * fairing scheme and the quartic scheme from "A Quartic Clough-Tocher Interpolant" (Fang, Mann). Bad input (non-triangles, missing or wrong-sized arrays,
  * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
  * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.
  */
@@ -49,7 +50,8 @@ public:
     MGo = 5,
     MGi = 6,
     KaG = 7,
-    Kashyap = 8
+    Kashyap = 8,
+    Quartic = 9
   };
   enum SplitPointType
   {
@@ -69,7 +71,9 @@ public:
   /// The construction that fixes the central control points (Step 2). Default CTi.
   /// Kashyap is Kashyap's cubic fairing scheme (FO, then Iterations rounds of exterior and
   /// interior fairing, then C1 smoothing).
-  vtkSetClampMacro(Construction, int, CTo, Kashyap);
+  /// Quartic is Fang and Mann's quartic scheme (FO degree-raised, then Iterations rounds of
+  /// boundary-point adjustment, exterior fairing and C1 smoothing): quartic output cells.
+  vtkSetClampMacro(Construction, int, CTo, Quartic);
   vtkGetMacro(Construction, int);
   void SetConstructionToCTo() { this->SetConstruction(CTo); }
   void SetConstructionToCTi() { this->SetConstruction(CTi); }
@@ -80,6 +84,7 @@ public:
   void SetConstructionToMGi() { this->SetConstruction(MGi); }
   void SetConstructionToKaG() { this->SetConstruction(KaG); }
   void SetConstructionToKashyap() { this->SetConstruction(Kashyap); }
+  void SetConstructionToQuartic() { this->SetConstruction(Quartic); }
   ///@}
 
   ///@{

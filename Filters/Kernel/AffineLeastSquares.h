@@ -9,6 +9,8 @@
 
 #include "BezierTriangle.h"
 
+#include <Eigen/QR>
+
 namespace ctk
 {
 /// residuals(X, out) writes `count` residuals (count <= 8) for the unknown X.
@@ -30,6 +32,40 @@ Vec3 SolveAffineResiduals(Residuals&& residuals, int count, bool sumToZero = fal
     den += w * alpha;
   }
   return -num / den;
+}
+/// The same for K unknown points X_0..X_{K-1} (K <= 4) and `count` residuals (count <= 16):
+/// least-squares solution of the (scalar) count x K system, exact when it is square and regular.
+template <int K, typename Residuals>
+void SolveAffineSystem(Residuals&& residuals, int count, Vec3* X)
+{
+  Vec3 r0[16], r1[16];
+  Vec3 probe[K];
+  for (int k = 0; k < K; ++k)
+  {
+    probe[k] = Vec3::Zero();
+  }
+  residuals(probe, r0);
+  Eigen::Matrix<double, Eigen::Dynamic, K> M(count, K);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> rhs(count, 3);
+  for (int m = 0; m < count; ++m)
+  {
+    rhs.row(m) = -r0[m].transpose();
+  }
+  for (int k = 0; k < K; ++k)
+  {
+    probe[k] = Vec3::Ones();
+    residuals(probe, r1);
+    probe[k] = Vec3::Zero();
+    for (int m = 0; m < count; ++m)
+    {
+      M(m, k) = r1[m].x() - r0[m].x();
+    }
+  }
+  const Eigen::Matrix<double, K, 3> sol = M.colPivHouseholderQr().solve(rhs);
+  for (int k = 0; k < K; ++k)
+  {
+    X[k] = sol.row(k).transpose();
+  }
 }
 } // namespace ctk
 

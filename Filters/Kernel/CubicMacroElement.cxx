@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CubicMacroElement.h"
 
+#include "InnerEdgeC1Smoothing.h"
+
 namespace ctk
 {
 MacroElementIds GetMacroElementIds(
@@ -63,15 +65,8 @@ void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points
 
 void ComputeInnerRing2AndSplitPoint(const MacroElementIds& ids, const Vec3& tau, Vec3* points)
 {
-  for (int i = 0; i < 3; ++i)
-  {
-    const int j = (i + 1) % 3, k = (i + 2) % 3;
-    // C_k sits beside U_i and U_j (micro-triangle (U_i, U_j, Z)); C_j beside U_k and U_i.
-    points[ids.I2[i]] =
-      tau[i] * points[ids.I1[i]] + tau[j] * points[ids.C[k]] + tau[k] * points[ids.C[j]];
-  }
-  points[ids.S] =
-    tau[0] * points[ids.I2[0]] + tau[1] * points[ids.I2[1]] + tau[2] * points[ids.I2[2]];
+  // I_i2 = tau_i I_i1 + tau_j C_k + tau_k C_j, S = sum tau_i I_i2: the n = 3 case.
+  SmoothInnerEdgesC1(3, tau, [&ids](int k) { return MicroTriangleNet(ids, k); }, points);
 }
 
 } // namespace ctk

@@ -29,15 +29,14 @@ void KashyapInteriorFairing(const MacroElementIds& ids, const Vec3& tau, Vec3* p
 
 void RestoreMacroEdgeC1(const Vec3* PM, const Vec2* AM, const Vec2* AMbar, Vec3& C, Vec3& Cbar)
 {
-  // Cbar = a C + b (Rule A row 1); minimise |C - C0|^2 + |a C + b - Cbar0|^2.
   Vec3 net[10];
   std::copy(PM, PM + 10, net);
-  net[CubicCentre] = Vec3::Zero();
-  const Vec3 b = TiedCubicCentre(net, AM, AMbar);
-  net[CubicCentre] = Vec3::Ones();
-  const double a = TiedCubicCentre(net, AM, AMbar).x() - b.x();
-  C = (C + a * (Cbar - b)) / (1.0 + a * a);
-  Cbar = a * C + b;
+  Vec3 args[3];
+  for (int b = 0; b < 3; ++b)
+  {
+    args[b] = Barycentric(AM[0], AM[1], AM[2], AMbar[b]);
+  }
+  MoveLeastOntoTie(3, net, CubicCentre, args, C, Cbar);
 }
 
 } // namespace ctk

@@ -94,4 +94,16 @@ Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B)
   return Blossom(3, PA, args);
 }
 
+void MoveLeastOntoTie(int n, Vec3* PA, int index, const Vec3* args, Vec3& X, Vec3& Xbar)
+{
+  // Xbar = a X + b with a scalar a (the blossom is affine in each ordinate).
+  PA[index] = Vec3::Zero();
+  const Vec3 b = Blossom(n, PA, args);
+  PA[index] = Vec3::Ones();
+  const double a = Blossom(n, PA, args).x() - b.x();
+  X = (X + a * (Xbar - b)) / (1.0 + a * a);
+  Xbar = a * X + b;
+  PA[index] = X;
+}
+
 } // namespace ctk

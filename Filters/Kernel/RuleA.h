@@ -27,6 +27,12 @@ int RuleAResiduals(int n, const Vec3* PA, const Vec2* A, const Vec3* PB, const V
 /// shared edge (Rule A, row 1): A's blossom at B's three vertices.
 Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B);
 
+/// Smallest joint movement of an ordinate X of A (index `index` in PA) and the ordinate Xbar of a
+/// neighbour that is tied to it by Rule A, Xbar = A's blossom at `args` (barycentric w.r.t. A):
+/// minimises |X - X0|^2 + |Xbar - Xbar0|^2 on the tie, where X, Xbar hold X0, Xbar0 on entry.
+/// PA[index] is set to the new X.
+void MoveLeastOntoTie(int n, Vec3* PA, int index, const Vec3* args, Vec3& X, Vec3& Xbar);
+
 } // namespace ctk
 
 #endif

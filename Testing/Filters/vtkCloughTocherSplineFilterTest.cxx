@@ -133,7 +133,8 @@ TEST(vtkCloughTocherSplineFilter, PointOrderAgreesWithVtkBezierEvaluation)
   for (int construction : { vtkCloughTocherSplineFilter::CTo, vtkCloughTocherSplineFilter::CTi,
          vtkCloughTocherSplineFilter::MGo, vtkCloughTocherSplineFilter::MGi,
          vtkCloughTocherSplineFilter::Fa, vtkCloughTocherSplineFilter::Ka,
-         vtkCloughTocherSplineFilter::KaG, vtkCloughTocherSplineFilter::Kashyap })
+         vtkCloughTocherSplineFilter::KaG, vtkCloughTocherSplineFilter::Kashyap,
+         vtkCloughTocherSplineFilter::Quartic })
   {
     vtkSmartPointer<vtkUnstructuredGrid> out =
       Convert(input, construction, vtkCloughTocherSplineFilter::Inc3);
@@ -174,61 +175,95 @@ TEST(vtkCloughTocherSplineFilter, OutputIsC1AcrossEveryCellEdge)
   vtkSmartPointer<vtkPolyData> input = MakeSampledPolyData(
     ctk::RefinedTriangleMesh(ctk::Vec2(0, 0), ctk::Vec2(1, 0), ctk::Vec2(0.3, 0.8), 2),
     ctk::AnalyticSurface::SineWave);
-  vtkSmartPointer<vtkUnstructuredGrid> out = Convert(input, vtkCloughTocherSplineFilter::MGi,
-    vtkCloughTocherSplineFilter::Inc2, vtkCloughTocherSplineFilter::GradientToSplitPoint);
-  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
-  const std::vector<int> order = ctk::VtkBezierTriangleOrder(3);
-  auto net = [&](vtkIdType c, ctk::Vec3* P, ctk::Vec2* A, vtkIdType* corners) {
-    vtkNew<vtkIdList> ids;
-    out->GetCellPoints(c, ids);
-    for (int a = 0; a < 10; ++a)
-    {
-      double x[3];
-      out->GetPoint(ids->GetId(a), x);
-      P[order[a]] = ctk::Vec3(x[0], x[1], x[2]);
-    }
-    for (int i = 0; i < 3; ++i)
-    {
-      corners[i] = ids->GetId(i);
-      A[i] = ctk::Vec2(uv->GetComponent(corners[i], 0), uv->GetComponent(corners[i], 1));
-    }
-  };
-  std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeCells;
-  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  for (int construction : { vtkCloughTocherSplineFilter::MGi, vtkCloughTocherSplineFilter::Kashyap,
+         vtkCloughTocherSplineFilter::Quartic })
   {
-    ctk::Vec3 P[10];
-    ctk::Vec2 A[3];
-    vtkIdType corners[3];
-    net(c, P, A, corners);
-    for (int l = 0; l < 3; ++l)
+    vtkNew<vtkCloughTocherSplineFilter> f;
+    f->SetInputData(input);
+    f->SetConstruction(construction);
+    f->SetSplitPointToInc2();
+    f->SetBoundaryModeToGradientToSplitPoint();
+    f->SetIterations(2);
+    f->Update();
+    vtkUnstructuredGrid* out = f->GetOutput();
+    const int degree = construction == vtkCloughTocherSplineFilter::Quartic ? 4 : 3;
+    const int count = ctk::BezierPointCount(degree);
+    ASSERT_EQ(out->GetCellSize(0), count);
+    vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+    const std::vector<int> order = ctk::VtkBezierTriangleOrder(degree);
+    auto net = [&](vtkIdType c, ctk::Vec3* P, ctk::Vec2* A, vtkIdType* corners) {
+      vtkNew<vtkIdList> ids;
+      out->GetCellPoints(c, ids);
+      for (int a = 0; a < count; ++a)
+      {
+        double x[3];
+        out->GetPoint(ids->GetId(a), x);
+        P[order[a]] = ctk::Vec3(x[0], x[1], x[2]);
+      }
+      for (int i = 0; i < 3; ++i)
+      {
+        corners[i] = ids->GetId(i);
+        A[i] = ctk::Vec2(uv->GetComponent(corners[i], 0), uv->GetComponent(corners[i], 1));
+      }
+    };
+    std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeCells;
+    for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
     {
-      const vtkIdType a = corners[l], b = corners[(l + 1) % 3];
-      edgeCells[{ std::min(a, b), std::max(a, b) }].push_back(c);
+      ctk::Vec3 P[ctk::MaxBezierPoints];
+      ctk::Vec2 A[3];
+      vtkIdType corners[3];
+      net(c, P, A, corners);
+      for (int l = 0; l < 3; ++l)
+      {
+        const vtkIdType a = corners[l], b = corners[(l + 1) % 3];
+        edgeCells[{ std::min(a, b), std::max(a, b) }].push_back(c);
+      }
     }
-  }
-  int interior = 0;
-  double worst[2] = { 0.0, 0.0 };
-  for (const auto& [edge, cells] : edgeCells)
-  {
-    ASSERT_LE(cells.size(), 2u);
-    if (cells.size() < 2)
+    int interior = 0;
+    double worst[2] = { 0.0, 0.0 };
+    for (const auto& [edge, cells] : edgeCells)
     {
-      continue;
+      ASSERT_LE(cells.size(), 2u);
+      if (cells.size() < 2)
+      {
+        continue;
+      }
+      ++interior;
+      ctk::Vec3 PA[ctk::MaxBezierPoints], PB[ctk::MaxBezierPoints];
+      ctk::Vec2 A[3], B[3];
+      vtkIdType ca[3], cb[3];
+      net(cells[0], PA, A, ca);
+      net(cells[1], PB, B, cb);
+      double j[2];
+      ctk::RuleAJumps(degree, PA, A, PB, B, 1, j);
+      worst[0] = std::max(worst[0], j[0]);
+      worst[1] = std::max(worst[1], j[1]);
     }
-    ++interior;
-    ctk::Vec3 PA[10], PB[10];
-    ctk::Vec2 A[3], B[3];
-    vtkIdType ca[3], cb[3];
-    net(cells[0], PA, A, ca);
-    net(cells[1], PB, B, cb);
-    double j[2];
-    ctk::RuleAJumps(3, PA, A, PB, B, 1, j);
-    worst[0] = std::max(worst[0], j[0]);
-    worst[1] = std::max(worst[1], j[1]);
+    const char* name = vtkCloughTocherSplineFilter::GetConstructionName(construction);
+    EXPECT_GT(interior, 40) << name;
+    EXPECT_LT(worst[0], 1e-14) << name;
+    EXPECT_LT(worst[1], 1e-12) << name;
   }
-  EXPECT_GT(interior, 40);
-  EXPECT_LT(worst[0], 1e-14);
-  EXPECT_LT(worst[1], 1e-13);
+}
+
+TEST(vtkCloughTocherSplineFilter, QuarticOutputLayout)
+{
+  const int n = 3;
+  vtkSmartPointer<vtkPolyData> input = Franke(n);
+  vtkNew<vtkCloughTocherSplineFilter> f;
+  f->SetInputData(input);
+  f->SetConstructionToQuartic();
+  f->SetIterations(3);
+  f->Update();
+  vtkUnstructuredGrid* out = f->GetOutput();
+  const vtkIdType nV = (n + 1) * (n + 1), nE = 3 * n * n + 2 * n, nT = 2 * n * n;
+  EXPECT_EQ(out->GetNumberOfPoints(), nV + 3 * nE + 19 * nT);
+  EXPECT_EQ(out->GetNumberOfCells(), 3 * nT);
+  EXPECT_EQ(out->GetCellSize(0), 15);
+  EXPECT_EQ(out->GetCellType(0), VTK_BEZIER_TRIANGLE);
+  EXPECT_EQ(vtkStringArray::SafeDownCast(out->GetFieldData()->GetAbstractArray("Construction"))
+              ->GetValue(0),
+    "Quartic");
 }
 
 TEST(vtkCloughTocherSplineFilter, FallsBackToActiveTextureCoordinates)
