@@ -255,7 +255,7 @@ def main():
             f"    vs {other:<10} evaluation {t[1] / ours[1]:7.2f}x   construction+evaluation "
             f"{(t[0] + t[1]) / (ours[0] + ours[1]):7.2f}x"
         )
-    print("\n  max |difference| at the query points (C1 cubic CT interpolants, different edge conditions):")
+    print("\n  max |difference| at the query points:")
     for a, b, d in max_pairwise(at_queries):
         print(f"    {a:<10} - {b:<10} {d:.3e}")
     for name, values in at_queries.items():
