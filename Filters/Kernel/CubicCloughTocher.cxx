@@ -215,8 +215,10 @@ void Builder::SplitPointsAndStep1()
     for (Id t = begin; t < end; ++t)
     {
       const Id* p = d.Triangles + 3 * t;
-      const Vec3 tau = SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
-        this->U(t, 1), this->U(t, 2), Row3(d.F, p[0]), Row3(d.F, p[1]), Row3(d.F, p[2]));
+      const Vec3 tau = d.SplitTau ? d.SplitTau[t]
+                                  : SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
+                                      this->U(t, 1), this->U(t, 2), Row3(d.F, p[0]),
+                                      Row3(d.F, p[1]), Row3(d.F, p[2]));
       this->Spline.SplitTau[t] = tau;
       this->SplitPoints[t] = tau[0] * this->U(t, 0) + tau[1] * this->U(t, 1) + tau[2] * this->U(t, 2);
     }

@@ -57,6 +57,10 @@ struct SplineData
   /// Optional #T by 18: for local edges (p0,p1), (p1,p2), (p2,p0), f_u then f_v at the edge
   /// midpoint. Where both triangles of an edge give one, their mean is used on both sides.
   const double* EdgeGradients = nullptr;
+  /// Optional #T barycentric coordinates of the split points; when given they replace
+  /// SplineOptions::SplitPoint (the Bézier extraction probes data with the split points of the
+  /// real data, since Inc3 depends on positions).
+  const Vec3* SplitTau = nullptr;
 };
 
 struct SplineOptions
