@@ -60,16 +60,6 @@ bool IsGradientMode(BoundaryMode m)
   return m == BoundaryMode::GradientPerpendicular || m == BoundaryMode::GradientToSplitPoint;
 }
 
-// The boundary rule actually used: KaG is Ka with mid-edge gradients on boundary edges.
-BoundaryMode EffectiveBoundary(const SplineOptions& o)
-{
-  if (o.Method == Construction::KaG && !IsGradientMode(o.Boundary))
-  {
-    return BoundaryMode::GradientToSplitPoint;
-  }
-  return o.Boundary;
-}
-
 // Constructions whose central points at an interior macro-edge come from both sides' data.
 bool IsEdgeBased(Construction c)
 {
@@ -78,10 +68,20 @@ bool IsEdgeBased(Construction c)
 }
 } // namespace
 
+BoundaryMode EffectiveBoundaryMode(const SplineOptions& o)
+{
+  // KaG is Ka with mid-edge gradients on boundary edges.
+  if (o.Method == Construction::KaG && !IsGradientMode(o.Boundary))
+  {
+    return BoundaryMode::GradientToSplitPoint;
+  }
+  return o.Boundary;
+}
+
 bool UsesEdgeGradients(const SplineOptions& o)
 {
   return o.Method == Construction::MGo || o.Method == Construction::MGi ||
-    (o.Method != Construction::CTo && IsGradientMode(EffectiveBoundary(o)));
+    (o.Method != Construction::CTo && IsGradientMode(EffectiveBoundaryMode(o)));
 }
 
 void SerialFor(Id n, const std::function<void(Id, Id)>& body)
@@ -109,7 +109,7 @@ public:
     : Data(data)
     , Topo(topo)
     , Options(options)
-    , Boundary(EffectiveBoundary(options))
+    , Boundary(EffectiveBoundaryMode(options))
     , Spline(spline)
     , For(parallelFor)
   {
@@ -460,7 +460,7 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
   {
     status.Ok = false;
     status.Message = std::string("construction ") + ToString(options.Method) +
-      " with boundary mode " + ToString(EffectiveBoundary(options)) + " needs mid-edge gradients";
+      " with boundary mode " + ToString(EffectiveBoundaryMode(options)) + " needs mid-edge gradients";
     return status;
   }
   Builder(data, topo, options, spline, parallelFor).Run();
