@@ -2,6 +2,7 @@
 #include "vtkSplineParameterProbe.h"
 
 #include "BezierTriangle.h"
+#include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
 #include "ParameterLocator.h"
 
@@ -131,14 +132,9 @@ namespace
 // The source spline flattened into plain arrays, read concurrently by the queries.
 struct Spline
 {
-  std::vector<vtkIdType> Offsets{ 0 };
-  std::vector<vtkIdType> Ids;
-  std::vector<signed char> Degree;
-  std::vector<ctk::Vec3> Points;
-  std::vector<double> Weights; // empty: polynomial
+  ctsplines::BezierCells Cells;
   std::vector<ctk::Vec2> Corners; // parameter triangle of each cell
   std::vector<vtkIdType> MacroIds;
-  std::vector<std::vector<int>> Orders = std::vector<std::vector<int>>(ctk::MaxDegree + 1);
 };
 
 std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
@@ -153,74 +149,23 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
     return os.str();
   }
   std::vector<double> uv;
-  std::string error = ctsplines::CopyArray(
-    uvArray, "the source's point data array '" + uvName + "'", 2, "point", uv);
-  const vtkIdType nPoints = source->GetNumberOfPoints();
-  if (error.empty() && uvArray->GetNumberOfTuples() != nPoints)
+  std::string error = ctsplines::CopyPointArray(uvArray, source->GetNumberOfPoints(),
+    "the source's point data array '" + uvName + "'", 2, uv);
+  if (error.empty())
   {
-    os << "the source's point data array '" << uvName << "' has "
-       << uvArray->GetNumberOfTuples() << " tuples for " << nPoints << " points";
-    error = os.str();
-  }
-  // VTK's Bézier cells read the active rational weights attribute; the spec names the array.
-  vtkDataArray* w = pd->GetRationalWeights();
-  if (!w)
-  {
-    w = ctsplines::FindArray(pd, "RationalWeights");
-  }
-  if (error.empty() && w)
-  {
-    const std::string what = std::string("the source's point data array '") +
-      (w->GetName() ? w->GetName() : "") + "' (rational weights)";
-    error = ctsplines::CopyArray(w, what, 1, "point", s.Weights);
-    if (error.empty() && w->GetNumberOfTuples() != nPoints)
-    {
-      os << what << " has " << w->GetNumberOfTuples() << " tuples for " << nPoints << " points";
-      error = os.str();
-    }
+    error = ctsplines::GatherBezierCells(source, s.Cells, "source cell", "the source's ");
   }
   if (!error.empty())
   {
     return error;
   }
-
-  const vtkIdType nCells = source->GetNumberOfCells();
-  s.Degree.resize(nCells);
-  s.Offsets.resize(nCells + 1);
+  const vtkIdType nCells = s.Cells.NumberOfCells();
   s.Corners.resize(3 * nCells);
-  vtkNew<vtkIdList> ids;
   for (vtkIdType c = 0; c < nCells; ++c)
   {
-    const int type = source->GetCellType(c);
-    if (type != VTK_BEZIER_TRIANGLE)
-    {
-      os << "source cell " << c << " is a " << vtkCellTypes::GetClassNameFromTypeId(type)
-         << " (VTK cell type " << type << "); the spline must consist of VTK_BEZIER_TRIANGLE cells";
-      return os.str();
-    }
-    source->GetCellPoints(c, ids);
-    const vtkIdType npts = ids->GetNumberOfIds();
-    int degree = 1;
-    while (degree < ctk::MaxDegree && ctk::BezierPointCount(degree) < npts)
-    {
-      ++degree;
-    }
-    if (ctk::BezierPointCount(degree) != npts)
-    {
-      os << "source cell " << c << " has " << npts
-         << " points, which is not (n+1)(n+2)/2 for an order n in 1.." << ctk::MaxDegree;
-      return os.str();
-    }
-    s.Degree[c] = static_cast<signed char>(degree);
-    if (s.Orders[degree].empty())
-    {
-      s.Orders[degree] = ctk::VtkBezierTriangleOrder(degree);
-    }
-    s.Ids.insert(s.Ids.end(), ids->GetPointer(0), ids->GetPointer(0) + npts);
-    s.Offsets[c + 1] = static_cast<vtkIdType>(s.Ids.size());
     for (int a = 0; a < 3; ++a)
     {
-      const vtkIdType p = ids->GetId(a);
+      const vtkIdType p = s.Cells.CellIds(c)[a];
       s.Corners[3 * c + a] = ctk::Vec2(uv[2 * p], uv[2 * p + 1]);
     }
   }
@@ -242,18 +187,13 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
       if (!(std::abs(ctk::SignedArea2(A[0], A[1], A[2])) > 1e-13 * diag2))
       {
         os << "degenerate parameter triangle: source cell " << c << " (corner points "
-           << s.Ids[s.Offsets[c]] << ", " << s.Ids[s.Offsets[c] + 1] << ", "
-           << s.Ids[s.Offsets[c] + 2] << ") has zero area in (u, v)";
+           << s.Cells.CellIds(c)[0] << ", " << s.Cells.CellIds(c)[1] << ", "
+           << s.Cells.CellIds(c)[2] << ") has zero area in (u, v)";
         return os.str();
       }
     }
   }
 
-  s.Points.resize(nPoints);
-  for (vtkIdType p = 0; p < nPoints; ++p)
-  {
-    source->GetPoint(p, s.Points[p].data());
-  }
   s.MacroIds.resize(nCells);
   vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId");
   for (vtkIdType c = 0; c < nCells; ++c)
@@ -291,7 +231,7 @@ int vtkSplineParameterProbe::RequestData(
     return 0;
   }
   ctk::ParameterLocator locator;
-  locator.Build(static_cast<ctk::Id>(spline.Degree.size()), spline.Corners.data());
+  locator.Build(static_cast<ctk::Id>(spline.Cells.NumberOfCells()), spline.Corners.data());
   this->UpdateProgress(0.1);
 
   const vtkIdType nPoints = input->GetNumberOfPoints();
@@ -323,7 +263,6 @@ int vtkSplineParameterProbe::RequestData(
     input->GetPoint(0, x);
   }
 
-  const bool rational = !spline.Weights.empty();
   auto probe = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
@@ -345,20 +284,11 @@ int vtkSplineParameterProbe::RequestData(
         continue;
       }
       const vtkIdType c = hit.Triangle;
-      const int n = spline.Degree[c];
-      const std::vector<int>& order = spline.Orders[n];
-      const vtkIdType* ids = &spline.Ids[spline.Offsets[c]];
-      for (int p = 0; p < ctk::BezierPointCount(n); ++p)
-      {
-        P[order[p]] = spline.Points[ids[p]];
-        if (rational)
-        {
-          w[order[p]] = spline.Weights[ids[p]];
-        }
-      }
+      const int n = spline.Cells.Degree[c];
+      const double* wp = spline.Cells.Net(c, P, w);
       const ctk::Vec2* A = &spline.Corners[3 * c];
-      const ctk::ParametricJet jet = ctk::EvaluateOverDomain(
-        n, P, rational ? w : nullptr, A[0], A[1], A[2], hit.Barycentric, 1);
+      const ctk::ParametricJet jet =
+        ctk::EvaluateOverDomain(n, P, wp, A[0], A[1], A[2], hit.Barycentric, 1);
       ctk::Vec3 normal = jet.Du.cross(jet.Dv);
       const double length = normal.norm();
       if (length > 0)

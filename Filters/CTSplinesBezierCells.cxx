@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "CTSplinesBezierCells.h"
+
+#include "CTSplinesInput.h"
+
+#include "vtkCellData.h"
+#include "vtkCellType.h"
+#include "vtkCellTypes.h"
+#include "vtkDataArray.h"
+#include "vtkDataSet.h"
+#include "vtkIdList.h"
+#include "vtkNew.h"
+#include "vtkPointData.h"
+#include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ctsplines
+{
+const double* BezierCells::Net(vtkIdType c, ctk::Vec3* P, double* w) const
+{
+  const int n = this->Degree[c];
+  const std::vector<int>& order = this->Orders[n];
+  const vtkIdType* ids = this->CellIds(c);
+  const bool rational = !this->Weights.empty();
+  for (int p = 0; p < ctk::BezierPointCount(n); ++p)
+  {
+    P[order[p]] = this->Points[ids[p]];
+    if (rational)
+    {
+      w[order[p]] = this->Weights[ids[p]];
+    }
+  }
+  return rational ? w : nullptr;
+}
+
+std::string CopyPointArray(vtkDataArray* array, vtkIdType nPoints, const std::string& what,
+  int components, std::vector<double>& out)
+{
+  std::string error = CopyArray(array, what, components, "point", out);
+  if (error.empty() && array->GetNumberOfTuples() != nPoints)
+  {
+    error = what + " has " + std::to_string(array->GetNumberOfTuples()) + " tuples for " +
+      std::to_string(nPoints) + " points";
+  }
+  return error;
+}
+
+std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells, const std::string& cellLabel,
+  const std::string& arrayPrefix)
+{
+  const vtkIdType nCells = ds->GetNumberOfCells();
+  cells.Degree.resize(nCells);
+  cells.Offsets.assign(nCells + 1, 0);
+  cells.Ids.clear();
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    const int type = ds->GetCellType(c);
+    if (type != VTK_BEZIER_TRIANGLE)
+    {
+      std::ostringstream os;
+      os << cellLabel << " " << c << " is a " << vtkCellTypes::GetClassNameFromTypeId(type)
+         << " (VTK cell type " << type << "); only VTK_BEZIER_TRIANGLE cells are accepted";
+      return os.str();
+    }
+    ds->GetCellPoints(c, ids);
+    const vtkIdType npts = ids->GetNumberOfIds();
+    int degree = 1;
+    while (degree < ctk::MaxDegree && ctk::BezierPointCount(degree) < npts)
+    {
+      ++degree;
+    }
+    if (ctk::BezierPointCount(degree) != npts)
+    {
+      std::ostringstream os;
+      os << cellLabel << " " << c << " has " << npts
+         << " points, which is not (n+1)(n+2)/2 for an order n in 1.." << ctk::MaxDegree;
+      return os.str();
+    }
+    cells.Degree[c] = static_cast<signed char>(degree);
+    if (cells.Orders[degree].empty())
+    {
+      cells.Orders[degree] = ctk::VtkBezierTriangleOrder(degree);
+    }
+    cells.Ids.insert(cells.Ids.end(), ids->GetPointer(0), ids->GetPointer(0) + npts);
+    cells.Offsets[c + 1] = static_cast<vtkIdType>(cells.Ids.size());
+  }
+
+  const vtkIdType nPoints = ds->GetNumberOfPoints();
+  // VTK's Bézier cells read the active rational weights attribute; the spec names the array.
+  vtkPointData* pd = ds->GetPointData();
+  vtkDataArray* w = pd->GetRationalWeights();
+  if (!w)
+  {
+    w = FindArray(pd, "RationalWeights");
+  }
+  cells.Weights.clear();
+  if (w)
+  {
+    const std::string what = arrayPrefix + "point data array '" +
+      (w->GetName() ? w->GetName() : "") + "'";
+    std::string error = CopyPointArray(w, nPoints, what, 1, cells.Weights);
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
+  cells.Points.resize(nPoints);
+  for (vtkIdType p = 0; p < nPoints; ++p)
+  {
+    ds->GetPoint(p, cells.Points[p].data());
+  }
+  return {};
+}
+
+SamplingLattice::SamplingLattice(int level)
+  : L(level)
+{
+  auto index = [level](int j, int k) { return k * (level + 1) - k * (k - 1) / 2 + j; };
+  int interior = 0;
+  for (int k = 0; k <= level; ++k)
+  {
+    for (int j = 0; j <= level - k; ++j)
+    {
+      const int i = level - j - k;
+      Point p;
+      // Exact zeros on edges: points there depend on the edge's control points only.
+      p.T = ctk::Vec3(double(i) / level, double(j) / level, double(k) / level);
+      if (j == 0 && k == 0)
+      {
+        p.Kind = Point::Corner, p.Local = 0, p.Step = 0;
+      }
+      else if (j == level)
+      {
+        p.Kind = Point::Corner, p.Local = 1, p.Step = 0;
+      }
+      else if (k == level)
+      {
+        p.Kind = Point::Corner, p.Local = 2, p.Step = 0;
+      }
+      else if (k == 0)
+      {
+        p.Kind = Point::Edge, p.Local = 0, p.Step = j;
+      }
+      else if (i == 0)
+      {
+        p.Kind = Point::Edge, p.Local = 1, p.Step = k;
+      }
+      else if (j == 0)
+      {
+        p.Kind = Point::Edge, p.Local = 2, p.Step = i;
+      }
+      else
+      {
+        p.Kind = Point::Interior, p.Local = 0, p.Step = interior++;
+      }
+      this->Points.push_back(p);
+    }
+  }
+  for (int k = 0; k < level; ++k)
+  {
+    for (int j = 0; j < level - k; ++j)
+    {
+      this->Triangles.insert(
+        this->Triangles.end(), { index(j, k), index(j + 1, k), index(j, k + 1) });
+      if (j + k + 2 <= level)
+      {
+        this->Triangles.insert(
+          this->Triangles.end(), { index(j + 1, k), index(j + 1, k + 1), index(j, k + 1) });
+      }
+    }
+  }
+}
+
+vtkIdType LatticeNumbering::CornerId(vtkIdType c, int a) const
+{
+  return this->CornerOf[this->Cells.CellIds(c)[a]];
+}
+
+LatticeNumbering::LatticeNumbering(
+  const BezierCells& cells, const SamplingLattice& lattice, bool shared)
+  : Cells(cells)
+  , Lattice(lattice)
+  , Shared(shared)
+{
+  const vtkIdType nCells = cells.NumberOfCells();
+  if (!shared)
+  {
+    this->NPoints = nCells * static_cast<vtkIdType>(lattice.Points.size());
+    return;
+  }
+  // Corners by point id and edges by their two corner point ids, each owned by the first cell
+  // that uses it. Edges are bucketed by their lower corner: O(n).
+  const int L = lattice.L;
+  this->CornerOf.assign(cells.Points.size(), -1);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      vtkIdType& corner = this->CornerOf[cells.CellIds(c)[a]];
+      if (corner < 0)
+      {
+        corner = static_cast<vtkIdType>(this->CornerOwner.size());
+        this->CornerOwner.push_back(c);
+      }
+    }
+  }
+  const vtkIdType nCorners = static_cast<vtkIdType>(this->CornerOwner.size());
+  auto lower = [this](vtkIdType c, int l) {
+    return std::min(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
+  };
+  auto upper = [this](vtkIdType c, int l) {
+    return std::max(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
+  };
+  std::vector<vtkIdType> bucketStart(nCorners + 1, 0);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      ++bucketStart[lower(c, l) + 1];
+    }
+  }
+  for (vtkIdType v = 0; v < nCorners; ++v)
+  {
+    bucketStart[v + 1] += bucketStart[v];
+  }
+  std::vector<vtkIdType> bucketItems(3 * nCells), fill(bucketStart.begin(), bucketStart.end() - 1);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      bucketItems[fill[lower(c, l)]++] = 3 * c + l;
+    }
+  }
+  this->CellEdge.resize(3 * nCells);
+  for (vtkIdType v = 0; v < nCorners; ++v)
+  {
+    for (vtkIdType i = bucketStart[v]; i < bucketStart[v + 1]; ++i)
+    {
+      const vtkIdType ce = bucketItems[i], c = ce / 3;
+      const vtkIdType other = upper(c, static_cast<int>(ce % 3));
+      vtkIdType edge = -1;
+      for (vtkIdType k = bucketStart[v]; k < i && edge < 0; ++k)
+      {
+        const vtkIdType cek = bucketItems[k];
+        if (upper(cek / 3, static_cast<int>(cek % 3)) == other)
+        {
+          edge = this->CellEdge[cek];
+        }
+      }
+      if (edge < 0)
+      {
+        // Items are in cell order, so the first cell seen owns the edge.
+        edge = static_cast<vtkIdType>(this->EdgeOwner.size());
+        this->EdgeOwner.push_back(c);
+      }
+      this->CellEdge[ce] = edge;
+    }
+  }
+  const vtkIdType nEdges = static_cast<vtkIdType>(this->EdgeOwner.size());
+  this->EdgeBase = nCorners;
+  this->InteriorBase = nCorners + nEdges * (L - 1);
+  this->NPoints = this->InteriorBase + nCells * lattice.NumberOfInteriorPoints();
+}
+
+vtkIdType LatticeNumbering::OutputId(vtkIdType c, int index, bool& owned) const
+{
+  if (!this->Shared)
+  {
+    owned = true;
+    return c * static_cast<vtkIdType>(this->Lattice.Points.size()) + index;
+  }
+  const SamplingLattice::Point& p = this->Lattice.Points[index];
+  const int L = this->Lattice.L;
+  switch (p.Kind)
+  {
+    case SamplingLattice::Point::Corner:
+    {
+      const vtkIdType v = this->CornerId(c, p.Local);
+      owned = this->CornerOwner[v] == c;
+      return v;
+    }
+    case SamplingLattice::Point::Edge:
+    {
+      const vtkIdType e = this->CellEdge[3 * c + p.Local];
+      owned = this->EdgeOwner[e] == c;
+      // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
+      const bool forward = this->CornerId(c, p.Local) <= this->CornerId(c, (p.Local + 1) % 3);
+      return this->EdgeBase + e * (L - 1) + (forward ? p.Step : L - p.Step) - 1;
+    }
+    default:
+      owned = true;
+      return this->InteriorBase + c * this->Lattice.NumberOfInteriorPoints() + p.Step;
+  }
+}
+
+void LatticeNumbering::WriteTriangles(
+  vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity, vtkIdType* sourceCell) const
+{
+  const vtkIdType perCell = static_cast<vtkIdType>(this->Lattice.L) * this->Lattice.L;
+  for (vtkIdType m = 0; m < perCell; ++m)
+  {
+    const vtkIdType cell = c * perCell + m;
+    for (int a = 0; a < 3; ++a)
+    {
+      bool owned = false;
+      connectivity[3 * cell + a] = this->OutputId(c, this->Lattice.Triangles[3 * m + a], owned);
+    }
+    offsets[cell] = 3 * cell;
+    sourceCell[cell] = c;
+  }
+}
+
+void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell)
+{
+  const vtkIdType nCells = input->GetNumberOfCells();
+  for (const char* name : { "MacroTriangleId", "MicroTriangleId" })
+  {
+    vtkDataArray* in = input->GetCellData()->GetArray(name);
+    if (!in)
+    {
+      continue;
+    }
+    vtkSmartPointer<vtkDataArray> array = vtkSmartPointer<vtkDataArray>::Take(in->NewInstance());
+    array->SetName(name);
+    array->SetNumberOfComponents(in->GetNumberOfComponents());
+    array->SetNumberOfTuples(nCells * trianglesPerCell);
+    vtkSMPTools::For(0, nCells, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType c = begin; c < end; ++c)
+      {
+        for (vtkIdType m = 0; m < trianglesPerCell; ++m)
+        {
+          array->SetTuple(c * trianglesPerCell + m, c, in);
+        }
+      }
+    });
+    out->AddArray(array);
+  }
+}
+
+} // namespace ctsplines

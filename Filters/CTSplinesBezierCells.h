@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// VTK_BEZIER_TRIANGLE cells flattened into plain arrays (validated once, then read concurrently),
+// and the sampling lattice shared by the filters that evaluate every cell on a uniform grid
+// (private header of the module).
+#ifndef CTSplinesBezierCells_h
+#define CTSplinesBezierCells_h
+
+#include "BezierTriangle.h" // for ctk::Vec3, ctk::MaxDegree
+
+#include <Eigen/Geometry> // for cross
+
+#include "vtkType.h" // for vtkIdType
+
+#include <array>
+#include <string>
+#include <vector>
+
+class vtkCellData;
+class vtkDataArray;
+class vtkDataSet;
+
+namespace ctsplines
+{
+/// The Bézier triangles of a data set: connectivity, degree, points and rational weights.
+struct BezierCells
+{
+  std::vector<vtkIdType> Offsets{ 0 };
+  std::vector<vtkIdType> Ids;
+  std::vector<signed char> Degree;
+  std::vector<ctk::Vec3> Points;  // every point of the data set
+  std::vector<double> Weights;    // one per point; empty: polynomial
+  std::array<std::vector<int>, ctk::MaxDegree + 1> Orders; // VtkBezierTriangleOrder, degrees used
+
+  vtkIdType NumberOfCells() const { return static_cast<vtkIdType>(this->Degree.size()); }
+  const vtkIdType* CellIds(vtkIdType c) const { return &this->Ids[this->Offsets[c]]; }
+  /// Copies the net of cell c into canonical order (P, and w when rational); returns the weights
+  /// to pass to the kernel (w, or nullptr for a polynomial data set).
+  const double* Net(vtkIdType c, ctk::Vec3* P, double* w) const;
+};
+
+/// Checks that every cell of ds is a VTK_BEZIER_TRIANGLE of an order in 1..ctk::MaxDegree and
+/// flattens connectivity and points; reads the rational weights (the active rational weights
+/// attribute, else the point data array `RationalWeights`) when present. `cellLabel` names cells
+/// in messages ("cell", "source cell"), `arrayPrefix` prefixes array names ("", "the source's ").
+std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells,
+  const std::string& cellLabel = "cell", const std::string& arrayPrefix = "");
+
+/// Copies a per-point array (checked like CopyArray, plus one tuple per point).
+std::string CopyPointArray(
+  vtkDataArray* array, vtkIdType nPoints, const std::string& what, int components,
+  std::vector<double>& out);
+
+/// Whether a patch's parametric derivatives dr, ds span no tangent plane (e.g. at a collapsed
+/// corner); the filters then take the limit from inside the cell, at NudgeInside(t).
+inline bool IsSingular(const ctk::Vec3& dr, const ctk::Vec3& ds)
+{
+  return !(dr.cross(ds).norm() > 1e-12 * (dr.squaredNorm() + ds.squaredNorm()));
+}
+inline ctk::Vec3 NudgeInside(const ctk::Vec3& t)
+{
+  return (1 - 1e-7) * t + ctk::Vec3::Constant(1e-7 / 3);
+}
+
+/// The points (i, j, k) / L of a cell's parameter triangle and the L^2 triangles between them,
+/// and for each point where it lives: a corner, the inner point Step of local edge l (counted
+/// from corner l), or interior point Step.
+struct SamplingLattice
+{
+  struct Point
+  {
+    ctk::Vec3 T; // barycentric coordinates, exact zeros on edges
+    enum KindType : signed char
+    {
+      Corner,
+      Edge,
+      Interior
+    } Kind;
+    signed char Local; // corner a or edge l
+    int Step;
+  };
+  int L = 0;
+  std::vector<Point> Points;
+  std::vector<int> Triangles; // 3 lattice indices each, oriented like the cell
+
+  explicit SamplingLattice(int level);
+  vtkIdType NumberOfInteriorPoints() const { return static_cast<vtkIdType>(L - 1) * (L - 2) / 2; }
+};
+
+/// Output numbering of the lattice points of every cell. Shared: a corner shared by cells (same
+/// point id) and an edge shared by cells (same two corner point ids) get their points once, owned
+/// by the lowest cell id using them; points are numbered corners first (in order of first use),
+/// then edge inner points, then cell interiors. Not shared: every cell owns all its points,
+/// numbered cell by cell.
+class LatticeNumbering
+{
+public:
+  LatticeNumbering(const BezierCells& cells, const SamplingLattice& lattice, bool shared);
+  vtkIdType NumberOfPoints() const { return this->NPoints; }
+  /// Output id of lattice point p of cell c, and whether c evaluates it.
+  vtkIdType OutputId(vtkIdType c, int p, bool& owned) const;
+  /// Writes the L^2 output triangles of cell c (triangles c L^2 ..): offsets, connectivity and
+  /// the source cell id of each.
+  void WriteTriangles(vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity,
+    vtkIdType* sourceCell) const;
+
+private:
+  vtkIdType CornerId(vtkIdType c, int a) const;
+  const BezierCells& Cells;
+  const SamplingLattice& Lattice;
+  bool Shared;
+  vtkIdType NPoints = 0, EdgeBase = 0, InteriorBase = 0;
+  std::vector<vtkIdType> CornerOf, CornerOwner, CellEdge, EdgeOwner;
+};
+
+/// Adds to `out` the input's cell data arrays MacroTriangleId and MicroTriangleId (when present),
+/// repeated for the trianglesPerCell output triangles of each input cell.
+void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell);
+
+} // namespace ctsplines
+
+#endif
