@@ -3,6 +3,7 @@
 
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
+#include "BezierExtraction.h"
 #include "CubicCloughTocher.h"
 #include "QuarticCloughTocher.h"
 
@@ -56,6 +57,64 @@ int vtkCloughTocherSplineFilter::FillInputPortInformation(int, vtkInformation* i
 
 namespace
 {
+// Cell and field data of the Bézier extraction (see ComputeBezierExtraction).
+void AddBezierExtraction(vtkUnstructuredGrid* output,
+  const ctk::SplineData& data, const ctk::MeshTopology& topology,
+  const ctk::BezierExtraction& extraction)
+{
+  constexpr int M = ctk::BezierExtraction::MaxElementDofs;
+  const vtkIdType nCells = output->GetNumberOfCells();
+  vtkNew<vtkIdTypeArray> dofIds;
+  dofIds->SetName("GlobalDofIds");
+  dofIds->SetNumberOfComponents(M);
+  dofIds->SetNumberOfTuples(nCells);
+  vtkNew<vtkDoubleArray> operators;
+  operators->SetName("BezierExtraction");
+  operators->SetNumberOfComponents(10 * M);
+  operators->SetNumberOfTuples(nCells);
+  // Kernel rows are in canonical order; the cell's points are in VTK order.
+  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
+  vtkSMPTools::For(0, nCells, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType c = b; c < e; ++c)
+    {
+      std::copy_n(&extraction.CellDofs[c * M], M, dofIds->GetPointer(c * M));
+      const double* op = &extraction.CellOperators[c * 10 * M];
+      double* out = operators->GetPointer(c * 10 * M);
+      for (int row = 0; row < 10; ++row)
+      {
+        std::copy_n(op + vtkOrder[row] * M, M, out + row * M);
+      }
+    }
+  });
+  output->GetCellData()->AddArray(dofIds);
+  output->GetCellData()->AddArray(operators);
+
+  vtkNew<vtkIdTypeArray> count;
+  count->SetName("NumberOfDofs");
+  count->InsertNextValue(extraction.NumberOfDofs);
+  output->GetFieldData()->AddArray(count);
+  vtkNew<vtkIdTypeArray> edgeDofs;
+  edgeDofs->SetName("EdgeDofIds");
+  edgeDofs->SetNumberOfComponents(3);
+  edgeDofs->SetNumberOfTuples(static_cast<vtkIdType>(topology.Edges.size()));
+  for (size_t e = 0; e < topology.Edges.size(); ++e)
+  {
+    const vtkIdType t[3] = { topology.Edges[e][0], topology.Edges[e][1], extraction.EdgeDofs[e] };
+    edgeDofs->SetTypedTuple(static_cast<vtkIdType>(e), t);
+  }
+  output->GetFieldData()->AddArray(edgeDofs);
+  const std::vector<ctk::Vec3> dofs = ctk::DegreesOfFreedom(data, topology, extraction);
+  vtkNew<vtkDoubleArray> dofValues;
+  dofValues->SetName("DegreesOfFreedom");
+  dofValues->SetNumberOfComponents(3);
+  dofValues->SetNumberOfTuples(static_cast<vtkIdType>(dofs.size()));
+  for (size_t j = 0; j < dofs.size(); ++j)
+  {
+    dofValues->SetTuple(static_cast<vtkIdType>(j), dofs[j].data());
+  }
+  output->GetFieldData()->AddArray(dofValues);
+}
+
 void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
 {
   vtkNew<vtkStringArray> a;
@@ -296,6 +355,23 @@ int vtkCloughTocherSplineFilter::RequestData(
   iterations->SetName("Iterations");
   iterations->InsertNextValue(this->Iterations);
   fd->AddArray(iterations);
+  if (this->ComputeBezierExtraction)
+  {
+    if (quartic)
+    {
+      vtkErrorMacro(<< "Bézier extraction is available for the cubic constructions only");
+      return 0;
+    }
+    ctk::BezierExtraction extraction;
+    const ctk::BuildStatus ex =
+      ctk::BuildBezierExtraction(data, topology, options, extraction, ctsplines::SMPFor);
+    if (!ex.Ok)
+    {
+      vtkErrorMacro(<< ex.Message);
+      return 0;
+    }
+    AddBezierExtraction(output, data, topology, extraction);
+  }
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -307,6 +383,7 @@ void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SplitPoint: " << GetSplitPointName(this->SplitPoint) << "\n";
   os << indent << "BoundaryMode: " << GetBoundaryModeName(this->BoundaryMode) << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "ComputeBezierExtraction: " << this->ComputeBezierExtraction << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
   os << indent << "DuArrayName: " << this->DuArrayName << "\n";
   os << indent << "DvArrayName: " << this->DvArrayName << "\n";

@@ -128,6 +128,20 @@ public:
   vtkGetCharFromStdStringMacro(EdgeGradientsArrayName);
   ///@}
 
+  ///@{
+  /// Also output the Bézier extraction of the spline space (for isogeometric analysis): cell
+  /// data `GlobalDofIds` (21 components, -1 padded) and `BezierExtraction` (10 x 21, row-major,
+  /// rows in the cell's VTK point order), field data `NumberOfDofs`, `EdgeDofIds` (per macro-edge
+  /// of the input: its two vertex ids and its DOF, -1 where none) and `DegreesOfFreedom` (#DOF x 3: the input data as DOFs, so
+  /// that every control point is sum_j C[row, j] d[GlobalDofIds[j]]). Degrees of freedom: value,
+  /// d/du, d/dv per vertex (3 v, 3 v + 1, 3 v + 2), then one per edge carrying mid-edge data (the
+  /// derivative along the construction's unit v_eps at the midpoint). Cubic constructions
+  /// without iterations only. Default off.
+  vtkSetMacro(ComputeBezierExtraction, bool);
+  vtkGetMacro(ComputeBezierExtraction, bool);
+  vtkBooleanMacro(ComputeBezierExtraction, bool);
+  ///@}
+
   /// Name of a construction, split point or boundary mode value ("CTi", "Inc3", ...).
   static const char* GetConstructionName(int construction);
   static const char* GetSplitPointName(int splitPoint);
@@ -144,6 +158,7 @@ protected:
   int SplitPoint = Bary;
   int BoundaryMode = Midpoint;
   int Iterations = 0;
+  bool ComputeBezierExtraction = false;
   std::string UVArrayName = "UV";
   std::string DuArrayName = "dFdu";
   std::string DvArrayName = "dFdv";

@@ -426,3 +426,58 @@ TEST(vtkCloughTocherSplineFilter, KaGNeedsEdgeGradients)
   // Ka itself needs none.
   EXPECT_EQ(Convert(input, vtkCloughTocherSplineFilter::Ka)->GetNumberOfCells(), 24);
 }
+
+TEST(vtkCloughTocherSplineFilter, BezierExtractionReproducesTheControlPoints)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(3);
+  for (int construction : { vtkCloughTocherSplineFilter::CTi, vtkCloughTocherSplineFilter::KaG,
+         vtkCloughTocherSplineFilter::MGi })
+  {
+    vtkNew<vtkCloughTocherSplineFilter> f;
+    f->SetInputData(input);
+    f->SetConstruction(construction);
+    f->SetBoundaryModeToGradientToSplitPoint();
+    f->ComputeBezierExtractionOn();
+    f->Update();
+    vtkUnstructuredGrid* out = f->GetOutput();
+    vtkDataArray* dofIds = out->GetCellData()->GetArray("GlobalDofIds");
+    vtkDataArray* ops = out->GetCellData()->GetArray("BezierExtraction");
+    vtkDataArray* dofs = out->GetFieldData()->GetArray("DegreesOfFreedom");
+    ASSERT_NE(dofIds, nullptr);
+    ASSERT_NE(ops, nullptr);
+    ASSERT_NE(dofs, nullptr);
+    const int M = dofIds->GetNumberOfComponents();
+    ASSERT_EQ(ops->GetNumberOfComponents(), 10 * M);
+    double worst = 0.0;
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+    {
+      out->GetCellPoints(c, ids);
+      for (int row = 0; row < 10; ++row)
+      {
+        ctk::Vec3 p = ctk::Vec3::Zero();
+        for (int j = 0; j < M; ++j)
+        {
+          const vtkIdType d = static_cast<vtkIdType>(dofIds->GetComponent(c, j));
+          if (d >= 0)
+          {
+            p += ops->GetComponent(c, row * M + j) *
+              ctk::Vec3(dofs->GetComponent(d, 0), dofs->GetComponent(d, 1), dofs->GetComponent(d, 2));
+          }
+        }
+        double x[3];
+        out->GetPoint(ids->GetId(row), x);
+        worst = std::max(worst, (p - ctk::Vec3(x[0], x[1], x[2])).norm());
+      }
+    }
+    EXPECT_LT(worst, 1e-13) << vtkCloughTocherSplineFilter::GetConstructionName(construction);
+  }
+  vtkNew<vtkCloughTocherSplineFilter> iterated;
+  iterated->SetInputData(input);
+  iterated->SetIterations(2);
+  iterated->ComputeBezierExtractionOn();
+  auto capture = ErrorCapture::Attach(iterated);
+  auto pipelineCapture = ErrorCapture::Attach(iterated->GetExecutive());
+  iterated->Update();
+  EXPECT_NE(capture->Message.find("iterations"), std::string::npos) << capture->Message;
+}
