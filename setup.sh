@@ -26,7 +26,7 @@ if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 packages=(
   g++ cmake ninja-build git
   paraview-dev python3-paraview
-  libeigen3-dev libgtest-dev
+  libeigen3-dev libgtest-dev libcgal-dev
   python3-numpy python3-scipy python3-matplotlib
   xvfb xauth libgl1-mesa-dri
 )
