@@ -112,11 +112,7 @@ TEST(CubicConstructions, C1AcrossEveryEdgeIncludingAfterIterations)
     {
       for (SplitPointRule sp : { SplitPointRule::Bary, SplitPointRule::Inc2, SplitPointRule::Inc3 })
       {
-        const SplineOptions o = Options(v, sp);
-        const std::array<double, 3> j = MaxJumps(mesh, BuildOrFail(mesh, o));
-        EXPECT_LT(j[0], 1e-14) << Describe(mesh, o);
-        EXPECT_LT(j[1], 1e-13) << Describe(mesh, o);
-        EXPECT_GT(j[2], 1e-9) << Describe(mesh, o);
+        ExpectC1ButNotC2(mesh, Options(v, sp));
       }
     }
   }

@@ -108,6 +108,15 @@ inline std::array<double, 3> MaxJumps(const SampledMesh& mesh, const CubicSpline
   return worst;
 }
 
+/// C0 and C1 to round-off across every edge, and a visible C2 jump (so the check can see one).
+inline void ExpectC1ButNotC2(const SampledMesh& mesh, const SplineOptions& o)
+{
+  const std::array<double, 3> j = MaxJumps(mesh, BuildOrFail(mesh, o));
+  EXPECT_LT(j[0], 1e-14) << Describe(mesh, o);
+  EXPECT_LT(j[1], 1e-13) << Describe(mesh, o);
+  EXPECT_GT(j[2], 1e-9) << Describe(mesh, o);
+}
+
 /// Largest distance between spline a at X and spline b at A X + t, over random X.
 inline double MaxDeviation(const SampledMesh& a, const CubicSpline& sa, const SampledMesh& b,
   const CubicSpline& sb, const Affine& affine)
