@@ -36,6 +36,31 @@ const double* BezierCells::Net(vtkIdType c, ctk::Vec3* P, double* w) const
   return rational ? w : nullptr;
 }
 
+void BezierCells::UVNet(vtkIdType c, ctk::Vec3* Q) const
+{
+  const int n = this->Degree[c];
+  const std::vector<int>& order = this->Orders[n];
+  const vtkIdType* ids = this->CellIds(c);
+  for (int p = 0; p < ctk::BezierPointCount(n); ++p)
+  {
+    Q[order[p]] = ctk::Vec3(this->UV[2 * ids[p]], this->UV[2 * ids[p] + 1], 0.0);
+  }
+}
+
+std::string ReadUV(
+  vtkDataSet* ds, const std::string& name, BezierCells& cells, const char* requiredFor)
+{
+  cells.UV.clear();
+  vtkDataArray* array = FindArray(ds->GetPointData(), name);
+  if (!array)
+  {
+    return requiredFor ? "the input has no point data array '" + name + "' (" + requiredFor + ")"
+                       : std::string();
+  }
+  return CopyPointArray(
+    array, ds->GetNumberOfPoints(), "point data array '" + name + "'", 2, cells.UV);
+}
+
 std::string CopyPointArray(vtkDataArray* array, vtkIdType nPoints, const std::string& what,
   int components, std::vector<double>& out)
 {

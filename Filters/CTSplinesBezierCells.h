@@ -9,7 +9,11 @@
 
 #include <Eigen/Geometry> // for cross
 
-#include "vtkType.h" // for vtkIdType
+#include "vtkAlgorithm.h"  // for progress and abort
+#include "vtkSMPTools.h" // for ForInBlocks
+#include "vtkType.h"     // for vtkIdType
+
+#include <algorithm>
 
 #include <array>
 #include <string>
@@ -29,6 +33,7 @@ struct BezierCells
   std::vector<signed char> Degree;
   std::vector<ctk::Vec3> Points;  // every point of the data set
   std::vector<double> Weights;    // one per point; empty: polynomial
+  std::vector<double> UV;         // 2 per point (ReadUV); empty: none
   std::array<std::vector<int>, ctk::MaxDegree + 1> Orders; // VtkBezierTriangleOrder, degrees used
 
   vtkIdType NumberOfCells() const { return static_cast<vtkIdType>(this->Degree.size()); }
@@ -36,6 +41,8 @@ struct BezierCells
   /// Copies the net of cell c into canonical order (P, and w when rational); returns the weights
   /// to pass to the kernel (w, or nullptr for a polynomial data set).
   const double* Net(vtkIdType c, ctk::Vec3* P, double* w) const;
+  /// The UV values of cell c's control points as a net (u, v, 0) in canonical order.
+  void UVNet(vtkIdType c, ctk::Vec3* Q) const;
 };
 
 /// Checks that every cell of ds is a VTK_BEZIER_TRIANGLE of an order in 1..ctk::MaxDegree and
@@ -44,6 +51,11 @@ struct BezierCells
 /// in messages ("cell", "source cell"), `arrayPrefix` prefixes array names ("", "the source's ").
 std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells,
   const std::string& cellLabel = "cell", const std::string& arrayPrefix = "");
+
+/// Reads the 2-component point data array `name` into cells.UV. A missing array is an error
+/// (saying what the array is for) when `requiredFor` is given, else leaves UV empty.
+std::string ReadUV(vtkDataSet* ds, const std::string& name, BezierCells& cells,
+  const char* requiredFor = nullptr);
 
 /// Copies a per-point array (checked like CopyArray, plus one tuple per point).
 std::string CopyPointArray(
@@ -115,6 +127,26 @@ private:
 /// Adds to `out` the input's cell data arrays MacroTriangleId and MicroTriangleId (when present),
 /// repeated for the trianglesPerCell output triangles of each input cell.
 void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell);
+
+/// Runs body over [0, n) in `blocks` consecutive parallel loops (vtkSMPTools), reporting progress
+/// from progress0 to progress1 and checking GetAbortExecute() between blocks on the calling
+/// thread. Returns false when aborted.
+template <typename Body>
+bool ForInBlocks(vtkAlgorithm* algorithm, vtkIdType n, vtkIdType blocks, double progress0,
+  double progress1, Body&& body)
+{
+  const vtkIdType nBlocks = std::min<vtkIdType>(n, blocks);
+  for (vtkIdType b = 0; b < nBlocks; ++b)
+  {
+    vtkSMPTools::For(b * n / nBlocks, (b + 1) * n / nBlocks, body);
+    algorithm->UpdateProgress(progress0 + (progress1 - progress0) * double(b + 1) / nBlocks);
+    if (algorithm->GetAbortExecute())
+    {
+      return false;
+    }
+  }
+  return true;
+}
 
 } // namespace ctsplines
 

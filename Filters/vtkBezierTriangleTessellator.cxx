@@ -56,13 +56,11 @@ int vtkBezierTriangleTessellator::RequestData(
   // 1. Validate and flatten the input so that the parallel part reads plain arrays.
   ctsplines::BezierCells cells;
   std::string error = ctsplines::GatherBezierCells(input, cells);
-  std::vector<double> uv;
-  vtkDataArray* uvArray = ctsplines::FindArray(input->GetPointData(), this->UVArrayName);
-  if (error.empty() && uvArray)
+  if (error.empty())
   {
-    error = ctsplines::CopyPointArray(uvArray, input->GetNumberOfPoints(),
-      "point data array '" + this->UVArrayName + "'", 2, uv);
+    error = ctsplines::ReadUV(input, this->UVArrayName, cells);
   }
+  const bool withUV = !cells.UV.empty();
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -88,7 +86,7 @@ int vtkBezierTriangleTessellator::RequestData(
   vtkNew<vtkDoubleArray> uvOut;
   uvOut->SetName("UV");
   uvOut->SetNumberOfComponents(2);
-  if (uvArray)
+  if (withUV)
   {
     uvOut->SetNumberOfTuples(nOutPoints);
   }
@@ -99,7 +97,7 @@ int vtkBezierTriangleTessellator::RequestData(
   bezierCellId->SetNumberOfTuples(nOutCells);
   double* xyz = coords->GetPointer(0);
   double* nrm = normals->GetPointer(0);
-  double* uvw = uvArray ? uvOut->GetPointer(0) : nullptr;
+  double* uvw = withUV ? uvOut->GetPointer(0) : nullptr;
   vtkIdType* off = offsets->GetPointer(0);
   vtkIdType* conn = connectivity->GetPointer(0);
   vtkIdType* source = bezierCellId->GetPointer(0);
@@ -113,12 +111,7 @@ int vtkBezierTriangleTessellator::RequestData(
       const double* wp = cells.Net(c, P, w);
       if (uvw)
       {
-        const std::vector<int>& order = cells.Orders[n];
-        const vtkIdType* ids = cells.CellIds(c);
-        for (int p = 0; p < ctk::BezierPointCount(n); ++p)
-        {
-          Q[order[p]] = ctk::Vec3(uv[2 * ids[p]], uv[2 * ids[p] + 1], 0.0);
-        }
+        cells.UVNet(c, Q);
       }
       for (int li = 0; li < static_cast<int>(lattice.Points.size()); ++li)
       {
@@ -178,7 +171,7 @@ int vtkBezierTriangleTessellator::RequestData(
   outPoints->SetData(coords);
   output->SetPolys(polys);
   output->GetPointData()->SetNormals(normals);
-  if (uvArray)
+  if (withUV)
   {
     output->GetPointData()->AddArray(uvOut);
   }

@@ -3,7 +3,9 @@
 #ifndef CTSplines_ErrorCapture_h
 #define CTSplines_ErrorCapture_h
 
+#include "vtkAlgorithm.h"
 #include "vtkCommand.h"
+#include "vtkExecutive.h"
 #include "vtkObject.h"
 #include "vtkSmartPointer.h"
 
@@ -33,6 +35,17 @@ public:
   int Count = 0;
   std::string Message;
 };
+
+/// Runs `algorithm` on `input`; returns the error messages (of the algorithm and its executive)
+/// and sets `result` to what the executive's Update returned.
+inline std::string RunCapturingErrors(vtkAlgorithm* algorithm, vtkDataObject* input, int& result)
+{
+  auto errors = ErrorCapture::Attach(algorithm);
+  algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+  algorithm->SetInputDataObject(input);
+  result = algorithm->GetExecutive()->Update();
+  return errors->Message;
+}
 } // namespace ctsplines_test
 
 #endif

@@ -2,24 +2,12 @@
 """The main job on a built-in default: sample, convert, tessellate, write, render."""
 import os
 
-import numpy as np
-from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
-
 from . import (
     vtkBezierTriangleTessellator,
     vtkCloughTocherSplineFilter,
+    vtkReflectionLinesFilter,
     vtkSampledSurfaceSource,
 )
-
-
-def reflection_line_scalars(points, normals, eye, stripes=12.0):
-    """Zebra stripes: the direction of the eye ray reflected at the surface, measured as an angle
-    about the x-axis; equal angles form the reflection lines of light lines parallel to x."""
-    d = points - np.asarray(eye)[None, :]
-    d /= np.linalg.norm(d, axis=1)[:, None]
-    r = d - 2.0 * np.sum(d * normals, axis=1)[:, None] * normals
-    angle = np.arctan2(r[:, 1], r[:, 2])
-    return np.sin(stripes * angle)
 
 
 def run(output="ctsplines-output", construction="CTi", points=300, level=8, render=True):
@@ -37,15 +25,18 @@ def run(output="ctsplines-output", construction="CTi", points=300, level=8, rend
     tess = vtkBezierTriangleTessellator()
     tess.SetInputConnection(spline.GetOutputPort())
     tess.SetSubdivisionLevel(level)
-    tess.Update()
-    surface = tess.GetOutput()
-
-    pts = vtk_to_numpy(surface.GetPoints().GetData())
-    nrm = vtk_to_numpy(surface.GetPointData().GetArray("Normals"))
+    # Zebra stripes: reflections of light lines parallel to x in a plane above the surface, seen
+    # from the eye; they kink wherever the surface is not curvature continuous.
     eye = (0.5, -2.5, 3.0)
-    stripes = numpy_to_vtk(reflection_line_scalars(pts, nrm, eye), deep=True)
-    stripes.SetName("ReflectionLines")
-    surface.GetPointData().AddArray(stripes)
+    zebra = vtkReflectionLinesFilter()
+    zebra.SetInputConnection(tess.GetOutputPort())
+    zebra.SetEyePosition(*eye)
+    zebra.SetLightPlaneOrigin(0.5, 0.5, 3.0)
+    zebra.SetLightPlaneNormal(0.0, 0.0, 1.0)
+    zebra.SetLightLineDirection(1.0, 0.0, 0.0)
+    zebra.SetSpacing(2.0)
+    zebra.Update()
+    surface = zebra.GetOutput()
 
     from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLUnstructuredGridWriter
 
@@ -67,6 +58,39 @@ def run(output="ctsplines-output", construction="CTi", points=300, level=8, rend
     return paths
 
 
+def fit_view(renderer, window, surface, fill=0.92, rounds=3):
+    """Pan and zoom so that the surface's projection fills `fill` of the image (ResetCamera fits
+    the bounding sphere, which leaves a flat surface small). Perspective makes each round an
+    approximation, hence a few rounds."""
+    camera = renderer.GetActiveCamera()
+    pts = surface.GetPoints()
+    step = max(1, pts.GetNumberOfPoints() // 5000)
+    samples = [pts.GetPoint(i) for i in range(0, pts.GetNumberOfPoints(), step)]
+    width, height = window.GetSize()
+    for _ in range(rounds):
+        window.Render()
+        xs, ys = [], []
+        for p in samples:
+            renderer.SetWorldPoint(p[0], p[1], p[2], 1.0)
+            renderer.WorldToDisplay()
+            x, y, _ = renderer.GetDisplayPoint()
+            xs.append(x)
+            ys.append(y)
+        focal = camera.GetFocalPoint()
+        renderer.SetWorldPoint(focal[0], focal[1], focal[2], 1.0)
+        renderer.WorldToDisplay()
+        depth = renderer.GetDisplayPoint()[2]
+        renderer.SetDisplayPoint((min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2, depth)
+        renderer.DisplayToWorld()
+        w = renderer.GetWorldPoint()
+        shift = [w[i] / w[3] - focal[i] for i in range(3)]
+        position = camera.GetPosition()
+        camera.SetFocalPoint(*[focal[i] + shift[i] for i in range(3)])
+        camera.SetPosition(*[position[i] + shift[i] for i in range(3)])
+        camera.Zoom(fill * min(width / (max(xs) - min(xs)), height / (max(ys) - min(ys))))
+        renderer.ResetCameraClippingRange()
+
+
 def render_png(surface, array, filename, eye, size=(900, 700)):
     """Offscreen rendering (needs an X display: run under xvfb-run on a headless machine)."""
     import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
@@ -85,6 +109,7 @@ def render_png(surface, array, filename, eye, size=(900, 700)):
     lut.SetHueRange(0.0, 0.0)
     lut.SetSaturationRange(0.0, 0.0)
     lut.SetValueRange(0.1, 1.0)
+    lut.SetNanColor(0.55, 0.6, 0.75, 1.0)  # points that reflect no light line
     lut.Build()
     mapper = vtkPolyDataMapper()
     mapper.SetInputData(surface)
@@ -104,9 +129,11 @@ def render_png(surface, array, filename, eye, size=(900, 700)):
     window.SetSize(*size)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(*eye)
-    camera.SetFocalPoint(0.5, 0.5, 0.4)
+    bounds = surface.GetBounds()
+    camera.SetFocalPoint(*[(bounds[2 * i] + bounds[2 * i + 1]) / 2 for i in range(3)])
     camera.SetViewUp(0.0, 0.0, 1.0)
     renderer.ResetCamera()
+    fit_view(renderer, window, surface)
     window.Render()
     grab = vtkWindowToImageFilter()
     grab.SetInput(window)

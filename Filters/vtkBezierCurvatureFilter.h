@@ -1,0 +1,96 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkBezierCurvatureFilter
+ * @brief   Exact curvatures of VTK_BEZIER_TRIANGLE cells, sampled on a tessellation.
+ *
+ * Input: any vtkDataSet whose cells are all VTK_BEZIER_TRIANGLE of any order up to 10 (for
+ * example the output of vtkCloughTocherSplineFilter). Rational cells read the active rational
+ * weights attribute of the point data, or else the point data array `RationalWeights`.
+ *
+ * Each cell is sampled at the points (i, j, k) / SubdivisionLevel of its parameter triangle, as
+ * vtkBezierTriangleTessellator does, and at every sample the curvatures are computed from the
+ * first and second fundamental forms of the cell's own parametrisation x(r, s) (exact second
+ * derivatives of the kernel's Bézier evaluation, rational when the cell is), never from the
+ * tessellation.
+ *
+ * Output: vtkPolyData of SubdivisionLevel^2 triangles per cell, with point data
+ * - `Gauss_Curvature` K, `Mean_Curvature` H,
+ * - `Maximum_Curvature` >= `Minimum_Curvature`, the principal curvatures (eigenvalues of the
+ *   shape operator, same sign convention as H: their mean is H and their product K),
+ * - `Maximum_Curvature_Direction`, `Minimum_Curvature_Direction`: unit principal directions (3D
+ *   tangent vectors; their sign is arbitrary),
+ * - `Normals`: the unit normal n = (x_r x x_s) / |x_r x x_s|, oriented by the cell's corner order,
+ * - `UV` (when the input has the 2-component point data array UVArrayName; interpolated with the
+ *   cell's Bézier basis),
+ * and cell data `BezierCellId` (the source cell of each triangle) and, when present in the input,
+ * `MacroTriangleId` and `MicroTriangleId`.
+ *
+ * Sign convention: with the second fundamental form L = x_rr . n, M = x_rs . n, N = x_ss . n,
+ * H = -(E N - 2 F M + G L) / (2 (E G - F^2)), so that H > 0 where the surface bends away from
+ * its normal: a sphere whose normal points outwards has H = +1/R (and K = 1/R^2). This matches
+ * vtkCurvatures on outward-oriented closed surfaces. At singular points (collapsed corners) the
+ * values are the limit from inside the cell.
+ *
+ * By default (MergePoints off) every cell has its own output points, so the jumps of curvature
+ * across cell edges of a C1 spline stay visible. With MergePoints on, a corner or edge shared by
+ * cells (same point ids) gets its points once, evaluated by the lowest cell id that uses it
+ * (the same numbering as vtkBezierTriangleTessellator). Every output point is written by one
+ * cell, so results do not depend on the number of threads.
+ *
+ * Bad input (an empty data set, cells that are not VTK_BEZIER_TRIANGLE or have a point count
+ * that is no supported order, a malformed weights or UV array) is reported with vtkErrorMacro
+ * naming the offending cell or array, and RequestData returns 0.
+ */
+#ifndef vtkBezierCurvatureFilter_h
+#define vtkBezierCurvatureFilter_h
+
+#include "CTSplinesFiltersModule.h" // For export macro
+#include "vtkPolyDataAlgorithm.h"
+
+#include <string> // for std::string
+
+class CTSPLINESFILTERS_EXPORT vtkBezierCurvatureFilter : public vtkPolyDataAlgorithm
+{
+public:
+  static vtkBezierCurvatureFilter* New();
+  vtkTypeMacro(vtkBezierCurvatureFilter, vtkPolyDataAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Number of segments each cell edge is divided into (SubdivisionLevel^2 triangles per cell).
+  /// Default 8.
+  vtkSetClampMacro(SubdivisionLevel, int, 1, 4096);
+  vtkGetMacro(SubdivisionLevel, int);
+  ///@}
+
+  ///@{
+  /// Share the points of corners and edges common to several cells (value of the owner cell).
+  /// Default off: curvature jumps across cell edges remain visible.
+  vtkSetMacro(MergePoints, bool);
+  vtkGetMacro(MergePoints, bool);
+  vtkBooleanMacro(MergePoints, bool);
+  ///@}
+
+  ///@{
+  /// Name of the 2-component point data array carried over as `UV`. Default "UV".
+  vtkSetStdStringFromCharMacro(UVArrayName);
+  vtkGetCharFromStdStringMacro(UVArrayName);
+  ///@}
+
+protected:
+  vtkBezierCurvatureFilter();
+  ~vtkBezierCurvatureFilter() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int SubdivisionLevel = 8;
+  bool MergePoints = false;
+  std::string UVArrayName = "UV";
+
+private:
+  vtkBezierCurvatureFilter(const vtkBezierCurvatureFilter&) = delete;
+  void operator=(const vtkBezierCurvatureFilter&) = delete;
+};
+
+#endif
