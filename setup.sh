@@ -29,6 +29,14 @@ packages=(
   libeigen3-dev libgtest-dev libcgal-dev
   python3-numpy python3-scipy python3-matplotlib
   xvfb xauth libgl1-mesa-dri
+  # The ParaView plugin: find_package(ParaView) needs the development files of everything
+  # ParaView's VTK was built against.
+  qtbase5-dev qttools5-dev libqt5opengl5-dev libqt5svg5-dev qtxmlpatterns5-dev-tools
+  libhdf5-openmpi-dev libopenmpi-dev libutfcpp-dev libnetcdf-dev libgdal-dev
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev libswresample-dev
+  libogg-dev libtheora-dev libgl2ps-dev libx11-dev libxt-dev libglew-dev
+  libdouble-conversion-dev liblz4-dev liblzma-dev libexpat1-dev libfreetype-dev
+  libjpeg-dev libpng-dev libtiff-dev zlib1g-dev libxml2-dev
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,13 +1,21 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Command line of CTSplines: ``python3 -m ctsplines demo [--output DIR]``.
+"""Command line of CTSplines: ``python3 -m ctsplines {demo,convert,info,sample} ...``.
 
 ``demo`` converts the built-in default (Franke's function sampled on a Delaunay triangulation of
 seeded random points, with exact gradients) into a cubic Clough-Tocher spline and writes the
 Bézier spline (.vtu), its tessellation (.vtp) and a rendered PNG with reflection lines.
+``convert`` turns a parametrised triangle mesh from a file into a spline, ``info`` summarises a
+file and tells whether it is valid conversion input, ``sample`` writes a mesh of a test surface.
+
+Exit codes: 0 success, 1 the filter rejected the input (its messages are printed), 2 bad command
+line, 3 a file is missing, of an unknown format or unreadable.
 """
 import argparse
 import os
 import sys
+
+EXIT_INVALID = 1
+EXIT_FILE = 3
 
 
 def _demo(args):
@@ -25,12 +33,373 @@ def _demo(args):
     return 0
 
 
-def main(argv=None):
+def _names(getter, lo, hi):
+    return [getter(i) for i in range(lo, hi + 1)]
+
+
+def _spline_choices():
+    from . import vtkCloughTocherSplineFilter as F
+
+    f = F()
+    return (
+        _names(F.GetConstructionName, f.GetConstructionMinValue(), f.GetConstructionMaxValue()),
+        _names(F.GetSplitPointName, f.GetSplitPointMinValue(), f.GetSplitPointMaxValue()),
+        _names(F.GetBoundaryModeName, f.GetBoundaryModeMinValue(), f.GetBoundaryModeMaxValue()),
+    )
+
+
+def _source_choices():
+    from . import vtkSampledSurfaceSource as S
+
+    s = S()
+    return (
+        _names(S.GetSurfaceName, s.GetSurfaceMinValue(), s.GetSurfaceMaxValue()),
+        _names(S.GetDomainName, s.GetDomainMinValue(), s.GetDomainMaxValue()),
+    )
+
+
+GRID_DIAGONALS = ["Forward", "Backward", "Alternating"]
+
+
+def _has(name):
+    from . import CTSplinesFilters
+
+    return hasattr(CTSplinesFilters, name)
+
+
+def _run(algorithm, messages, what):
+    """Updates an algorithm; its reported errors become a FilterError."""
+    from .io import FilterError
+
+    ok = algorithm.GetExecutive().Update()
+    errors = list(dict.fromkeys(messages.take_errors()))
+    if errors or not ok:
+        raise FilterError(f"{what}:\n  " + "\n  ".join(errors or ["the filter failed"]))
+    return algorithm.GetOutputDataObject(0)
+
+
+def _describe_array(a):
+    kind = a.GetDataTypeAsString()
+    return f"{a.GetName()} ({a.GetNumberOfComponents()} x {kind})"
+
+
+def _uv_of(mesh, name):
+    """The parameter values the filter would use: the named array, else the texture coords."""
+    pd = mesh.GetPointData()
+    uv = pd.GetArray(name) if name else None
+    if uv is None:
+        uv = pd.GetTCoords()
+    return uv if uv is not None and uv.GetNumberOfComponents() == 2 else None
+
+
+def _with_estimated_derivatives(mesh, args, log):
+    """A shallow copy of the mesh with dFdu, dFdv (under the configured names) estimated from
+    the positions by local quadratic least squares (arrays.estimate_derivatives)."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+
+    from .arrays import estimate_derivatives, triangles
+    from .io import FilterError
+
+    uv = _uv_of(mesh, args.uv_array)
+    if uv is None:
+        return mesh  # the filter reports the missing parameter values itself
+    try:
+        tri = triangles(mesh)
+    except ValueError:
+        return mesh  # non-triangles: the filter names the offending cell
+    try:
+        fu, fv = estimate_derivatives(vtk_to_numpy(uv), tri,
+                                      vtk_to_numpy(mesh.GetPoints().GetData()))
+    except ValueError as e:
+        raise FilterError(f"cannot estimate derivatives: {e}")
+    out = mesh.NewInstance()
+    out.ShallowCopy(mesh)
+    for name, values in ((args.du_array, fu), (args.dv_array, fv)):
+        a = numpy_to_vtk(values, deep=True)
+        a.SetName(name)
+        out.GetPointData().AddArray(a)
+    log(f"note: estimated {args.du_array} and {args.dv_array} from the positions (local "
+        "quadratic least squares: exact for quadratic surfaces)")
+    return out
+
+
+def _needs_derivatives(mesh, args):
+    pd = mesh.GetPointData()
+    return pd.GetArray(args.du_array) is None or pd.GetArray(args.dv_array) is None
+
+
+def _configure_spline(spline, args):
+    spline.SetConstruction(args._choices[0].index(args.construction))
+    spline.SetSplitPoint(args._choices[1].index(args.split_point))
+    spline.SetBoundaryMode(args._choices[2].index(args.boundary_mode))
+    spline.SetIterations(args.iterations)
+    spline.SetUVArrayName(args.uv_array)
+    spline.SetDuArrayName(args.du_array)
+    spline.SetDvArrayName(args.dv_array)
+    spline.SetEdgeGradientsArrayName(args.edge_gradients_array)
+
+
+def _print_continuity(spline_output, messages, progress):
+    from . import vtkSplineContinuityFilter
+    from .arrays import field_values
+
+    cont = messages.watch(vtkSplineContinuityFilter())
+    progress.watch(cont, "continuity")
+    cont.SetInputData(spline_output)
+    fields = field_values(_run(cont, messages, "continuity analysis failed"))
+    print("continuity (largest Rule A jumps per edge kind; G1 angle in degrees):")
+    for kind in ("Macro", "Micro", "Boundary", "Interface"):
+        count = int(fields.get(f"{kind}_EdgeCount", [0])[0])
+        if count == 0:
+            continue
+        values = "  ".join(
+            f"{m} {float(fields[f'{kind}_{m}_Max'][0]):.3e}"
+            for m in ("C0Gap", "C1Jump", "C2Jump", "G1Angle") if f"{kind}_{m}_Max" in fields)
+        print(f"  {kind.lower():<9} {count:>8} edges  {values}")
+
+
+def _print_error(spline_output, reference, label, level, messages, progress):
+    from . import vtkApproximationErrorFilter
+    from .arrays import field_values
+
+    err = messages.watch(vtkApproximationErrorFilter())
+    progress.watch(err, "error")
+    err.SetInputData(spline_output)
+    err.SetReferenceData(reference)
+    parametric = _uv_of(reference, "UV") is not None and label != "input"
+    if parametric:
+        err.SetModeToParametric()
+    else:
+        err.SetModeToMeshDistance()
+        err.SetSubdivisionLevel(level)
+    f = field_values(_run(err, messages, "error analysis failed"))
+    what = ("distance to the input triangles" if label == "input" else
+            f"error against {label} ({'parametric' if parametric else 'mesh distance'})")
+    print(f"{what}: max {float(f['MaxError'][0]):.3e} (relative "
+          f"{float(f['RelativeMaxError'][0]):.3e}), RMS {float(f['RMSError'][0]):.3e} (relative "
+          f"{float(f['RelativeRMSError'][0]):.3e})")
+
+
+def _cell_summary(data):
+    from vtkmodules.vtkCommonDataModel import vtkCellTypes
+
+    counts = {}
+    for i in range(data.GetNumberOfCells()):
+        t = data.GetCellType(i)
+        counts[t] = counts.get(t, 0) + 1
+    return {vtkCellTypes.GetClassNameFromTypeId(t).replace("vtk", ""): n
+            for t, n in sorted(counts.items())}
+
+
+def _bezier_order(data):
+    """Orders of the VTK_BEZIER_TRIANGLE cells (n from (n+1)(n+2)/2 points)."""
+    from vtkmodules.vtkCommonDataModel import VTK_BEZIER_TRIANGLE
+
+    orders = set()
+    for i in range(data.GetNumberOfCells()):
+        if data.GetCellType(i) != VTK_BEZIER_TRIANGLE:
+            return None
+        m = data.GetCell(i).GetNumberOfPoints()
+        n = int(round(((8 * m + 1) ** 0.5 - 3) / 2))
+        orders.add(n)
+    return sorted(orders) if orders else None
+
+
+def _convert(args):
+    from . import vtkBezierTriangleTessellator, vtkCloughTocherSplineFilter
+    from .io import Progress, VTKMessages, as_polydata, read, write
+
+    log = lambda text: print(text, file=sys.stderr)  # noqa: E731
+    progress = Progress(Progress.wanted(args.progress))
+    with VTKMessages() as messages:
+        mesh = as_polydata(read(args.input, messages))
+        if args.derivatives == "estimate" or (
+                args.derivatives == "auto" and _needs_derivatives(mesh, args)):
+            mesh = _with_estimated_derivatives(mesh, args, log)
+        reference = None
+        if args.reference:
+            reference = as_polydata(read(args.reference, messages))
+
+        spline = messages.watch(vtkCloughTocherSplineFilter())
+        progress.watch(spline, "spline")
+        _configure_spline(spline, args)
+        spline.SetInputData(mesh)
+        result = _run(spline, messages, f"{args.input} is not valid input")
+        write(result, args.output, messages)
+        orders = _bezier_order(result) or ["?"]
+        print(f"spline: {args.output} ({result.GetNumberOfCells()} Bézier triangles of order "
+              f"{', '.join(map(str, orders))}, {result.GetNumberOfPoints()} control points; "
+              f"{mesh.GetNumberOfCells()} input triangles, {args.construction}, "
+              f"{args.split_point}, {args.boundary_mode}, {args.iterations} iterations)")
+
+        if args.tessellate is not None:
+            tess = messages.watch(vtkBezierTriangleTessellator())
+            progress.watch(tess, "tessellation")
+            tess.SetSubdivisionLevel(args.tessellate)
+            tess.SetUVArrayName(args.uv_array)
+            tess.SetInputData(result)
+            surface = _run(tess, messages, "tessellation failed")
+            path = args.tessellation or os.path.splitext(args.output)[0] + ".vtp"
+            write(surface, path, messages)
+            print(f"tessellation: {path} ({surface.GetNumberOfCells()} triangles, "
+                  f"{surface.GetNumberOfPoints()} points, level {args.tessellate})")
+
+        if not args.no_analysis:
+            if _has("vtkSplineContinuityFilter"):
+                _print_continuity(result, messages, progress)
+            if _has("vtkApproximationErrorFilter"):
+                level = args.tessellate or 4
+                if reference is not None:
+                    _print_error(result, reference, args.reference, level, messages, progress)
+                else:
+                    _print_error(result, mesh, "input", level, messages, progress)
+        for w in dict.fromkeys(messages.warnings):
+            log(f"warning: {w}")
+    return 0
+
+
+def _info(args):
+    from . import vtkCloughTocherSplineFilter
+    from .io import VTKMessages, as_polydata, read
+
+    with VTKMessages() as messages:
+        data = read(args.file, messages)
+        print(f"file: {args.file} ({data.GetClassName()})")
+        print(f"points: {data.GetNumberOfPoints()}")
+        cells = _cell_summary(data)
+        print(f"cells: {data.GetNumberOfCells()}"
+              + (f" ({', '.join(f'{n} {t}' for t, n in cells.items())})" if cells else ""))
+        for label, attrs in (("point data", data.GetPointData()),
+                             ("cell data", data.GetCellData())):
+            names = [_describe_array(attrs.GetAbstractArray(i))
+                     for i in range(attrs.GetNumberOfArrays())]
+            tcoords = attrs.GetTCoords() if label == "point data" else None
+            if tcoords is not None and tcoords.GetName():
+                names = [n + (" [texture coordinates]" if n.startswith(tcoords.GetName() + " (")
+                              else "") for n in names]
+            print(f"{label}: {', '.join(names) if names else '(none)'}")
+        fd = data.GetFieldData()
+        fields = []
+        for i in range(fd.GetNumberOfArrays()):
+            a = fd.GetAbstractArray(i)
+            if a.IsA("vtkStringArray") and a.GetNumberOfValues() == 1:
+                fields.append(f"{a.GetName()} = {a.GetValue(0)}")
+            else:
+                fields.append(_describe_array(a))
+        if fields:
+            print(f"field data: {', '.join(fields)}")
+
+        orders = _bezier_order(data)
+        if orders:
+            print(f"spline: Bézier triangles of order {', '.join(map(str, orders))} (the output "
+                  "of convert, not conversion input)")
+            return 0
+        try:
+            mesh = as_polydata(data)
+        except Exception as e:  # an InputError for volume cells: not a surface at all
+            print(f"valid input: no\n  {e}")
+            return EXIT_INVALID
+        spline = messages.watch(vtkCloughTocherSplineFilter())
+        _configure_spline(spline, args)
+        spline.SetInputData(mesh)
+        spline.Update()
+        errors = messages.take_errors()
+        if errors:
+            print("valid input: no")
+            for e in dict.fromkeys(errors):
+                print(f"  {e}")
+            if _needs_derivatives(mesh, args) and _uv_of(mesh, args.uv_array) is not None:
+                print(f"  hint: the file has parameter values but no {args.du_array}/"
+                      f"{args.dv_array}; `convert` estimates them (--derivatives auto)")
+            return EXIT_INVALID
+        out = spline.GetOutput()
+        print(f"valid input: yes ({args.construction} gives {out.GetNumberOfCells()} Bézier "
+              f"triangles, {out.GetNumberOfPoints()} control points)")
+    return 0
+
+
+def _sample(args):
+    from . import vtkSampledSurfaceSource
+    from .io import Progress, VTKMessages, write
+
+    surfaces, domains = _source_choices()
+    progress = Progress(Progress.wanted(args.progress))
+    with VTKMessages() as messages:
+        source = messages.watch(vtkSampledSurfaceSource())
+        progress.watch(source, "sample")
+        source.SetSurface(surfaces.index(args.surface))
+        source.SetDomain(domains.index(args.domain))
+        if args.resolution is not None:
+            source.SetResolution(args.resolution)
+        source.SetGridDiagonal(GRID_DIAGONALS.index(args.grid_diagonal))
+        source.SetSeed(args.seed)
+        source.SetAffineMatrix(*args.affine)
+        source.SetAffineTranslation(*args.translation)
+        mesh = _run(source, messages, "cannot sample the surface")
+        write(mesh, args.output, messages)
+    print(f"sample: {args.output} ({args.surface} on {args.domain}: "
+          f"{mesh.GetNumberOfCells()} triangles, {mesh.GetNumberOfPoints()} points)")
+    return 0
+
+
+def _add_spline_options(p, choices):
+    constructions, splits, boundaries = choices
+    g = p.add_argument_group("spline construction")
+    g.add_argument("--construction", "-c", default="CTi", choices=constructions,
+                   help="how the central control points are fixed: CTo and MGo are local; CTi, "
+                   "Fa, FO, Ka, MGi and KaG read the neighbours (MG and KaG need the "
+                   "EdgeGradients cell data); Kashyap is Kashyap's cubic fairing scheme; "
+                   "Quartic is Fang and Mann's quartic scheme (default %(default)s)")
+    g.add_argument("--split-point", default="Bary", choices=splits,
+                   help="the point splitting every triangle into three: barycentre or one of "
+                   "two incentre rules (default %(default)s)")
+    g.add_argument("--boundary-mode", default="Midpoint", choices=boundaries,
+                   help="rule for boundary edges of the constructions that read neighbours; "
+                   "the Gradient modes need EdgeGradients (default %(default)s)")
+    g.add_argument("--iterations", "-n", type=_non_negative, default=0,
+                   help="iterative C2 minimisation steps after the construction; for Kashyap "
+                   "and Quartic, fairing rounds (default %(default)s)")
+    a = p.add_argument_group("input arrays")
+    a.add_argument("--uv-array", default="UV",
+                   help="2-component point data of parameter values; without it the texture "
+                   "coordinates are used, as OBJ and PLY files have them (default %(default)s)")
+    a.add_argument("--du-array", default="dFdu",
+                   help="3-component point data of derivatives dF/du (default %(default)s)")
+    a.add_argument("--dv-array", default="dFdv",
+                   help="3-component point data of derivatives dF/dv (default %(default)s)")
+    a.add_argument("--edge-gradients-array", default="EdgeGradients",
+                   help="18-component cell data of mid-edge gradients (default %(default)s)")
+
+
+def _non_negative(text):
+    value = int(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{value} is negative")
+    return value
+
+
+def _positive(text):
+    value = int(text)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{value} is not positive")
+    return value
+
+
+def _progress_option(p):
+    p.add_argument("--progress", dest="progress", action="store_true", default=None,
+                   help="show a progress bar on stderr (default: when stderr is a terminal)")
+    p.add_argument("--no-progress", dest="progress", action="store_false",
+                   help="never show the progress bar")
+
+
+def build_parser():
     parser = argparse.ArgumentParser(
         prog="python3 -m ctsplines",
         description="Clough-Tocher splines of parametrised triangle meshes (VTK).",
+        epilog="Exit codes: 0 success, 1 invalid input (the filter's messages are printed), "
+        "2 bad command line, 3 missing, unknown or unreadable file.",
     )
-    sub = parser.add_subparsers(dest="command", required=True)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     demo = sub.add_parser(
         "demo",
         help="convert the built-in default surface and write .vtu, .vtp and .png",
@@ -49,8 +418,101 @@ def main(argv=None):
     demo.add_argument("--level", type=int, default=8, help="tessellation segments per cell edge")
     demo.add_argument("--no-render", action="store_true", help="skip the PNG")
     demo.set_defaults(func=_demo)
-    args = parser.parse_args(argv)
-    return args.func(args)
+
+    choices = _spline_choices()
+    convert = sub.add_parser(
+        "convert",
+        help="convert a parametrised triangle mesh file into a Bézier spline (.vtu)",
+        description="Reads a triangle mesh whose points carry parameter values (point data UV, "
+        "or texture coordinates as in OBJ and PLY files) and, ideally, first derivatives dFdu, "
+        "dFdv; converts it into a Clough-Tocher spline of Bézier triangles and writes it as "
+        "VTU. Missing derivatives are estimated from the positions (see --derivatives). Prints "
+        "the continuity across the cell edges and the distance to the input triangles (or the "
+        "error against --reference).",
+    )
+    convert.add_argument("input", help="input mesh: .vtp, .vtu, .vtk, .obj or .ply")
+    convert.add_argument("output", help="the spline, .vtu (or legacy .vtk)")
+    _add_spline_options(convert, choices)
+    convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
+                         help="auto: use the file's derivative arrays, estimate them when "
+                         "missing; file: only the file's (missing ones are an error); "
+                         "estimate: always estimate by local quadratic least squares over "
+                         "each vertex's two ring (default %(default)s)")
+    out = convert.add_argument_group("outputs and analysis")
+    out.add_argument("--tessellate", "-t", type=_positive, metavar="LEVEL",
+                     help="also write the tessellation with LEVEL segments per cell edge "
+                     "(LEVEL^2 triangles per Bézier triangle)")
+    out.add_argument("--tessellation", metavar="PATH",
+                     help="where the tessellation goes (default: OUTPUT with .vtp)")
+    out.add_argument("--reference", metavar="FILE",
+                     help="report the error against this surface: parametric when it has UV "
+                     "(e.g. a finer `sample` of the same surface), else mesh distance")
+    out.add_argument("--no-analysis", action="store_true",
+                     help="skip the continuity and error summaries")
+    _progress_option(convert)
+    convert.set_defaults(func=_convert, _choices=choices)
+
+    info = sub.add_parser(
+        "info",
+        help="summarise a mesh or spline file and check it is valid conversion input",
+        description="Prints the cells, point, cell and field data of a file and whether "
+        "convert accepts it: the spline filter runs on it and its messages are printed. Exits "
+        "with 1 when the file is not valid input.",
+    )
+    info.add_argument("file", help=".vtp, .vtu, .vtk, .obj or .ply")
+    _add_spline_options(info, choices)
+    info.set_defaults(func=_info, _choices=choices)
+
+    surfaces, domains = _source_choices()
+    sample = sub.add_parser(
+        "sample",
+        help="write a mesh sampled from an analytic test surface (vtkSampledSurfaceSource)",
+        description="Samples a test surface with exact positions, derivatives dFdu, dFdv, "
+        "parameter values UV and mid-edge gradients EdgeGradients, and writes the mesh. VTP, "
+        "VTU and VTK keep every array; OBJ and PLY keep positions and UV (as texture "
+        "coordinates) only.",
+    )
+    sample.add_argument("output", help="output mesh: .vtp, .vtu, .vtk, .obj or .ply")
+    sample.add_argument("--surface", "-s", default="Franke", choices=surfaces,
+                        help="Plane, Quadratic, FarinCubic, Franke and SineWave are functions "
+                        "z = f(u, v) over the unit square; SphereOctant is the rational quartic "
+                        "sphere octant (default %(default)s)")
+    sample.add_argument("--domain", "-d", default="RandomDelaunay", choices=domains,
+                        help="Grid (unit square, not for SphereOctant), EquilateralTriangle "
+                        "(midpoint refinement) or RandomDelaunay (default %(default)s)")
+    sample.add_argument("--resolution", "-r", type=int,
+                        help="Grid: cells per side; EquilateralTriangle: refinement level "
+                        "(4^level triangles); RandomDelaunay: random interior points "
+                        "(default 100)")
+    sample.add_argument("--grid-diagonal", default="Forward", choices=GRID_DIAGONALS,
+                        help="diagonal splitting the grid cells (default %(default)s)")
+    sample.add_argument("--seed", type=_non_negative, default=1,
+                        help="seed of the random points (default %(default)s)")
+    sample.add_argument("--affine", type=float, nargs=4, default=[1.0, 0.0, 0.0, 1.0],
+                        metavar=("A00", "A01", "A10", "A11"),
+                        help="matrix A of the reparameterisation U' = A U + t, row-major "
+                        "(default identity)")
+    sample.add_argument("--translation", type=float, nargs=2, default=[0.0, 0.0],
+                        metavar=("TX", "TY"), help="translation t (default 0 0)")
+    _progress_option(sample)
+    sample.set_defaults(func=_sample)
+    return parser
+
+
+def main(argv=None):
+    from .io import FilterError, InputError
+
+    args = build_parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except InputError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return EXIT_FILE
+    except FilterError as e:
+        print(f"error: {e}", file=sys.stderr)
+        return EXIT_INVALID
+    except KeyboardInterrupt:
+        return 130
 
 
 if __name__ == "__main__":

@@ -75,12 +75,16 @@ def points(data):
     return vtk_to_numpy(data.GetPoints().GetData())
 
 
+def _attribute_array(attributes, name, what):
+    a = attributes.GetArray(name)
+    if a is None:
+        raise KeyError(f"no {what} array '{name}'")
+    return vtk_to_numpy(a)
+
+
 def point_array(data, name):
     """A point-data array by name as numpy (KeyError when missing)."""
-    a = data.GetPointData().GetArray(name)
-    if a is None:
-        raise KeyError(f"no point data array '{name}'")
-    return vtk_to_numpy(a)
+    return _attribute_array(data.GetPointData(), name, "point data")
 
 
 def cells(grid):
@@ -91,3 +95,80 @@ def cells(grid):
     if len(sizes) and not np.all(sizes == sizes[0]):
         raise ValueError("cells of different sizes")
     return conn.reshape(len(sizes), -1) if len(sizes) else conn.reshape(0, 0)
+
+
+def cell_array(data, name):
+    """A cell-data array by name as numpy (KeyError when missing)."""
+    return _attribute_array(data.GetCellData(), name, "cell data")
+
+
+def field_values(data):
+    """Field data of a data object as {name: numpy array or str} (strings for string arrays)."""
+    fd = data.GetFieldData()
+    out = {}
+    for i in range(fd.GetNumberOfArrays()):
+        a = fd.GetAbstractArray(i)
+        if a.IsA("vtkStringArray"):
+            out[a.GetName()] = a.GetValue(0) if a.GetNumberOfValues() == 1 else [
+                a.GetValue(j) for j in range(a.GetNumberOfValues())]
+        else:
+            out[a.GetName()] = vtk_to_numpy(a)
+    return out
+
+
+def triangles(polydata):
+    """The polygons of a vtkPolyData of triangles (a tessellation) as #T by 3 point ids."""
+    polys = polydata.GetPolys()
+    offsets = vtk_to_numpy(polys.GetOffsetsArray())
+    if len(offsets) > 1 and not np.all(np.diff(offsets) == 3):
+        raise ValueError("polygons that are not triangles")
+    return vtk_to_numpy(polys.GetConnectivityArray()).reshape(-1, 3)
+
+
+def estimate_derivatives(uv, triangles, f):
+    """First derivatives f_u, f_v at every vertex of a parametrised triangle mesh without them.
+
+    Each vertex fits f(u) - f(u_i) = J d + quadratic terms (d = u - u_i) by least squares over its
+    two-ring neighbours, which reproduces quadratic surfaces exactly; where the two ring does not
+    determine a quadratic, a linear fit (one ring, then two ring) is used. Returns (fu, fv), each
+    #V by 3. Raises ValueError for a vertex whose neighbours do not span the parameter plane."""
+    uv = np.asarray(uv, dtype=np.float64)
+    f = np.asarray(f, dtype=np.float64)
+    tri = np.asarray(triangles, dtype=np.int64).reshape(-1, 3)
+    n = uv.shape[0]
+    ring = [set() for _ in range(n)]
+    for a, b, c in tri:
+        ring[a].update((b, c))
+        ring[b].update((a, c))
+        ring[c].update((a, b))
+    fu = np.zeros((n, 3))
+    fv = np.zeros((n, 3))
+    for i in range(n):
+        one = ring[i]
+        two = set(one)
+        for j in one:
+            two |= ring[j]
+        two.discard(i)
+        coef = None
+        for nb, quadratic in ((two, True), (one, False), (two, False)):
+            nb = np.fromiter(nb, dtype=np.int64, count=len(nb))
+            if nb.size < (5 if quadratic else 2):
+                continue
+            d = uv[nb] - uv[i]
+            # Scale so that the quadratic columns do not make the system ill-conditioned.
+            h = np.max(np.abs(d)) or 1.0
+            d = d / h
+            cols = [d[:, 0], d[:, 1]]
+            if quadratic:
+                cols += [0.5 * d[:, 0] ** 2, d[:, 0] * d[:, 1], 0.5 * d[:, 1] ** 2]
+            A = np.column_stack(cols)
+            sol, _, rank, _ = np.linalg.lstsq(A, f[nb] - f[i], rcond=None)
+            if rank == A.shape[1]:
+                coef = sol
+                break
+        if coef is None:
+            raise ValueError(f"the neighbours of vertex {i} do not span the parameter plane: "
+                             "cannot estimate its derivatives")
+        fu[i] = coef[0] / h
+        fv[i] = coef[1] / h
+    return fu, fv

@@ -1,0 +1,273 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Files and pipeline plumbing for the command line: reading meshes (VTP, VTU, VTK, OBJ, PLY),
+writing results, collecting VTK's error messages and showing progress."""
+import os
+import re
+import sys
+
+from vtkmodules.util import vtkConstants
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.vtkCommonCore import (
+    vtkCommand,
+    vtkLogger,
+    vtkOutputWindow,
+    vtkStringOutputWindow,
+)
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData
+
+
+class InputError(Exception):
+    """A file that is missing, of an unknown format or unreadable (exit code 3)."""
+
+
+class FilterError(Exception):
+    """A filter refused its input; the message is what it reported (exit code 1)."""
+
+
+READ_FORMATS = (".vtp", ".vtu", ".vtk", ".obj", ".ply")
+WRITE_FORMATS = (".vtp", ".vtu", ".vtk", ".obj", ".ply")
+
+# "ERROR: In file.cxx, line 12\nvtkSomeClass (0x55d0...): the message\n\n"
+_VTK_MESSAGE = re.compile(
+    r"(?:ERROR|Warning): In [^\n]*, line \d+\n(?:\w+ \(0x[0-9a-fA-F]+\): )?(.*)", re.S)
+
+
+def clean_vtk_message(text):
+    """The message of a vtkErrorMacro/vtkWarningMacro text, without file, line and address."""
+    m = _VTK_MESSAGE.match(text.strip())
+    return (m.group(1) if m else text).strip()
+
+
+class VTKMessages:
+    """Collects the errors and warnings of the observed algorithms instead of printing them.
+
+    vtkErrorMacro invokes ErrorEvent when the object has an observer, and prints to the output
+    window otherwise; the observers below catch the algorithms' own messages. Everything else
+    (the executive's 'returned failure for request' with its information dump, parser details)
+    goes to a string output window and, for readers, may be asked for with details()."""
+
+    def __init__(self):
+        self.errors = []
+        self.warnings = []
+        self._window = vtkStringOutputWindow()
+        self._previous = None
+        self._verbosity = None
+
+    def __enter__(self):
+        self._previous = vtkOutputWindow.GetInstance()
+        self._previous.Register(None)
+        vtkOutputWindow.SetInstance(self._window)
+        # vtkOutputWindow also logs through vtkLogger, which writes to stderr by itself.
+        self._verbosity = vtkLogger.GetCurrentVerbosityCutoff()
+        vtkLogger.SetStderrVerbosity(vtkLogger.VERBOSITY_OFF)
+        return self
+
+    def __exit__(self, *exc):
+        vtkOutputWindow.SetInstance(self._previous)
+        self._previous.UnRegister(None)
+        vtkLogger.SetStderrVerbosity(self._verbosity)
+        return False
+
+    def watch(self, algorithm):
+        @calldata_type(vtkConstants.VTK_STRING)
+        def on_error(obj, event, text):
+            self.errors.append(f"{obj.GetClassName()}: {clean_vtk_message(text)}")
+
+        @calldata_type(vtkConstants.VTK_STRING)
+        def on_warning(obj, event, text):
+            self.warnings.append(f"{obj.GetClassName()}: {clean_vtk_message(text)}")
+
+        algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
+        algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
+        return algorithm
+
+    def details(self):
+        """Messages that reached the output window, minus the executive's failure reports."""
+        out = []
+        for block in re.split(r"\n\n+(?=ERROR|Warning)", self._window.GetOutput()):
+            if not block.strip() or "returned failure for request" in block:
+                continue
+            out.append(clean_vtk_message(block))
+        return out
+
+    def take_errors(self):
+        errors, self.errors = self.errors, []
+        return errors
+
+
+class Progress:
+    """A progress bar on stderr driven by the algorithms' ProgressEvent."""
+
+    def __init__(self, enabled, stream=None, width=30):
+        self.stream = stream or sys.stderr
+        self.enabled = enabled
+        self.width = width
+        self._last = None
+
+    @staticmethod
+    def wanted(flag, stream=None):
+        """--progress / --no-progress, else on when stderr is a terminal."""
+        if flag is not None:
+            return flag
+        stream = stream or sys.stderr
+        return hasattr(stream, "isatty") and stream.isatty()
+
+    def watch(self, algorithm, label):
+        if not self.enabled:
+            return algorithm
+
+        def on_progress(obj, event):
+            self.show(label, obj.GetProgress())
+
+        algorithm.AddObserver(vtkCommand.ProgressEvent, on_progress)
+        algorithm.AddObserver(vtkCommand.EndEvent, lambda obj, event: self.show(label, 1.0))
+        return algorithm
+
+    def show(self, label, fraction):
+        fraction = min(max(fraction, 0.0), 1.0)
+        key = (label, int(fraction * 100))
+        if key == self._last:
+            return
+        self._last = key
+        filled = int(round(fraction * self.width))
+        bar = "#" * filled + "-" * (self.width - filled)
+        end = "\n" if fraction >= 1.0 else ""
+        self.stream.write(f"\r{label:<14} [{bar}] {fraction * 100:5.1f}%{end}")
+        self.stream.flush()
+
+
+def _extension(path):
+    return os.path.splitext(path)[1].lower()
+
+
+def _reader(path):
+    ext = _extension(path)
+    if ext == ".vtp":
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataReader as R
+    elif ext == ".vtu":
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader as R
+    elif ext == ".vtk":
+        from vtkmodules.vtkIOLegacy import vtkDataSetReader as R
+    elif ext == ".obj":
+        from vtkmodules.vtkIOGeometry import vtkOBJReader as R
+    elif ext == ".ply":
+        from vtkmodules.vtkIOPLY import vtkPLYReader as R
+    else:
+        raise InputError(f"{path}: unsupported format '{ext or '(none)'}' "
+                         f"(readable: {', '.join(READ_FORMATS)})")
+    reader = R()
+    reader.SetFileName(path)
+    return reader
+
+
+def read(path, messages):
+    """Reads a data set; raises InputError for a missing, unknown or unreadable file."""
+    if not os.path.exists(path):
+        raise InputError(f"{path}: no such file")
+    if os.path.isdir(path):
+        raise InputError(f"{path}: is a directory")
+    reader = messages.watch(_reader(path))
+    if _extension(path) == ".ply" and not reader.CanReadFile(path):
+        raise InputError(f"{path}: not a PLY file")
+    reader.Update()
+    errors = messages.take_errors()
+    failed = bool(errors) or (hasattr(reader, "GetErrorCode") and reader.GetErrorCode() != 0)
+    data = reader.GetOutputDataObject(0)
+    if failed or data is None:
+        detail = "; ".join(dict.fromkeys(messages.details() + errors)) or "reader failed"
+        raise InputError(f"{path}: cannot read it: {detail}")
+    if data.GetNumberOfPoints() == 0 and os.path.getsize(path) > 0 and _extension(path) in (
+            ".obj", ".ply", ".vtk"):
+        # These readers may accept garbage silently and produce nothing.
+        raise InputError(f"{path}: cannot read it: no points found")
+    return data
+
+
+def as_polydata(data):
+    """The input of vtkCloughTocherSplineFilter is vtkPolyData: an unstructured grid's points,
+    point, cell and field data are kept as they are, its 2D cells become polygons (cell ids
+    unchanged). Raises InputError for cells that cannot be part of a surface mesh."""
+    if data.IsA("vtkPolyData"):
+        return data
+    if not data.IsA("vtkUnstructuredGrid"):
+        raise InputError(f"a {data.GetClassName()} is not a surface mesh")
+    from vtkmodules.vtkCommonDataModel import vtkCellTypes
+
+    for i in range(data.GetNumberOfCells()):
+        t = data.GetCellType(i)
+        if data.GetCell(i).GetCellDimension() != 2 or t not in (
+                vtkConstants.VTK_TRIANGLE, vtkConstants.VTK_POLYGON, vtkConstants.VTK_QUAD):
+            raise InputError(f"cell {i} is a {vtkCellTypes.GetClassNameFromTypeId(t)}; a "
+                             "surface mesh of polygons (triangles) is expected")
+    mesh = vtkPolyData()
+    mesh.SetPoints(data.GetPoints())
+    polys = vtkCellArray()
+    if data.GetNumberOfCells():
+        polys.SetData(data.GetCells().GetOffsetsArray(), data.GetCells().GetConnectivityArray())
+    mesh.SetPolys(polys)
+    mesh.GetPointData().ShallowCopy(data.GetPointData())
+    mesh.GetCellData().ShallowCopy(data.GetCellData())
+    mesh.GetFieldData().ShallowCopy(data.GetFieldData())
+    return mesh
+
+
+def write(data, path, messages):
+    """Writes a data set by the file's extension. A spline (vtkUnstructuredGrid) only goes to
+    .vtu or .vtk; polydata to any of WRITE_FORMATS (OBJ/PLY with the UV as texture
+    coordinates). Raises InputError for an unknown extension, FilterError when writing fails."""
+    ext = _extension(path)
+    grid = data.IsA("vtkUnstructuredGrid")
+    if ext not in WRITE_FORMATS or (grid and ext not in (".vtu", ".vtk")):
+        allowed = (".vtu", ".vtk") if grid else WRITE_FORMATS
+        raise InputError(f"{path}: cannot write a {data.GetClassName()} as '{ext or '(none)'}' "
+                         f"(use {', '.join(allowed)})")
+    if ext == ".vtu" and not grid:
+        from vtkmodules.vtkFiltersCore import vtkAppendFilter
+
+        append = vtkAppendFilter()
+        append.AddInputData(data)
+        append.Update()
+        data = append.GetOutput()
+    if ext in (".obj", ".ply"):
+        # OBJ and PLY keep only the active texture coordinates: make UV active on a copy.
+        copy = data.NewInstance()
+        copy.ShallowCopy(data)
+        pd = copy.GetPointData()
+        if pd.GetTCoords() is None and pd.GetArray("UV") is not None:
+            pd.SetTCoords(pd.GetArray("UV"))
+        if ext == ".ply" and pd.GetTCoords() is not None and not pd.GetTCoords().IsA(
+                "vtkFloatArray"):
+            # vtkPLYWriter takes float texture coordinates only (and crashes after saying so).
+            from vtkmodules.vtkCommonCore import vtkFloatArray
+
+            tcoords = vtkFloatArray()
+            tcoords.DeepCopy(pd.GetTCoords())
+            pd.SetTCoords(tcoords)
+        data = copy
+    if ext == ".vtp":
+        from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter as W
+    elif ext == ".vtu":
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter as W
+    elif ext == ".vtk":
+        from vtkmodules.vtkIOLegacy import vtkDataSetWriter as W
+    elif ext == ".obj":
+        from vtkmodules.vtkIOGeometry import vtkOBJWriter as W
+    else:
+        from vtkmodules.vtkIOPLY import vtkPLYWriter as W
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise InputError(f"{path}: folder {directory} does not exist")
+    writer = messages.watch(W())
+    writer.SetFileName(path)
+    writer.SetInputData(data)
+    if ext == ".ply":
+        writer.SetFileTypeToBinary()
+    elif ext in (".vtp", ".vtu"):
+        # VTK 9.2's reader fails on appended data (base64 or raw) that holds string arrays, as
+        # the field data naming the surface or construction does: write the data inline.
+        writer.SetDataModeToBinary()
+    ok = writer.Write()
+    errors = messages.take_errors()
+    if not ok or errors:
+        raise FilterError(f"{path}: cannot write it: {'; '.join(errors) or 'writer failed'}")
+    return path
