@@ -227,12 +227,19 @@ def render(surface, filename, array=None, scalar_range=None, colormap="diverging
 
 
 def reflection_lines(surface, eye, stripes=12.0):
-    """Adds the point array ReflectionLines (the demo's zebra stripes) to a surface with Normals."""
-    from ctsplines.demo import reflection_line_scalars
+    """Adds the point array ReflectionLines (zebra stripes of light lines parallel to x in a plane
+    above the surface, as the demo shows them) to a surface with Normals."""
+    from ctsplines import vtkReflectionLinesFilter
 
-    add_point_array(surface, "ReflectionLines",
-                    reflection_line_scalars(points(surface), point_array(surface, "Normals"), eye, stripes))
-    return surface
+    zebra = vtkReflectionLinesFilter()
+    zebra.SetInputData(surface)
+    zebra.SetEyePosition(*eye)
+    zebra.SetLightPlaneOrigin(0.5, 0.5, 3.0)
+    zebra.SetLightPlaneNormal(0.0, 0.0, 1.0)
+    zebra.SetLightLineDirection(1.0, 0.0, 0.0)
+    zebra.SetSpacing(24.0 / stripes)
+    zebra.Update()
+    return zebra.GetOutput()
 
 
 class Checks:

@@ -38,20 +38,15 @@ def run(output="ctsplines-output", construction="CTi", points=300, level=8, rend
     zebra.Update()
     surface = zebra.GetOutput()
 
-    from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter, vtkXMLUnstructuredGridWriter
+    from .io import VTKMessages, write
 
     paths = {
         "spline": os.path.join(output, "spline.vtu"),
         "tessellation": os.path.join(output, "tessellation.vtp"),
     }
-    w = vtkXMLUnstructuredGridWriter()
-    w.SetFileName(paths["spline"])
-    w.SetInputConnection(spline.GetOutputPort())
-    w.Write()
-    w2 = vtkXMLPolyDataWriter()
-    w2.SetFileName(paths["tessellation"])
-    w2.SetInputData(surface)
-    w2.Write()
+    messages = VTKMessages()
+    write(spline.GetOutput(), paths["spline"], messages)
+    write(surface, paths["tessellation"], messages)
     if render:
         paths["image"] = os.path.join(output, "spline.png")
         render_png(surface, "ReflectionLines", paths["image"], eye)
