@@ -27,6 +27,7 @@ packages=(
   g++ cmake ninja-build git
   paraview-dev python3-paraview
   libeigen3-dev libgtest-dev libcgal-dev
+  libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev libtbb-dev
   python3-numpy python3-scipy python3-matplotlib
   xvfb xauth libgl1-mesa-dri
   # The ParaView plugin: find_package(ParaView) needs the development files of everything

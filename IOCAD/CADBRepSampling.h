@@ -1,0 +1,121 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Edge-first sampling of a B-rep model (study section 4): every B-rep edge is sampled once,
+// adaptively, into a C1 cubic Hermite spline of its 3D curve; the samples are mapped into every
+// adjacent face through the face's pcurve, so that neighbouring faces share the same boundary
+// nodes. This header is free of OpenCASCADE types (and CGAL must never meet them): the shape
+// stays behind an opaque implementation.
+#ifndef CTSplines_IOCAD_CADBRepSampling_h
+#define CTSplines_IOCAD_CADBRepSampling_h
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ctcad
+{
+using Id = std::int64_t;
+using Point3 = std::array<double, 3>;
+
+/// A boundary node of one face loop: its parameter values in the face's (oriented) parameter
+/// plane and the global node it is (shared by every face through which the B-rep passes).
+struct LoopNode
+{
+  double UV[2];
+  Id GlobalNode;
+};
+
+/// Loop segment k joins node k and node k+1 (cyclically). Near0 and Near1 are the inner
+/// control points of the edge's cubic Hermite span (near node k, near node k+1), the same
+/// doubles for every face that uses the span.
+struct LoopSegment
+{
+  Id Edge = -1; // B-rep edge index (0-based), -1 for a joint between pcurve ends
+  bool Degenerate = false; // pole edge or joint: one 3D point
+  Point3 Near0{}, Near1{};
+};
+
+struct FaceLoop
+{
+  std::vector<LoopNode> Nodes;
+  std::vector<LoopSegment> Segments;
+};
+
+/// A face in its oriented parameter plane (s, t): (u, v) for a forward face, (-u, v) for a
+/// reversed one, so that F_s x F_t points out of the solid and counter-clockwise parameter
+/// triangles are outward-facing.
+struct CADFace
+{
+  int Index = 0; // 0-based B-rep face index
+  std::string Name;
+  bool Reversed = false;
+  std::vector<FaceLoop> Loops;
+  double MaxGap = 0; // largest measured distance between the edge curves and the surface
+};
+
+struct SamplingOptions
+{
+  double Tolerance = 1e-4; // relative to the bounding-box diagonal
+  int MaxSamplesPerEdge = 4096;
+};
+
+/// Wall-clock seconds of the stages.
+struct StageTimes
+{
+  double Read = 0, Edges = 0, Loops = 0;
+};
+
+class CADModel
+{
+public:
+  CADModel();
+  ~CADModel();
+  CADModel(const CADModel&) = delete;
+  CADModel& operator=(const CADModel&) = delete;
+
+  /// Reads a STEP (.step, .stp) or IGES (.iges, .igs) file. Returns false with Error set.
+  bool Read(const std::string& fileName);
+  /// Samples edges and builds every face's loops (absolute tolerance = relative x diagonal).
+  bool Sample(const SamplingOptions& options);
+
+  /// Surface point and first derivatives of face f in its oriented parameter plane.
+  void Evaluate(int f, double s, double t, double P[3], double Ds[3], double Dt[3]) const;
+  void Evaluate(int f, double s, double t, double P[3]) const;
+
+  const std::vector<CADFace>& Faces() const { return this->FaceList; }
+  const std::vector<Point3>& Nodes() const { return this->NodePoints; }
+  /// Appends a node (interior points of the face meshes) and returns its global id.
+  Id AddNode(const Point3& p)
+  {
+    this->NodePoints.push_back(p);
+    return static_cast<Id>(this->NodePoints.size()) - 1;
+  }
+  double Diagonal() const { return this->BoxDiagonal; }
+  const double* Bounds() const { return this->Box; }
+  int NumberOfEdges() const;
+  int NumberOfVertices() const;
+  /// Largest measured gaps: vertex point vs edge curve ends, edge curve vs surface along the
+  /// pcurve (OCCT's stored tolerances understate them).
+  double MaxVertexGap() const { return this->VertexGap; }
+  double MaxEdgeGap() const { return this->EdgeGap; }
+  Id NumberOfEdgeSamples() const { return this->EdgeSamples; }
+  const StageTimes& Times() const { return this->Time; }
+  const std::string& Error() const { return this->ErrorMessage; }
+
+private:
+  struct Impl;
+  std::unique_ptr<Impl> Internal;
+  std::vector<CADFace> FaceList;
+  std::vector<Point3> NodePoints;
+  double BoxDiagonal = 0;
+  double Box[6] = { 0, 0, 0, 0, 0, 0 };
+  double VertexGap = 0, EdgeGap = 0;
+  Id EdgeSamples = 0;
+  StageTimes Time;
+  std::string ErrorMessage;
+};
+
+} // namespace ctcad
+
+#endif

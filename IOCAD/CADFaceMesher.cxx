@@ -1,0 +1,431 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// CGAL side of the CAD import (never include OpenCASCADE here: its Handle macro breaks CGAL).
+#include "CADFaceMesher.h"
+
+#include "CubicCloughTocher.h"
+
+#include <CGAL/Constrained_Delaunay_triangulation_2.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_face_base_with_info_2.h>
+#include <CGAL/Triangulation_vertex_base_with_info_2.h>
+
+#include <algorithm>
+#include <cmath>
+#include <list>
+#include <unordered_map>
+#include <unordered_set>
+
+namespace ctcad
+{
+namespace
+{
+struct VertexInfo
+{
+  Id Index = -1;
+};
+struct FaceInfo
+{
+  int Nesting = -1;
+  bool InDomain() const { return Nesting % 2 == 1; }
+};
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, K>;
+using Fbb = CGAL::Triangulation_face_base_with_info_2<FaceInfo, K>;
+using Fb = CGAL::Constrained_triangulation_face_base_2<K, Fbb>;
+using TDS = CGAL::Triangulation_data_structure_2<Vb, Fb>;
+using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, TDS, CGAL::Exact_predicates_tag>;
+using Point = CDT::Point;
+
+/// Nesting level by flood fill from the infinite face across constraints: odd levels are inside
+/// the domain, so holes (inner loops) come out right without knowing loop orientations.
+void MarkDomains(CDT& cdt)
+{
+  for (auto f : cdt.all_face_handles())
+  {
+    f->info().Nesting = -1;
+  }
+  std::list<CDT::Edge> border;
+  auto flood = [&](CDT::Face_handle start, int level) {
+    std::list<CDT::Face_handle> queue{ start };
+    while (!queue.empty())
+    {
+      CDT::Face_handle fh = queue.front();
+      queue.pop_front();
+      if (fh->info().Nesting != -1)
+      {
+        continue;
+      }
+      fh->info().Nesting = level;
+      for (int i = 0; i < 3; ++i)
+      {
+        const CDT::Face_handle n = fh->neighbor(i);
+        if (n->info().Nesting == -1)
+        {
+          if (cdt.is_constrained(CDT::Edge(fh, i)))
+          {
+            border.emplace_back(fh, i);
+          }
+          else
+          {
+            queue.push_back(n);
+          }
+        }
+      }
+    }
+  };
+  flood(cdt.infinite_face(), 0);
+  while (!border.empty())
+  {
+    const CDT::Edge e = border.front();
+    border.pop_front();
+    const CDT::Face_handle n = e.first->neighbor(e.second);
+    if (n->info().Nesting == -1)
+    {
+      flood(n, e.first->info().Nesting + 1);
+    }
+  }
+}
+
+std::uint64_t PairKey(Id a, Id b)
+{
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return (hi << 32) ^ lo;
+}
+
+struct TriangleKey
+{
+  Id A, B, C;
+  bool operator==(const TriangleKey& o) const { return A == o.A && B == o.B && C == o.C; }
+};
+struct TriangleKeyHash
+{
+  std::size_t operator()(const TriangleKey& k) const
+  {
+    return std::hash<Id>()(k.A) ^ (std::hash<Id>()(k.B) * 0x9e3779b97f4a7c15ULL) ^
+      (std::hash<Id>()(k.C) * 0xc2b2ae3d27d4eb4fULL);
+  }
+};
+TriangleKey MakeKey(Id a, Id b, Id c)
+{
+  Id v[3] = { a, b, c };
+  std::sort(v, v + 3);
+  return { v[0], v[1], v[2] };
+}
+
+double Dist(const Point3& a, const Point3& b)
+{
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+    (a[2] - b[2]) * (a[2] - b[2]));
+}
+} // namespace
+
+bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
+  const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh)
+{
+  mesh = FaceMesh();
+  CDT cdt;
+  auto addPoint = [&](double s, double t, Id global) {
+    Point3 P, Ds, Dt;
+    surface(s, t, P.data(), Ds.data(), Dt.data());
+    // Boundary nodes keep the shared edge sample, not the surface point under the pcurve.
+    mesh.F.push_back(global >= 0 ? nodePoints[global] : P);
+    mesh.UV.push_back({ s, t });
+    mesh.Fs.push_back(Ds);
+    mesh.Ft.push_back(Dt);
+    mesh.GlobalNode.push_back(global);
+    return static_cast<Id>(mesh.UV.size()) - 1;
+  };
+  // Segments by the (unordered) pair of point indices they join.
+  struct SegmentRef
+  {
+    const LoopSegment* Segment;
+    Id First; // point index of the segment's node k
+  };
+  std::unordered_map<std::uint64_t, SegmentRef> segments;
+  for (const FaceLoop& loop : loops)
+  {
+    const std::size_t n = loop.Nodes.size();
+    std::vector<CDT::Vertex_handle> handles(n);
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      const LoopNode& node = loop.Nodes[k];
+      handles[k] = cdt.insert(Point(node.UV[0], node.UV[1]));
+      if (handles[k]->info().Index < 0)
+      {
+        handles[k]->info().Index = addPoint(node.UV[0], node.UV[1], node.GlobalNode);
+      }
+    }
+    for (std::size_t k = 0; k < n; ++k)
+    {
+      const CDT::Vertex_handle a = handles[k], b = handles[(k + 1) % n];
+      if (a == b)
+      {
+        continue;
+      }
+      cdt.insert_constraint(a, b);
+      segments[PairKey(a->info().Index, b->info().Index)] = { &loop.Segments[k], a->info().Index };
+    }
+  }
+  if (cdt.number_of_faces() == 0)
+  {
+    mesh.Error = "empty parameter domain";
+    return false;
+  }
+
+  // Refinement. CTo is local (a macro-patch depends on its own triangle only) and an edge's
+  // cubic on its two end points only, so triangles and edges that passed once stay passed.
+  std::unordered_set<TriangleKey, TriangleKeyHash> passed;
+  std::unordered_set<std::uint64_t> passedEdges;
+  const double tol = options.Tolerance;
+  ctk::SplineOptions ctOptions;
+  ctOptions.Method = ctk::Construction::CTo;
+  ctOptions.SplitPoint = ctk::SplitPointRule::Bary;
+  std::vector<CDT::Face_handle> faces;
+  for (int round = 0;; ++round)
+  {
+    MarkDomains(cdt);
+    faces.clear();
+    for (auto f : cdt.finite_face_handles())
+    {
+      if (f->info().InDomain())
+      {
+        for (int i = 0; i < 3; ++i)
+        {
+          if (f->vertex(i)->info().Index < 0) // made by intersecting constraints
+          {
+            const Point& p = f->vertex(i)->point();
+            f->vertex(i)->info().Index = addPoint(p.x(), p.y(), -1);
+          }
+        }
+        faces.push_back(f);
+      }
+    }
+    mesh.Rounds = round;
+    std::vector<Point> inserts;
+    // New triangles: one kernel CTo/Bary spline over all of them; its S point is the value at
+    // the centroid.
+    std::vector<ctk::Id> tri;
+    std::vector<std::size_t> triFace;
+    std::unordered_map<Id, ctk::Id> local;
+    std::vector<double> uv, F, Fu, Fv;
+    auto localIndex = [&](Id p) {
+      auto it = local.emplace(p, static_cast<ctk::Id>(local.size()));
+      if (it.second)
+      {
+        uv.insert(uv.end(), mesh.UV[p].begin(), mesh.UV[p].end());
+        F.insert(F.end(), mesh.F[p].begin(), mesh.F[p].end());
+        Fu.insert(Fu.end(), mesh.Fs[p].begin(), mesh.Fs[p].end());
+        Fv.insert(Fv.end(), mesh.Ft[p].begin(), mesh.Ft[p].end());
+      }
+      return it.first->second;
+    };
+    double maxError = 0;
+    for (std::size_t i = 0; i < faces.size(); ++i)
+    {
+      const CDT::Face_handle f = faces[i];
+      const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
+               c = f->vertex(2)->info().Index;
+      if (passed.count(MakeKey(a, b, c)))
+      {
+        continue;
+      }
+      for (const Id p : { a, b, c })
+      {
+        tri.push_back(localIndex(p));
+      }
+      triFace.push_back(i);
+    }
+    if (!triFace.empty())
+    {
+      ctk::SplineData data;
+      data.NumberOfVertices = static_cast<ctk::Id>(local.size());
+      data.NumberOfTriangles = static_cast<ctk::Id>(triFace.size());
+      data.Triangles = tri.data();
+      data.UV = uv.data();
+      data.F = F.data();
+      data.Fu = Fu.data();
+      data.Fv = Fv.data();
+      ctk::MeshTopology topo;
+      const ctk::TopologyStatus ts =
+        ctk::BuildMeshTopology(data.NumberOfVertices, data.NumberOfTriangles, tri.data(), topo);
+      ctk::CubicSpline spline;
+      const ctk::BuildStatus bs =
+        ts.Ok ? ctk::BuildCubicCloughTocher(data, topo, ctOptions, spline) : ctk::BuildStatus{ false, ts.Message };
+      if (!bs.Ok)
+      {
+        mesh.Error = "CTo spline of the face mesh: " + bs.Message;
+        return false;
+      }
+      for (std::size_t j = 0; j < triFace.size(); ++j)
+      {
+        const CDT::Face_handle f = faces[triFace[j]];
+        const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
+                 c = f->vertex(2)->info().Index;
+        const double s = (mesh.UV[a][0] + mesh.UV[b][0] + mesh.UV[c][0]) / 3;
+        const double t = (mesh.UV[a][1] + mesh.UV[b][1] + mesh.UV[c][1]) / 3;
+        // The centroid (the split point: S) and the centres of the three micro-triangles,
+        // which lie next to the macro-edges where the error of CT patches concentrates.
+        const ctk::MacroElementIds ids =
+          ctk::GetMacroElementIds(spline.Layout, topo, tri.data(), static_cast<ctk::Id>(j));
+        double err = 0, worstS = s, worstT = t;
+        for (int k = -1; k < 3; ++k)
+        {
+          ctk::Vec3 value;
+          double ps = s, pt = t;
+          if (k < 0)
+          {
+            value = spline.ControlPoints[ids.S];
+          }
+          else
+          {
+            const Id p = f->vertex((k + 1) % 3)->info().Index, q = f->vertex((k + 2) % 3)->info().Index;
+            ps = (mesh.UV[p][0] + mesh.UV[q][0] + s) / 3;
+            pt = (mesh.UV[p][1] + mesh.UV[q][1] + t) / 3;
+            const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, k);
+            ctk::Vec3 P[10];
+            for (int i = 0; i < 10; ++i)
+            {
+              P[i] = spline.ControlPoints[net[i]];
+            }
+            value = ctk::EvaluateBezierTriangle(3, P, nullptr, ctk::Vec3(1, 1, 1) / 3).Value;
+          }
+          Point3 P, Ds, Dt;
+          surface(ps, pt, P.data(), Ds.data(), Dt.data());
+          const double e = Dist(Point3{ value.x(), value.y(), value.z() }, P);
+          if (e > err)
+          {
+            err = e;
+            worstS = ps;
+            worstT = pt;
+          }
+        }
+        maxError = std::max(maxError, err);
+        bool bad = err > tol;
+        const Point3 &pa = mesh.F[a], &pb = mesh.F[b], &pc = mesh.F[c];
+        const double la = Dist(pb, pc), lb = Dist(pc, pa), lc = Dist(pa, pb);
+        const double longest = std::max({ la, lb, lc });
+        if (options.MaxEdgeLength > 0 && longest > options.MaxEdgeLength)
+        {
+          bad = true;
+        }
+        if (options.AspectRatio > 0 && std::min({ la, lb, lc }) > 0)
+        {
+          // longest edge / (2 sqrt(3) inradius), 1 for an equilateral triangle.
+          const double p = 0.5 * (la + lb + lc);
+          const double area = std::sqrt(std::max(0.0, p * (p - la) * (p - lb) * (p - lc)));
+          if (area <= 0 || longest * p / (2 * std::sqrt(3.0) * area) > options.AspectRatio)
+          {
+            bad = true;
+          }
+        }
+        if (bad)
+        {
+          inserts.emplace_back(err > tol ? worstS : s, err > tol ? worstT : t);
+        }
+        else
+        {
+          passed.insert(MakeKey(a, b, c));
+        }
+      }
+    }
+    // Interior edges: the spline along a macro-edge is the Hermite cubic of its two ends.
+    for (const CDT::Face_handle f : faces)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        const CDT::Face_handle n = f->neighbor(i);
+        const Id a = f->vertex(CDT::ccw(i))->info().Index, b = f->vertex(CDT::cw(i))->info().Index;
+        // Each edge once, from the side where it runs upwards (not by address: the insertion
+        // order, hence the mesh, must not depend on memory layout).
+        if (!n->info().InDomain() || cdt.is_constrained(CDT::Edge(f, i)) || a > b)
+        {
+          continue;
+        }
+        if (passedEdges.count(PairKey(a, b)))
+        {
+          continue;
+        }
+        const double du = mesh.UV[b][0] - mesh.UV[a][0], dv = mesh.UV[b][1] - mesh.UV[a][1];
+        Point3 mid;
+        for (int k = 0; k < 3; ++k)
+        {
+          const double ta = mesh.F[a][k] + (du * mesh.Fs[a][k] + dv * mesh.Ft[a][k]) / 3;
+          const double tb = mesh.F[b][k] - (du * mesh.Fs[b][k] + dv * mesh.Ft[b][k]) / 3;
+          mid[k] = (mesh.F[a][k] + 3 * ta + 3 * tb + mesh.F[b][k]) / 8;
+        }
+        const double s = 0.5 * (mesh.UV[a][0] + mesh.UV[b][0]), t = 0.5 * (mesh.UV[a][1] + mesh.UV[b][1]);
+        Point3 P, Ds, Dt;
+        surface(s, t, P.data(), Ds.data(), Dt.data());
+        const double err = Dist(mid, P);
+        maxError = std::max(maxError, err);
+        if (err > tol)
+        {
+          inserts.emplace_back(s, t);
+        }
+        else
+        {
+          passedEdges.insert(PairKey(a, b));
+        }
+      }
+    }
+    mesh.MaxEstimatedError = maxError;
+    const bool full = static_cast<long>(faces.size()) >= options.MaxTriangles;
+    if (inserts.empty() || round >= options.MaxRounds || full)
+    {
+      mesh.Converged = inserts.empty();
+      break;
+    }
+    // Interior points only: a point on a constraint would split a boundary segment.
+    std::size_t added = 0;
+    for (const Point& p : inserts)
+    {
+      CDT::Locate_type lt;
+      int li;
+      const CDT::Face_handle loc = cdt.locate(p, lt, li);
+      if (lt == CDT::VERTEX || lt == CDT::OUTSIDE_CONVEX_HULL || lt == CDT::OUTSIDE_AFFINE_HULL ||
+        !loc->info().InDomain() || (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(loc, li))))
+      {
+        continue;
+      }
+      const CDT::Vertex_handle v = cdt.insert(p, lt, loc, li);
+      v->info().Index = addPoint(p.x(), p.y(), -1);
+      ++added;
+    }
+    if (added == 0)
+    {
+      break;
+    }
+  }
+
+  // Output: in-domain triangles, their boundary segments.
+  mesh.Triangles.reserve(faces.size());
+  for (const CDT::Face_handle f : faces)
+  {
+    std::array<Id, 3> t{ f->vertex(0)->info().Index, f->vertex(1)->info().Index,
+      f->vertex(2)->info().Index };
+    std::array<const LoopSegment*, 3> seg{ nullptr, nullptr, nullptr };
+    std::array<bool, 3> flipped{ false, false, false };
+    for (int l = 0; l < 3; ++l)
+    {
+      const Id a = t[l], b = t[(l + 1) % 3];
+      const auto it = segments.find(PairKey(a, b));
+      if (it != segments.end())
+      {
+        // The edge opposite vertex (l + 2) % 3 must be the constrained one.
+        const int opposite = (l + 2) % 3;
+        if (cdt.is_constrained(CDT::Edge(f, opposite)))
+        {
+          seg[l] = it->second.Segment;
+          flipped[l] = it->second.First != a;
+        }
+      }
+    }
+    mesh.Triangles.push_back(t);
+    mesh.Segments.push_back(seg);
+    mesh.SegmentFlipped.push_back(flipped);
+  }
+  return true;
+}
+
+} // namespace ctcad

@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Interior triangulation of one face's parameter domain (study section 4, second stage): a
+// constrained Delaunay triangulation (CGAL) of the boundary loops, refined by inserting interior
+// points only (boundary segments are never split, so neighbours keep sharing their nodes) until
+// the CTo/Bary spline's error at triangle centroids and edge midpoints is below the tolerance.
+// No OpenCASCADE here: the surface comes in as a callback.
+#ifndef CTSplines_IOCAD_CADFaceMesher_h
+#define CTSplines_IOCAD_CADFaceMesher_h
+
+#include "CADBRepSampling.h"
+
+#include <functional>
+
+namespace ctcad
+{
+/// Surface point P and derivatives Ds, Dt at (s, t).
+using SurfaceFunction =
+  std::function<void(double s, double t, double P[3], double Ds[3], double Dt[3])>;
+
+struct FaceMeshOptions
+{
+  double Tolerance = 0;     // absolute
+  double AspectRatio = 0;   // bound on the 3D aspect ratio (1 = equilateral); 0 = none
+  double MaxEdgeLength = 0; // absolute bound on 3D edge lengths; 0 = none
+  int MaxRounds = 60;
+  long MaxTriangles = 500000;
+};
+
+struct FaceMesh
+{
+  std::vector<std::array<double, 2>> UV;
+  std::vector<Point3> F, Fs, Ft;
+  std::vector<Id> GlobalNode; // -1 for interior points
+  std::vector<std::array<Id, 3>> Triangles; // counter-clockwise in the parameter plane
+  /// Per local edge (p0,p1), (p1,p2), (p2,p0): the loop segment it is, or nullptr; and whether
+  /// the segment runs the other way (its Near0 is then near the edge's second point).
+  std::vector<std::array<const LoopSegment*, 3>> Segments;
+  std::vector<std::array<bool, 3>> SegmentFlipped;
+  int Rounds = 0;
+  bool Converged = false;
+  double MaxEstimatedError = 0; // at centroids and interior edge midpoints, last round
+  std::string Error;
+};
+
+/// Meshes one face given its loops (in its oriented parameter plane), the 3D points of the
+/// global boundary nodes and its surface. Returns false with mesh.Error on failure.
+bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
+  const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh);
+
+} // namespace ctcad
+
+#endif

@@ -1,0 +1,268 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkCADFaceSampler.h"
+
+#include "CADBRepSampling.h"
+#include "CADFaceMesher.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStringArray.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <thread>
+
+class vtkCADFaceSamplerInternals
+{
+public:
+  std::unique_ptr<ctcad::CADModel> Model;
+};
+
+vtkStandardNewMacro(vtkCADFaceSampler);
+
+namespace
+{
+vtkSmartPointer<vtkDoubleArray> NewArray(const char* name, int components, vtkIdType tuples)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+void AddField(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+
+void AddIntField(vtkFieldData* fd, const char* name, vtkIdType value)
+{
+  vtkNew<vtkIdTypeArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+} // namespace
+
+vtkCADFaceSampler::vtkCADFaceSampler()
+  : Internals(new vtkCADFaceSamplerInternals)
+{
+  this->SetNumberOfInputPorts(0);
+}
+
+vtkCADFaceSampler::~vtkCADFaceSampler() = default;
+
+bool vtkCADFaceSampler::EvaluateSurface(int face, double s, double t, double p[3])
+{
+  const ctcad::CADModel* model = this->Internals->Model.get();
+  if (!model || face < 0 || face >= static_cast<int>(model->Faces().size()))
+  {
+    return false;
+  }
+  model->Evaluate(face, s, t, p);
+  return true;
+}
+
+double vtkCADFaceSampler::GetDiagonal()
+{
+  return this->Internals->Model ? this->Internals->Model->Diagonal() : 0.0;
+}
+
+int vtkCADFaceSampler::RequestData(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkMultiBlockDataSet* output = vtkMultiBlockDataSet::GetData(outputVector, 0);
+  if (this->FileName.empty())
+  {
+    vtkErrorMacro(<< "no FileName");
+    return 0;
+  }
+  auto model = std::make_unique<ctcad::CADModel>();
+  if (!model->Read(this->FileName))
+  {
+    vtkErrorMacro(<< model->Error());
+    return 0;
+  }
+  ctcad::SamplingOptions sampling;
+  sampling.Tolerance = this->Tolerance;
+  if (!model->Sample(sampling))
+  {
+    vtkErrorMacro(<< model->Error());
+    return 0;
+  }
+
+  // Faces are independent once their loops exist: mesh them concurrently (each face evaluates
+  // only its own surface adaptor, so no OCCT object is shared between threads).
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<ctcad::CADFace>& faces = model->Faces();
+  const int nF = static_cast<int>(faces.size());
+  std::vector<ctcad::FaceMesh> meshes(nF);
+  std::vector<char> ok(nF, 0);
+  ctcad::FaceMeshOptions meshOptions;
+  meshOptions.Tolerance = this->Tolerance * model->Diagonal();
+  meshOptions.AspectRatio = this->AspectRatio;
+  meshOptions.MaxEdgeLength = this->MaxEdgeLength * model->Diagonal();
+  meshOptions.MaxRounds = this->MaxRounds;
+  meshOptions.MaxTriangles = static_cast<long>(this->MaxTrianglesPerFace);
+  std::atomic<int> next(0);
+  auto worker = [&]() {
+    for (int f; (f = next++) < nF;)
+    {
+      const ctcad::SurfaceFunction surface = [&, f](double s, double t, double* P, double* Ds,
+                                               double* Dt) { model->Evaluate(f, s, t, P, Ds, Dt); };
+      ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, meshOptions, meshes[f]);
+    }
+  };
+  const int nThreads =
+    std::max(1, std::min<int>(nF, static_cast<int>(std::thread::hardware_concurrency())));
+  std::vector<std::thread> threads;
+  for (int i = 1; i < nThreads; ++i)
+  {
+    threads.emplace_back(worker);
+  }
+  worker();
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+  const double faceTime =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  output->SetNumberOfBlocks(nF);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int f = 0; f < nF; ++f)
+  {
+    if (!ok[f])
+    {
+      vtkErrorMacro(<< "face " << f << " (" << faces[f].Name << "): " << meshes[f].Error);
+      return 0;
+    }
+    const ctcad::FaceMesh& mesh = meshes[f];
+    if (!mesh.Converged)
+    {
+      vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << ") stopped refining at estimated error "
+                      << mesh.MaxEstimatedError << " after " << mesh.Rounds << " rounds");
+    }
+    const vtkIdType nP = static_cast<vtkIdType>(mesh.UV.size());
+    const vtkIdType nT = static_cast<vtkIdType>(mesh.Triangles.size());
+    vtkNew<vtkPolyData> pd;
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    points->SetNumberOfPoints(nP);
+    auto uv = NewArray("UV", 2, nP);
+    auto du = NewArray("dFdu", 3, nP);
+    auto dv = NewArray("dFdv", 3, nP);
+    vtkNew<vtkIdTypeArray> gid;
+    gid->SetName("GlobalNodeId");
+    gid->SetNumberOfTuples(nP);
+    for (vtkIdType p = 0; p < nP; ++p)
+    {
+      points->SetPoint(p, mesh.F[p].data());
+      uv->SetTuple(p, mesh.UV[p].data());
+      du->SetTuple(p, mesh.Fs[p].data());
+      dv->SetTuple(p, mesh.Ft[p].data());
+      // Interior points become model nodes of their own (one face each).
+      gid->SetValue(p, mesh.GlobalNode[p] >= 0 ? mesh.GlobalNode[p] : model->AddNode(mesh.F[p]));
+    }
+    vtkNew<vtkCellArray> polys;
+    auto edgeGradients = NewArray("EdgeGradients", 18, nT);
+    auto curvePoints = NewArray("EdgeCurvePoints", 18, nT);
+    vtkNew<vtkIdTypeArray> edgeIds;
+    edgeIds->SetName("BRepEdgeId");
+    edgeIds->SetNumberOfComponents(3);
+    edgeIds->SetNumberOfTuples(nT);
+    for (vtkIdType t = 0; t < nT; ++t)
+    {
+      const std::array<ctcad::Id, 3>& tri = mesh.Triangles[t];
+      const vtkIdType ids[3] = { tri[0], tri[1], tri[2] };
+      polys->InsertNextCell(3, ids);
+      double g[18], c[18];
+      for (int l = 0; l < 3; ++l)
+      {
+        const auto& a = mesh.UV[tri[l]];
+        const auto& b = mesh.UV[tri[(l + 1) % 3]];
+        double P[3];
+        model->Evaluate(f, 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, g + 6 * l, g + 6 * l + 3);
+        const ctcad::LoopSegment* seg = mesh.Segments[t][l];
+        edgeIds->SetTypedComponent(t, l, seg ? (seg->Edge >= 0 ? seg->Edge : -2) : -1);
+        for (int i = 0; i < 3; ++i)
+        {
+          const bool flip = mesh.SegmentFlipped[t][l];
+          c[6 * l + i] = seg ? (flip ? seg->Near1 : seg->Near0)[i] : nan;
+          c[6 * l + 3 + i] = seg ? (flip ? seg->Near0 : seg->Near1)[i] : nan;
+        }
+      }
+      edgeGradients->SetTuple(t, g);
+      curvePoints->SetTuple(t, c);
+    }
+    pd->SetPoints(points);
+    pd->SetPolys(polys);
+    pd->GetPointData()->AddArray(uv);
+    pd->GetPointData()->AddArray(du);
+    pd->GetPointData()->AddArray(dv);
+    pd->GetPointData()->AddArray(gid);
+    pd->GetCellData()->AddArray(edgeGradients);
+    pd->GetCellData()->AddArray(curvePoints);
+    pd->GetCellData()->AddArray(edgeIds);
+    vtkFieldData* fd = pd->GetFieldData();
+    AddIntField(fd, "FaceId", faces[f].Index);
+    vtkNew<vtkStringArray> name;
+    name->SetName("FaceName");
+    name->InsertNextValue(faces[f].Name);
+    fd->AddArray(name);
+    AddIntField(fd, "Reversed", faces[f].Reversed ? 1 : 0);
+    AddField(fd, "MaxGap", faces[f].MaxGap);
+    AddIntField(fd, "Converged", mesh.Converged ? 1 : 0);
+    AddField(fd, "MaxEstimatedError", mesh.MaxEstimatedError);
+    output->SetBlock(f, pd);
+    output->GetMetaData(static_cast<unsigned int>(f))->Set(vtkCompositeDataSet::NAME(), faces[f].Name.c_str());
+  }
+  vtkFieldData* fd = output->GetFieldData();
+  AddField(fd, "Diagonal", model->Diagonal());
+  AddField(fd, "AbsoluteTolerance", this->Tolerance * model->Diagonal());
+  AddIntField(fd, "NumberOfGlobalNodes", static_cast<vtkIdType>(model->Nodes().size()));
+  AddIntField(fd, "NumberOfBRepEdges", model->NumberOfEdges());
+  AddIntField(fd, "NumberOfBRepVertices", model->NumberOfVertices());
+  AddField(fd, "MaxVertexGap", model->MaxVertexGap());
+  AddField(fd, "MaxEdgeGap", model->MaxEdgeGap());
+  vtkNew<vtkDoubleArray> times;
+  times->SetName("StageTimes");
+  const ctcad::StageTimes& st = model->Times();
+  for (const double v : { st.Read, st.Edges, st.Loops, faceTime })
+  {
+    times->InsertNextValue(v);
+  }
+  fd->AddArray(times);
+  this->Internals->Model = std::move(model);
+  return 1;
+}
+
+void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "FileName: " << this->FileName << "\n";
+  os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "AspectRatio: " << this->AspectRatio << "\n";
+  os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";
+  os << indent << "MaxRounds: " << this->MaxRounds << "\n";
+  os << indent << "MaxTrianglesPerFace: " << this->MaxTrianglesPerFace << "\n";
+}

@@ -1,0 +1,496 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "vtkWatertightSplineStitcher.h"
+
+#include "vtkCADFaceSampler.h"
+#include "vtkCloughTocherSplineFilter.h"
+
+#include "CrossDerivativeRules.h"
+#include "CubicCloughTocher.h"
+#include "CubicMacroElement.h"
+#include "SplitPoint.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+#include "vtkObjectFactory.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkSignedCharArray.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <unordered_map>
+#include <vector>
+
+vtkStandardNewMacro(vtkWatertightSplineStitcher);
+vtkCxxSetObjectMacro(vtkWatertightSplineStitcher, SurfaceSource, vtkCADFaceSampler);
+
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::time_point a)
+{
+  return std::chrono::duration<double>(Clock::now() - a).count();
+}
+
+void AddField(vtkFieldData* fd, const char* name, double value)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->InsertNextValue(value);
+  fd->AddArray(a);
+}
+
+ctk::Vec3 Cubic(const ctk::Vec3& a, const ctk::Vec3& b, const ctk::Vec3& c, const ctk::Vec3& d, double s)
+{
+  const double r = 1 - s;
+  return r * r * r * a + 3 * r * r * s * b + 3 * r * s * s * c + s * s * s * d;
+}
+
+/// One side of an interface: the boundary cubic of a face, oriented from the lower node id.
+struct Side
+{
+  std::array<ctk::Vec3, 4> P;
+};
+} // namespace
+
+vtkWatertightSplineStitcher::vtkWatertightSplineStitcher()
+{
+  this->SetNumberOfOutputPorts(2);
+}
+
+vtkWatertightSplineStitcher::~vtkWatertightSplineStitcher()
+{
+  this->SetSurfaceSource(nullptr);
+}
+
+int vtkWatertightSplineStitcher::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkMultiBlockDataSet");
+  return 1;
+}
+
+int vtkWatertightSplineStitcher::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkMultiBlockDataSet" : "vtkUnstructuredGrid");
+  return 1;
+}
+
+int vtkWatertightSplineStitcher::RequestDataObject(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  if (!vtkMultiBlockDataSet::GetData(outputVector, 0))
+  {
+    vtkNew<vtkMultiBlockDataSet> mb;
+    outputVector->GetInformationObject(0)->Set(vtkDataObject::DATA_OBJECT(), mb);
+  }
+  if (!vtkUnstructuredGrid::GetData(outputVector, 1))
+  {
+    vtkNew<vtkUnstructuredGrid> ug;
+    outputVector->GetInformationObject(1)->Set(vtkDataObject::DATA_OBJECT(), ug);
+  }
+  return 1;
+}
+
+int vtkWatertightSplineStitcher::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkMultiBlockDataSet* input = vtkMultiBlockDataSet::GetData(inputVector[0], 0);
+  vtkMultiBlockDataSet* faces = vtkMultiBlockDataSet::GetData(outputVector, 0);
+  vtkUnstructuredGrid* merged = vtkUnstructuredGrid::GetData(outputVector, 1);
+  const unsigned int nF = input->GetNumberOfBlocks();
+  faces->SetNumberOfBlocks(nF);
+
+  ctk::SplineOptions options;
+  options.Method = static_cast<ctk::Construction>(this->Construction);
+  options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
+  options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
+  const ctk::BoundaryMode boundary = ctk::EffectiveBoundaryMode(options);
+
+  double splineTime = 0, stitchTime = 0;
+  double gapBefore = 0;
+  // Per face: the cubic spline points (layout order), ids, and what the merge needs.
+  struct FaceSpline
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> Grid;
+    std::vector<ctk::Vec3> P;
+    std::vector<ctk::Id> Triangles;
+    ctk::MeshTopology Topo;
+    ctk::CubicSplineLayout Layout;
+    vtkIdTypeArray* Gid = nullptr;
+    vtkDataArray* UV = nullptr;
+    std::vector<ctk::Vec3> Tau;
+  };
+  std::vector<FaceSpline> splines(nF);
+  for (unsigned int f = 0; f < nF; ++f)
+  {
+    vtkPolyData* block = vtkPolyData::SafeDownCast(input->GetBlock(f));
+    FaceSpline& fs = splines[f];
+    if (!block)
+    {
+      vtkErrorMacro(<< "block " << f << " is not a vtkPolyData");
+      return 0;
+    }
+    fs.Gid = vtkIdTypeArray::SafeDownCast(block->GetPointData()->GetArray("GlobalNodeId"));
+    vtkDataArray* curve = block->GetCellData()->GetArray("EdgeCurvePoints");
+    vtkDataArray* grads = block->GetCellData()->GetArray("EdgeGradients");
+    fs.UV = block->GetPointData()->GetArray("UV");
+    if (!fs.Gid || !curve || !grads || !fs.UV || curve->GetNumberOfComponents() != 18)
+    {
+      vtkErrorMacro(<< "block " << f << " lacks GlobalNodeId, UV, EdgeGradients or EdgeCurvePoints");
+      return 0;
+    }
+    auto start = Clock::now();
+    vtkNew<vtkCloughTocherSplineFilter> ct;
+    ct->SetInputData(block);
+    ct->SetConstruction(this->Construction);
+    ct->SetSplitPoint(this->SplitPoint);
+    ct->SetBoundaryMode(this->BoundaryMode);
+    ct->SetIterations(this->Iterations);
+    ct->Update();
+    fs.Grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    fs.Grid->DeepCopy(ct->GetOutput());
+    if (fs.Grid->GetNumberOfCells() == 0)
+    {
+      vtkErrorMacro(<< "face " << f << ": spline construction failed");
+      return 0;
+    }
+    splineTime += Seconds(start);
+
+    // Stitching: the layout of the filter's output is the kernel's (points in layout order).
+    start = Clock::now();
+    const ctk::Id nV = block->GetNumberOfPoints(), nT = block->GetNumberOfCells();
+    fs.Triangles.resize(3 * nT);
+    vtkCellArray* polys = block->GetPolys();
+    for (ctk::Id t = 0; t < nT; ++t)
+    {
+      vtkIdType n;
+      const vtkIdType* pts;
+      polys->GetCellAtId(t, n, pts);
+      std::copy_n(pts, 3, fs.Triangles.data() + 3 * t);
+    }
+    ctk::BuildMeshTopology(nV, nT, fs.Triangles.data(), fs.Topo);
+    fs.Layout = { nV, static_cast<ctk::Id>(fs.Topo.Edges.size()), nT };
+    vtkPoints* pts = fs.Grid->GetPoints();
+    fs.P.resize(pts->GetNumberOfPoints());
+    for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
+    {
+      pts->GetPoint(i, fs.P[i].data());
+    }
+    auto uvOf = [&](ctk::Id v) { return ctk::Vec2(fs.UV->GetComponent(v, 0), fs.UV->GetComponent(v, 1)); };
+    fs.Tau.resize(nT);
+    for (ctk::Id t = 0; t < nT; ++t)
+    {
+      const ctk::Id* tri = fs.Triangles.data() + 3 * t;
+      fs.Tau[t] = ctk::SplitPointBarycentric(options.SplitPoint, uvOf(tri[0]), uvOf(tri[1]),
+        uvOf(tri[2]), fs.P[tri[0]], fs.P[tri[1]], fs.P[tri[2]]);
+    }
+    for (ctk::Id t = 0; t < nT; ++t)
+    {
+      const ctk::MacroElementIds ids =
+        ctk::GetMacroElementIds(fs.Layout, fs.Topo, fs.Triangles.data(), t);
+      double c[18];
+      curve->GetTuple(t, c);
+      bool moved = false;
+      for (int l = 0; l < 3; ++l)
+      {
+        if (std::isnan(c[6 * l]) || fs.Topo.Neighbor(t, l) >= 0)
+        {
+          continue;
+        }
+        const int i = l, j = (l + 1) % 3;
+        const ctk::Vec3 near0(c[6 * l], c[6 * l + 1], c[6 * l + 2]);
+        const ctk::Vec3 near1(c[6 * l + 3], c[6 * l + 4], c[6 * l + 5]);
+        const ctk::Vec3 &vi = fs.P[ids.V[i]], &vj = fs.P[ids.V[j]];
+        for (const double s : { 0.25, 0.5, 0.75 })
+        {
+          gapBefore = std::max(gapBefore,
+            (Cubic(vi, fs.P[ids.T[i][j]], fs.P[ids.T[j][i]], vj, s) - Cubic(vi, near0, near1, vj, s)).norm());
+        }
+        fs.P[ids.T[i][j]] = near0;
+        fs.P[ids.T[j][i]] = near1;
+        moved = true;
+      }
+      if (!moved)
+      {
+        continue;
+      }
+      // Step 1's inner ring from the moved T points, the boundary centres by the construction's
+      // boundary rule, then Step 3: C1 inside the macro-patch again.
+      ctk::ComputeInnerRing1(ids, fs.Tau[t], fs.P.data());
+      const ctk::Id* tri = fs.Triangles.data() + 3 * t;
+      const ctk::Vec2 U[3] = { uvOf(tri[0]), uvOf(tri[1]), uvOf(tri[2]) };
+      const ctk::Vec2 Z = fs.Tau[t][0] * U[0] + fs.Tau[t][1] * U[1] + fs.Tau[t][2] * U[2];
+      double g[18];
+      grads->GetTuple(t, g);
+      for (int l = 0; l < 3; ++l)
+      {
+        if (fs.Topo.Neighbor(t, l) >= 0)
+        {
+          continue;
+        }
+        const int i = l, j = (l + 1) % 3;
+        const ctk::EdgeRows rows{ fs.P[ids.V[i]], fs.P[ids.T[i][j]], fs.P[ids.T[j][i]],
+          fs.P[ids.V[j]], fs.P[ids.I1[i]], fs.P[ids.I1[j]] };
+        const ctk::Vec3 gu(g[6 * l], g[6 * l + 1], g[6 * l + 2]);
+        const ctk::Vec3 gv(g[6 * l + 3], g[6 * l + 4], g[6 * l + 5]);
+        ctk::Vec3 C;
+        if (options.Method == ctk::Construction::CTo || (options.Method != ctk::Construction::MGo &&
+            boundary == ctk::BoundaryMode::Perpendicular))
+        {
+          C = ctk::LinearCrossDerivativeCentre(rows, ctk::PerpendicularLambda(U[i], U[j], Z));
+        }
+        else if (options.Method == ctk::Construction::MGo || boundary == ctk::BoundaryMode::GradientPerpendicular)
+        {
+          C = ctk::MidEdgeGradientCentre(rows, U[i], U[j], Z, gu, gv, ctk::EdgePerpendicular(U[i], U[j]));
+        }
+        else if (boundary == ctk::BoundaryMode::Midpoint)
+        {
+          C = ctk::LinearCrossDerivativeCentre(rows, 0.5);
+        }
+        else
+        {
+          C = ctk::MidEdgeGradientCentre(rows, U[i], U[j], Z, gu, gv, 0.5 * (U[i] + U[j]) - Z);
+        }
+        fs.P[ids.C[(l + 2) % 3]] = C;
+      }
+      ctk::ComputeInnerRing2AndSplitPoint(ids, fs.Tau[t], fs.P.data());
+    }
+    for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
+    {
+      pts->SetPoint(i, fs.P[i].data());
+    }
+    stitchTime += Seconds(start);
+    faces->SetBlock(f, fs.Grid);
+    if (input->HasMetaData(f) && input->GetMetaData(f)->Has(vtkCompositeDataSet::NAME()))
+    {
+      faces->GetMetaData(f)->Set(vtkCompositeDataSet::NAME(), input->GetMetaData(f)->Get(vtkCompositeDataSet::NAME()));
+    }
+  }
+
+  // Merge: V points by GlobalNodeId, boundary T points by (near node, far node), the rest apart.
+  auto start = Clock::now();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  std::unordered_map<vtkIdType, vtkIdType> nodePoint;
+  std::map<std::pair<vtkIdType, vtkIdType>, vtkIdType> edgePoint;
+  std::map<std::pair<vtkIdType, vtkIdType>, int> macroEdgeUse;
+  std::map<std::pair<vtkIdType, vtkIdType>, Side> firstSide;
+  double maxC0Gap = 0;
+  vtkNew<vtkCellArray> cells;
+  vtkNew<vtkIdTypeArray> faceIds, macroIds;
+  faceIds->SetName("FaceId");
+  macroIds->SetName("MacroTriangleId");
+  vtkNew<vtkSignedCharArray> microIds;
+  microIds->SetName("MicroTriangleId");
+  vtkIdType macroTriangles = 0;
+  for (unsigned int f = 0; f < nF; ++f)
+  {
+    FaceSpline& fs = splines[f];
+    const ctk::Id nV = fs.Layout.NumberOfVertices;
+    std::vector<vtkIdType> map(fs.P.size(), -1);
+    auto gid = [&](ctk::Id v) { return fs.Gid->GetValue(v); };
+    for (ctk::Id v = 0; v < nV; ++v)
+    {
+      auto it = nodePoint.emplace(gid(v), points->GetNumberOfPoints());
+      if (it.second)
+      {
+        points->InsertNextPoint(fs.P[v].data());
+      }
+      map[v] = it.first->second;
+    }
+    for (ctk::Id e = 0; e < static_cast<ctk::Id>(fs.Topo.Edges.size()); ++e)
+    {
+      const ctk::Id a = fs.Topo.Edges[e][0], b = fs.Topo.Edges[e][1];
+      const std::pair<vtkIdType, vtkIdType> key(std::min(gid(a), gid(b)), std::max(gid(a), gid(b)));
+      if (key.first != key.second)
+      {
+        macroEdgeUse[key] += fs.Topo.IsBoundaryEdge(e) ? 1 : 2;
+      }
+      if (!fs.Topo.IsBoundaryEdge(e))
+      {
+        continue;
+      }
+      const ctk::Id ta = fs.Layout.EdgePoint(fs.Topo, e, a), tb = fs.Layout.EdgePoint(fs.Topo, e, b);
+      for (const auto& nearFar : { std::make_pair(a, b), std::make_pair(b, a) })
+      {
+        const ctk::Id id = nearFar.first == a ? ta : tb;
+        auto it = edgePoint.emplace(std::make_pair(gid(nearFar.first), gid(nearFar.second)), points->GetNumberOfPoints());
+        if (it.second)
+        {
+          points->InsertNextPoint(fs.P[id].data());
+        }
+        map[id] = it.first->second;
+      }
+      // The C0 gap, from this face's own control points against the first side seen.
+      const bool forward = gid(a) <= gid(b);
+      const Side side{ { forward ? fs.P[a] : fs.P[b], forward ? fs.P[ta] : fs.P[tb],
+        forward ? fs.P[tb] : fs.P[ta], forward ? fs.P[b] : fs.P[a] } };
+      auto first = firstSide.emplace(key, side);
+      if (!first.second)
+      {
+        const Side& o = first.first->second;
+        for (const double s : { 0.0, 0.25, 0.5, 0.75, 1.0 })
+        {
+          maxC0Gap = std::max(maxC0Gap,
+            (Cubic(o.P[0], o.P[1], o.P[2], o.P[3], s) - Cubic(side.P[0], side.P[1], side.P[2], side.P[3], s)).norm());
+        }
+      }
+    }
+    for (std::size_t i = 0; i < map.size(); ++i)
+    {
+      if (map[i] < 0)
+      {
+        map[i] = points->InsertNextPoint(fs.P[i].data());
+      }
+    }
+    vtkUnstructuredGrid* grid = fs.Grid;
+    vtkDataArray* macro = grid->GetCellData()->GetArray("MacroTriangleId");
+    vtkDataArray* micro = grid->GetCellData()->GetArray("MicroTriangleId");
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      vtkIdType n;
+      const vtkIdType* ids;
+      grid->GetCellPoints(c, n, ids);
+      std::vector<vtkIdType> out(n);
+      for (vtkIdType k = 0; k < n; ++k)
+      {
+        out[k] = map[ids[k]];
+      }
+      cells->InsertNextCell(n, out.data());
+      faceIds->InsertNextValue(f);
+      macroIds->InsertNextValue(static_cast<vtkIdType>(macro->GetTuple1(c)));
+      microIds->InsertNextValue(static_cast<signed char>(micro->GetTuple1(c)));
+    }
+    macroTriangles += fs.Layout.NumberOfTriangles;
+  }
+  vtkIdType freeEdges = 0, nonManifold = 0;
+  for (const auto& use : macroEdgeUse)
+  {
+    freeEdges += use.second == 1;
+    nonManifold += use.second > 2;
+  }
+  merged->SetPoints(points);
+  merged->SetCells(VTK_BEZIER_TRIANGLE, cells);
+  merged->GetCellData()->AddArray(faceIds);
+  merged->GetCellData()->AddArray(macroIds);
+  merged->GetCellData()->AddArray(microIds);
+  const double mergeTime = Seconds(start);
+
+  vtkFieldData* fd = merged->GetFieldData();
+  AddField(fd, "NumberOfFreeEdges", static_cast<double>(freeEdges));
+  AddField(fd, "NumberOfNonManifoldEdges", static_cast<double>(nonManifold));
+  AddField(fd, "MaxC0Gap", maxC0Gap);
+  AddField(fd, "MaxGapBeforeStitching", gapBefore);
+  AddField(fd, "NumberOfMacroTriangles", static_cast<double>(macroTriangles));
+  vtkNew<vtkDoubleArray> times;
+  times->SetName("StageTimes");
+  for (const double v : { splineTime, stitchTime, mergeTime })
+  {
+    times->InsertNextValue(v);
+  }
+  fd->AddArray(times);
+
+  // Deviation from the CAD surfaces at centroids, edge midpoints and pseudo-random points.
+  if (this->SurfaceSource && this->SurfaceSource->GetDiagonal() > 0)
+  {
+    double maxDev = 0, sum = 0;
+    long count = 0;
+    std::uint64_t state = 0x2545F4914F6CDD1DULL;
+    auto uniform = [&state]() {
+      state ^= state << 13;
+      state ^= state >> 7;
+      state ^= state << 17;
+      return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
+    };
+    const double diag = this->SurfaceSource->GetDiagonal();
+    for (unsigned int f = 0; f < nF; ++f)
+    {
+      const FaceSpline& fs = splines[f];
+      double faceMax = 0;
+      for (ctk::Id t = 0; t < fs.Layout.NumberOfTriangles; ++t)
+      {
+        const ctk::MacroElementIds ids =
+          ctk::GetMacroElementIds(fs.Layout, fs.Topo, fs.Triangles.data(), t);
+        const ctk::Id* tri = fs.Triangles.data() + 3 * t;
+        ctk::Vec2 U[3];
+        for (int i = 0; i < 3; ++i)
+        {
+          U[i] = ctk::Vec2(fs.UV->GetComponent(tri[i], 0), fs.UV->GetComponent(tri[i], 1));
+        }
+        const ctk::Vec2 Z = fs.Tau[t][0] * U[0] + fs.Tau[t][1] * U[1] + fs.Tau[t][2] * U[2];
+        std::vector<ctk::Vec3> bary{ ctk::Vec3(1, 1, 1) / 3, ctk::Vec3(0.5, 0.5, 0),
+          ctk::Vec3(0, 0.5, 0.5), ctk::Vec3(0.5, 0, 0.5) };
+        for (int r = 0; r < this->DeviationSamples; ++r)
+        {
+          double a = uniform(), b = uniform();
+          if (a + b > 1)
+          {
+            a = 1 - a;
+            b = 1 - b;
+          }
+          bary.emplace_back(1 - a - b, a, b);
+        }
+        for (const ctk::Vec3& w : bary)
+        {
+          const ctk::Vec2 X = w[0] * U[0] + w[1] * U[1] + w[2] * U[2];
+          // The micro-triangle (U_{k+1}, U_{k+2}, Z) containing X: largest minimum coordinate.
+          int best = 0;
+          ctk::Vec3 bestTau;
+          double bestMin = -1e300;
+          for (int k = 0; k < 3; ++k)
+          {
+            const ctk::Vec3 tau = ctk::Barycentric(U[(k + 1) % 3], U[(k + 2) % 3], Z, X);
+            if (tau.minCoeff() > bestMin)
+            {
+              bestMin = tau.minCoeff();
+              best = k;
+              bestTau = tau;
+            }
+          }
+          const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, best);
+          ctk::Vec3 P[10];
+          for (int i = 0; i < 10; ++i)
+          {
+            P[i] = fs.P[net[i]];
+          }
+          const ctk::Vec3 s = ctk::EvaluateBezierTriangle(3, P, nullptr, bestTau).Value;
+          double q[3];
+          this->SurfaceSource->EvaluateSurface(static_cast<int>(f), X.x(), X.y(), q);
+          const double d = (s - ctk::Vec3(q[0], q[1], q[2])).norm();
+          faceMax = std::max(faceMax, d);
+          sum += d * d;
+          ++count;
+        }
+      }
+      AddField(fs.Grid->GetFieldData(), "MaxDeviation", faceMax / diag);
+      maxDev = std::max(maxDev, faceMax);
+    }
+    AddField(fd, "MaxDeviation", maxDev / diag);
+    AddField(fd, "RMSDeviation", count ? std::sqrt(sum / count) / diag : 0.0);
+  }
+  return 1;
+}
+
+void vtkWatertightSplineStitcher::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "Construction: " << vtkCloughTocherSplineFilter::GetConstructionName(this->Construction) << "\n";
+  os << indent << "SplitPoint: " << vtkCloughTocherSplineFilter::GetSplitPointName(this->SplitPoint) << "\n";
+  os << indent << "BoundaryMode: " << vtkCloughTocherSplineFilter::GetBoundaryModeName(this->BoundaryMode) << "\n";
+  os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "DeviationSamples: " << this->DeviationSamples << "\n";
+  os << indent << "SurfaceSource: " << this->SurfaceSource << "\n";
+}

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+/**
+ * @class   vtkWatertightSplineStitcher
+ * @brief   Converts every face of a vtkCADFaceSampler output into a cubic Clough-Tocher spline
+ *          and stitches the faces with C0 continuity.
+ *
+ * Study section 4: each face is converted on its own (vtkCloughTocherSplineFilter), then the
+ * boundary control points of every boundary macro-edge are moved to the control points of the
+ * B-rep edge's cubic Hermite span (the sampler's `EdgeCurvePoints`): vertices V are the shared
+ * edge samples already, T points become the Hermite inner points, and Step 1's inner ring,
+ * the boundary micro-triangle centres (the construction's boundary rule) and Step 3 are redone,
+ * so each macro-patch stays C1 inside. Both sides of an interface then carry the same doubles:
+ * C0 without gaps, C1 lost (near G1) at the interface only.
+ *
+ * Input: the vtkMultiBlockDataSet of vtkCADFaceSampler (per face: UV, dFdu, dFdv, GlobalNodeId,
+ * EdgeGradients, EdgeCurvePoints).
+ * Output port 0: vtkMultiBlockDataSet of per-face splines (as vtkCloughTocherSplineFilter's output,
+ * control points moved). Output port 1: one vtkUnstructuredGrid of all faces where interface
+ * control points are single points (merged by GlobalNodeId and edge identity, never by
+ * coordinates); cell data `FaceId`, `MacroTriangleId`, `MicroTriangleId`; field data
+ * `NumberOfFreeEdges`, `NumberOfNonManifoldEdges` (macro-edges used by one face side / more than
+ * two), `MaxC0Gap` (largest distance between the two sides' boundary cubics, evaluated on the
+ * per-face outputs), `MaxGapBeforeStitching`, `NumberOfMacroTriangles`, `StageTimes`
+ * (splines, stitching, merging in seconds) and, with a SurfaceSource, `MaxDeviation` and
+ * `RMSDeviation` (relative to the diagonal) of the stitched splines from the CAD surfaces.
+ */
+#ifndef vtkWatertightSplineStitcher_h
+#define vtkWatertightSplineStitcher_h
+
+#include "CTSplinesIOCADModule.h" // For export macro
+#include "vtkMultiBlockDataSetAlgorithm.h"
+
+class vtkCADFaceSampler;
+
+class CTSPLINESIOCAD_EXPORT vtkWatertightSplineStitcher : public vtkMultiBlockDataSetAlgorithm
+{
+public:
+  static vtkWatertightSplineStitcher* New();
+  vtkTypeMacro(vtkWatertightSplineStitcher, vtkMultiBlockDataSetAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Cubic construction (vtkCloughTocherSplineFilter's values CTo..KaG). Default KaG, the
+  /// study's recommendation (uses the sampler's exact boundary mid-edge gradients).
+  vtkSetClampMacro(Construction, int, 0, 7);
+  vtkGetMacro(Construction, int);
+  ///@}
+
+  ///@{
+  /// Split point (Bary, Inc2, Inc3) and boundary rule, as in vtkCloughTocherSplineFilter.
+  vtkSetClampMacro(SplitPoint, int, 0, 2);
+  vtkGetMacro(SplitPoint, int);
+  vtkSetClampMacro(BoundaryMode, int, 0, 3);
+  vtkGetMacro(BoundaryMode, int);
+  vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
+  vtkGetMacro(Iterations, int);
+  ///@}
+
+  ///@{
+  /// The sampler whose surfaces the deviation is measured against (optional; not a pipeline
+  /// connection), and the number of pseudo-random points per macro-triangle besides its centroid
+  /// and edge midpoints. Default none, 4.
+  void SetSurfaceSource(vtkCADFaceSampler* sampler);
+  vtkGetObjectMacro(SurfaceSource, vtkCADFaceSampler);
+  vtkSetClampMacro(DeviationSamples, int, 0, 1000);
+  vtkGetMacro(DeviationSamples, int);
+  ///@}
+
+  /// The merged grid (output port 1).
+  vtkDataObject* GetMergedOutput() { return this->GetOutputDataObject(1); }
+
+protected:
+  vtkWatertightSplineStitcher();
+  ~vtkWatertightSplineStitcher() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+  int Construction = 7;
+  int SplitPoint = 0;
+  int BoundaryMode = 1;
+  int Iterations = 0;
+  int DeviationSamples = 4;
+  vtkCADFaceSampler* SurfaceSource = nullptr;
+
+private:
+  vtkWatertightSplineStitcher(const vtkWatertightSplineStitcher&) = delete;
+  void operator=(const vtkWatertightSplineStitcher&) = delete;
+};
+
+#endif
