@@ -2,17 +2,26 @@
 #include "CTSplinesBezierCells.h"
 
 #include "CTSplinesInput.h"
+#include "LargeArrays.h"
+
+#include "vtkCellArray.h"
 
 #include "vtkCellData.h"
 #include "vtkCellType.h"
 #include "vtkCellTypes.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkIdList.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
 #include <sstream>
@@ -73,45 +82,168 @@ std::string CopyPointArray(vtkDataArray* array, vtkIdType nPoints, const std::st
   return error;
 }
 
+namespace
+{
+std::string NotBezier(const std::string& cellLabel, vtkIdType c, int type)
+{
+  std::ostringstream os;
+  os << cellLabel << " " << c << " is a " << vtkCellTypes::GetClassNameFromTypeId(type)
+     << " (VTK cell type " << type << "); only VTK_BEZIER_TRIANGLE cells are accepted";
+  return os.str();
+}
+
+// Degree of a Bézier triangle with npts points, or 0 when npts is not (n+1)(n+2)/2.
+int DegreeOf(vtkIdType npts)
+{
+  int degree = 1;
+  while (degree < ctk::MaxDegree && ctk::BezierPointCount(degree) < npts)
+  {
+    ++degree;
+  }
+  return ctk::BezierPointCount(degree) == npts ? degree : 0;
+}
+
+std::string BadPointCount(const std::string& cellLabel, vtkIdType c, vtkIdType npts)
+{
+  std::ostringstream os;
+  os << cellLabel << " " << c << " has " << npts
+     << " points, which is not (n+1)(n+2)/2 for an order n in 1.." << ctk::MaxDegree;
+  return os.str();
+}
+
+// Checks cell c (its type and point count) and records its degree; an error message otherwise.
+std::string AddCell(
+  BezierCells& cells, vtkIdType c, int type, vtkIdType npts, const std::string& cellLabel)
+{
+  if (type != VTK_BEZIER_TRIANGLE)
+  {
+    return NotBezier(cellLabel, c, type);
+  }
+  const int degree = DegreeOf(npts);
+  if (degree == 0)
+  {
+    return BadPointCount(cellLabel, c, npts);
+  }
+  cells.Degree[c] = static_cast<signed char>(degree);
+  if (cells.Orders[degree].empty())
+  {
+    cells.Orders[degree] = ctk::VtkBezierTriangleOrder(degree);
+  }
+  return {};
+}
+
+// Unstructured grids: straight from the types, offsets and connectivity arrays (no vtkIdList
+// per cell), ids copied in parallel. Same checks and messages as the generic path.
+template <typename OffsetT, typename IdT>
+std::string GatherUnstructured(const unsigned char* types, const OffsetT* offsets,
+  const IdT* connectivity, vtkIdType nCells, BezierCells& cells, const std::string& cellLabel)
+{
+  ctk::ResizeForOverwrite(cells.Degree, nCells);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    std::string error = AddCell(
+      cells, c, types[c], static_cast<vtkIdType>(offsets[c + 1] - offsets[c]), cellLabel);
+    if (!error.empty())
+    {
+      return error;
+    }
+  }
+  const vtkIdType base = nCells > 0 ? static_cast<vtkIdType>(offsets[0]) : 0;
+  const vtkIdType nIds = nCells > 0 ? static_cast<vtkIdType>(offsets[nCells]) - base : 0;
+  ctk::ResizeForOverwrite(cells.Offsets, nCells + 1);
+  ctk::ResizeForOverwrite(cells.Ids, nIds);
+  vtkSMPTools::For(0, nCells + 1, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType c = b; c < e; ++c)
+    {
+      cells.Offsets[c] = static_cast<vtkIdType>(offsets[c]) - base;
+    }
+  });
+  vtkSMPTools::For(0, nIds, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      cells.Ids[i] = static_cast<vtkIdType>(connectivity[base + i]);
+    }
+  });
+  return {};
+}
+
+// Point coordinates: raw pointers (in parallel) for float/double storage, GetPoint otherwise.
+void CopyPoints(vtkDataSet* ds, std::vector<ctk::Vec3>& points)
+{
+  const vtkIdType nPoints = ds->GetNumberOfPoints();
+  ctk::ResizeForOverwrite(points, nPoints);
+  vtkPointSet* ps = vtkPointSet::SafeDownCast(ds);
+  vtkDataArray* data = ps && ps->GetPoints() ? ps->GetPoints()->GetData() : nullptr;
+  auto copy = [&](const auto* src) {
+    vtkSMPTools::For(0, nPoints, [&](vtkIdType b, vtkIdType e) {
+      for (vtkIdType p = b; p < e; ++p)
+      {
+        points[p] = ctk::Vec3(src[3 * p], src[3 * p + 1], src[3 * p + 2]);
+      }
+    });
+  };
+  if (auto* d = vtkDoubleArray::FastDownCast(data))
+  {
+    copy(d->GetPointer(0));
+  }
+  else if (auto* f = vtkFloatArray::FastDownCast(data))
+  {
+    copy(f->GetPointer(0));
+  }
+  else
+  {
+    for (vtkIdType p = 0; p < nPoints; ++p)
+    {
+      ds->GetPoint(p, points[p].data());
+    }
+  }
+}
+} // namespace
+
 std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells, const std::string& cellLabel,
   const std::string& arrayPrefix)
 {
   const vtkIdType nCells = ds->GetNumberOfCells();
-  cells.Degree.resize(nCells);
-  cells.Offsets.assign(nCells + 1, 0);
-  cells.Ids.clear();
-  vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < nCells; ++c)
+  vtkUnstructuredGrid* ug = vtkUnstructuredGrid::SafeDownCast(ds);
+  vtkCellArray* ugCells = ug ? ug->GetCells() : nullptr;
+  vtkUnsignedCharArray* ugTypes = ug ? ug->GetCellTypesArray() : nullptr;
+  if (ugCells && ugTypes && ugTypes->GetNumberOfTuples() == nCells &&
+    ugCells->GetNumberOfCells() == nCells)
   {
-    const int type = ds->GetCellType(c);
-    if (type != VTK_BEZIER_TRIANGLE)
+    const unsigned char* types = ugTypes->GetPointer(0);
+    const std::string error = ugCells->IsStorage64Bit()
+      ? GatherUnstructured(types, ugCells->GetOffsetsArray64()->GetPointer(0),
+          ugCells->GetConnectivityArray64()->GetPointer(0), nCells, cells, cellLabel)
+      : GatherUnstructured(types, ugCells->GetOffsetsArray32()->GetPointer(0),
+          ugCells->GetConnectivityArray32()->GetPointer(0), nCells, cells, cellLabel);
+    if (!error.empty())
     {
-      std::ostringstream os;
-      os << cellLabel << " " << c << " is a " << vtkCellTypes::GetClassNameFromTypeId(type)
-         << " (VTK cell type " << type << "); only VTK_BEZIER_TRIANGLE cells are accepted";
-      return os.str();
+      return error;
     }
-    ds->GetCellPoints(c, ids);
-    const vtkIdType npts = ids->GetNumberOfIds();
-    int degree = 1;
-    while (degree < ctk::MaxDegree && ctk::BezierPointCount(degree) < npts)
+  }
+  else
+  {
+    cells.Degree.resize(nCells);
+    cells.Offsets.assign(nCells + 1, 0);
+    cells.Ids.clear();
+    vtkNew<vtkIdList> ids;
+    for (vtkIdType c = 0; c < nCells; ++c)
     {
-      ++degree;
+      const int type = ds->GetCellType(c);
+      vtkIdType npts = 0;
+      if (type == VTK_BEZIER_TRIANGLE)
+      {
+        ds->GetCellPoints(c, ids);
+        npts = ids->GetNumberOfIds();
+      }
+      std::string error = AddCell(cells, c, type, npts, cellLabel);
+      if (!error.empty())
+      {
+        return error;
+      }
+      cells.Ids.insert(cells.Ids.end(), ids->GetPointer(0), ids->GetPointer(0) + npts);
+      cells.Offsets[c + 1] = static_cast<vtkIdType>(cells.Ids.size());
     }
-    if (ctk::BezierPointCount(degree) != npts)
-    {
-      std::ostringstream os;
-      os << cellLabel << " " << c << " has " << npts
-         << " points, which is not (n+1)(n+2)/2 for an order n in 1.." << ctk::MaxDegree;
-      return os.str();
-    }
-    cells.Degree[c] = static_cast<signed char>(degree);
-    if (cells.Orders[degree].empty())
-    {
-      cells.Orders[degree] = ctk::VtkBezierTriangleOrder(degree);
-    }
-    cells.Ids.insert(cells.Ids.end(), ids->GetPointer(0), ids->GetPointer(0) + npts);
-    cells.Offsets[c + 1] = static_cast<vtkIdType>(cells.Ids.size());
   }
 
   const vtkIdType nPoints = ds->GetNumberOfPoints();
@@ -133,11 +265,7 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells, const std::str
       return error;
     }
   }
-  cells.Points.resize(nPoints);
-  for (vtkIdType p = 0; p < nPoints; ++p)
-  {
-    ds->GetPoint(p, cells.Points[p].data());
-  }
+  CopyPoints(ds, cells.Points);
   return {};
 }
 

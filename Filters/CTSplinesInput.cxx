@@ -1,13 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CTSplinesInput.h"
 
+#include "LargeArrays.h"
+
 #include "vtkCellArray.h"
-#include "vtkCellArrayIterator.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
-#include "vtkSmartPointer.h"
 
 #include <cmath>
 #include <sstream>
@@ -30,21 +32,43 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
     return os.str();
   }
   const vtkIdType n = array->GetNumberOfTuples();
-  out.resize(static_cast<size_t>(n) * components);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    for (int c = 0; c < components; ++c)
+  ctk::ResizeForOverwrite(out, static_cast<size_t>(n) * components);
+  // Values in (tuple, component) order, so the first non-finite one is reported.
+  auto copy = [&](auto get) {
+    const size_t count = static_cast<size_t>(n) * components;
+    for (size_t k = 0; k < count; ++k)
     {
-      const double x = array->GetComponent(i, c);
+      const double x = get(k);
       if (!std::isfinite(x))
       {
-        os << what << " has a non-finite value (" << x << ") at " << element << " " << i;
-        return os.str();
+        os << what << " has a non-finite value (" << x << ") at " << element << " "
+           << static_cast<vtkIdType>(k / components);
+        return false;
       }
-      out[static_cast<size_t>(i) * components + c] = x;
+      out[k] = x;
     }
+    return true;
+  };
+  bool ok;
+  // Raw pointers for the usual storage; GetComponent (virtual, per value) otherwise.
+  if (auto* d = vtkDoubleArray::FastDownCast(array))
+  {
+    const double* src = d->GetPointer(0);
+    ok = copy([src](size_t k) { return src[k]; });
   }
-  return {};
+  else if (auto* f = vtkFloatArray::FastDownCast(array))
+  {
+    const float* src = f->GetPointer(0);
+    ok = copy([src](size_t k) { return static_cast<double>(src[k]); });
+  }
+  else
+  {
+    ok = copy([array, components](size_t k) {
+      return array->GetComponent(
+        static_cast<vtkIdType>(k / components), static_cast<int>(k % components));
+    });
+  }
+  return ok ? std::string() : os.str();
 }
 
 vtkDataArray* FindArray(vtkDataSetAttributes* attributes, const std::string& name)
@@ -83,26 +107,31 @@ std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles
        << "vtkTriangleFilter first)";
     return os.str();
   }
-  triangles.resize(static_cast<size_t>(nPolys) * 3);
-  auto it = vtk::TakeSmartPointer(input->GetPolys()->NewIterator());
-  vtkIdType cellId = 0;
-  for (it->GoToFirstCell(); !it->IsDoneWithTraversal(); it->GoToNextCell(), ++cellId)
-  {
-    vtkIdType npts;
-    const vtkIdType* pts;
-    it->GetCurrentCell(npts, pts);
-    if (npts != 3)
+  // Straight from the cell array's offsets and connectivity (32- or 64-bit storage).
+  ctk::ResizeForOverwrite(triangles, static_cast<size_t>(nPolys) * 3);
+  auto extract = [&](const auto* offsets, const auto* connectivity) {
+    for (vtkIdType cellId = 0; cellId < nPolys; ++cellId)
     {
-      os << "cell " << cellId << " is a polygon with " << npts
-         << " points; only triangles are accepted (apply vtkTriangleFilter first)";
-      return os.str();
+      const vtkIdType begin = static_cast<vtkIdType>(offsets[cellId]);
+      const vtkIdType npts = static_cast<vtkIdType>(offsets[cellId + 1]) - begin;
+      if (npts != 3)
+      {
+        os << "cell " << cellId << " is a polygon with " << npts
+           << " points; only triangles are accepted (apply vtkTriangleFilter first)";
+        return false;
+      }
+      for (int l = 0; l < 3; ++l)
+      {
+        triangles[3 * cellId + l] = static_cast<ctk::Id>(connectivity[begin + l]);
+      }
     }
-    for (int l = 0; l < 3; ++l)
-    {
-      triangles[3 * cellId + l] = pts[l];
-    }
-  }
-  return {};
+    return true;
+  };
+  vtkCellArray* polys = input->GetPolys();
+  const bool ok = polys->IsStorage64Bit()
+    ? extract(polys->GetOffsetsArray64()->GetPointer(0), polys->GetConnectivityArray64()->GetPointer(0))
+    : extract(polys->GetOffsetsArray32()->GetPointer(0), polys->GetConnectivityArray32()->GetPointer(0));
+  return ok ? std::string() : os.str();
 }
 
 } // namespace ctsplines

@@ -4,6 +4,7 @@
 #include "BezierTriangle.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
+#include "CTSplinesSMP.h" // for AllocateTuples
 
 #include <Eigen/Geometry> // for cross
 
@@ -78,23 +79,23 @@ int vtkBezierTriangleTessellator::RequestData(
   // 3. Output arrays, then every cell fills its triangles and the points it owns.
   vtkNew<vtkDoubleArray> coords;
   coords->SetNumberOfComponents(3);
-  coords->SetNumberOfTuples(nOutPoints);
+  ctsplines::AllocateTuples(coords, nOutPoints);
   vtkNew<vtkDoubleArray> normals;
   normals->SetName("Normals");
   normals->SetNumberOfComponents(3);
-  normals->SetNumberOfTuples(nOutPoints);
+  ctsplines::AllocateTuples(normals, nOutPoints);
   vtkNew<vtkDoubleArray> uvOut;
   uvOut->SetName("UV");
   uvOut->SetNumberOfComponents(2);
   if (withUV)
   {
-    uvOut->SetNumberOfTuples(nOutPoints);
+    ctsplines::AllocateTuples(uvOut, nOutPoints);
   }
   vtkNew<vtkIdTypeArray> offsets, connectivity, bezierCellId;
-  offsets->SetNumberOfTuples(nOutCells + 1);
-  connectivity->SetNumberOfTuples(3 * nOutCells);
+  ctsplines::AllocateTuples(offsets, nOutCells + 1);
+  ctsplines::AllocateTuples(connectivity, 3 * nOutCells);
   bezierCellId->SetName("BezierCellId");
-  bezierCellId->SetNumberOfTuples(nOutCells);
+  ctsplines::AllocateTuples(bezierCellId, nOutCells);
   double* xyz = coords->GetPointer(0);
   double* nrm = normals->GetPointer(0);
   double* uvw = withUV ? uvOut->GetPointer(0) : nullptr;

@@ -27,6 +27,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 vtkStandardNewMacro(vtkCloughTocherSplineFilter);
@@ -222,17 +223,30 @@ int vtkCloughTocherSplineFilter::RequestData(
       }
     }
     const double diag2 = (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]);
-    for (ctk::Id t = 0; t < nT; ++t)
-    {
-      const ctk::Id* p = &triangles[3 * t];
-      auto U = [&](int i) { return ctk::Vec2(UV[2 * p[i]], UV[2 * p[i] + 1]); };
-      const double a = std::abs(ctk::SignedArea2(U(0), U(1), U(2)));
-      if (!(a > 1e-13 * diag2))
+    // In parallel; the lowest offending cell id is reported whatever the thread count.
+    std::atomic<ctk::Id> firstBad(nT);
+    vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
+      for (ctk::Id t = b; t < e && t < firstBad.load(std::memory_order_relaxed); ++t)
       {
-        vtkErrorMacro(<< "degenerate parameter triangle: cell " << t << " (points " << p[0]
-                      << ", " << p[1] << ", " << p[2] << ") has zero area in (u, v)");
-        return 0;
+        const ctk::Id* p = &triangles[3 * t];
+        auto U = [&](int i) { return ctk::Vec2(UV[2 * p[i]], UV[2 * p[i] + 1]); };
+        if (!(std::abs(ctk::SignedArea2(U(0), U(1), U(2))) > 1e-13 * diag2))
+        {
+          ctk::Id seen = firstBad.load();
+          while (t < seen && !firstBad.compare_exchange_weak(seen, t))
+          {
+          }
+          break;
+        }
       }
+    });
+    if (firstBad < nT)
+    {
+      const ctk::Id t = firstBad;
+      const ctk::Id* p = &triangles[3 * t];
+      vtkErrorMacro(<< "degenerate parameter triangle: cell " << t << " (points " << p[0] << ", "
+                    << p[1] << ", " << p[2] << ") has zero area in (u, v)");
+      return 0;
     }
   }
   this->UpdateProgress(0.2);
@@ -271,13 +285,14 @@ int vtkCloughTocherSplineFilter::RequestData(
   const std::vector<ctk::Vec3>& controlPoints = quartic ? quarticSpline.ControlPoints : cubic.ControlPoints;
   const std::vector<ctk::Vec2>& domainPoints = quartic ? quarticSpline.DomainPoints : cubic.DomainPoints;
   const vtkIdType nP = static_cast<vtkIdType>(controlPoints.size());
+  // Output arrays are first touched in the parallel loops below (see AllocateTuples).
   vtkNew<vtkDoubleArray> coords;
   coords->SetNumberOfComponents(3);
-  coords->SetNumberOfTuples(nP);
+  ctsplines::AllocateTuples(coords, nP);
   vtkNew<vtkDoubleArray> uvOut;
   uvOut->SetName(this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str());
   uvOut->SetNumberOfComponents(2);
-  uvOut->SetNumberOfTuples(nP);
+  ctsplines::AllocateTuples(uvOut, nP);
   double* xyz = coords->GetPointer(0);
   double* uvw = uvOut->GetPointer(0);
   vtkSMPTools::For(0, nP, [&](vtkIdType b, vtkIdType e) {
@@ -292,19 +307,22 @@ int vtkCloughTocherSplineFilter::RequestData(
   const vtkIdType perCell = ctk::BezierPointCount(degree);
   const vtkIdType nCells = 3 * nT;
   vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfTuples(nCells + 1);
-  connectivity->SetNumberOfTuples(perCell * nCells);
+  ctsplines::AllocateTuples(offsets, nCells + 1);
+  ctsplines::AllocateTuples(connectivity, perCell * nCells);
   vtkNew<vtkUnsignedCharArray> types;
-  types->SetNumberOfTuples(nCells);
+  ctsplines::AllocateTuples(types, nCells);
   vtkNew<vtkIdTypeArray> macroIds;
   macroIds->SetName("MacroTriangleId");
-  macroIds->SetNumberOfTuples(nCells);
+  ctsplines::AllocateTuples(macroIds, nCells);
   vtkNew<vtkSignedCharArray> microIds;
   microIds->SetName("MicroTriangleId");
-  microIds->SetNumberOfTuples(nCells);
+  ctsplines::AllocateTuples(microIds, nCells);
   const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(degree);
   vtkIdType* off = offsets->GetPointer(0);
   vtkIdType* conn = connectivity->GetPointer(0);
+  unsigned char* typeOf = types->GetPointer(0);
+  vtkIdType* macroOf = macroIds->GetPointer(0);
+  signed char* microOf = microIds->GetPointer(0);
   auto fillCell = [&](vtkIdType t, int k, const ctk::Id* net) {
     const vtkIdType c = 3 * t + k;
     for (vtkIdType a = 0; a < perCell; ++a)
@@ -312,9 +330,9 @@ int vtkCloughTocherSplineFilter::RequestData(
       conn[perCell * c + a] = net[vtkOrder[a]];
     }
     off[c] = perCell * c;
-    types->SetValue(c, VTK_BEZIER_TRIANGLE);
-    macroIds->SetValue(c, t);
-    microIds->SetValue(c, static_cast<signed char>(k));
+    typeOf[c] = VTK_BEZIER_TRIANGLE;
+    macroOf[c] = t;
+    microOf[c] = static_cast<signed char>(k);
   };
   vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType t = b; t < e; ++t)

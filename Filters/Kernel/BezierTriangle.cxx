@@ -31,6 +31,32 @@ struct FactorialTable
 };
 constexpr FactorialTable Factorials;
 
+// Multinomial coefficients m!/(i! j! k!) by degree and canonical index, so that Bernstein does
+// no divisions. All factors are exact integers in double, so the values are the same as the
+// former run-time quotients (results unchanged to the bit).
+struct MultinomialTable
+{
+  double Value[MaxDegree + 1][MaxBezierPoints];
+  constexpr MultinomialTable()
+    : Value()
+  {
+    for (int m = 0; m <= MaxDegree; ++m)
+    {
+      int idx = 0;
+      for (int r = 0; r <= m; ++r)
+      {
+        for (int k = 0; k <= r; ++k, ++idx)
+        {
+          const int i = m - r, j = r - k;
+          Value[m][idx] = Factorials.Value[m] /
+            (Factorials.Value[i] * Factorials.Value[j] * Factorials.Value[k]);
+        }
+      }
+    }
+  }
+};
+constexpr MultinomialTable Multinomials;
+
 // All degree-m Bernstein polynomials at t, in canonical order (m may be 0).
 void Bernstein(int m, const Vec3& t, double* out)
 {
@@ -49,9 +75,7 @@ void Bernstein(int m, const Vec3& t, double* out)
     for (int k = 0; k <= r; ++k, ++idx)
     {
       const int j = r - k;
-      out[idx] = Factorials.Value[m] / (Factorials.Value[i] * Factorials.Value[j] *
-                                         Factorials.Value[k]) *
-        p0[i] * p1[j] * p2[k];
+      out[idx] = Multinomials.Value[m][idx] * p0[i] * p1[j] * p2[k];
     }
   }
 }

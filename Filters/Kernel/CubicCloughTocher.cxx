@@ -3,6 +3,7 @@
 
 #include "CrossDerivativeRules.h"
 #include "KashyapFairing.h"
+#include "LargeArrays.h"
 #include "MacroEdgeCubicPrecision.h"
 #include "MicroEdgeC2Minimisation.h"
 #include "RuleA.h"
@@ -124,10 +125,10 @@ private:
   }
   Vec2 U(Id t, int i) const { return UVOf(this->Data, this->Data.Triangles[3 * t + i]); }
 
-  // Micro-triangle of t at local edge l, over (U_l, U_{l+1}, Z), from the current points.
-  void MicroNet(Id t, int l, Vec3* P, Vec2* A) const
+  // Micro-triangle of t (ids) at local edge l, over (U_l, U_{l+1}, Z), from the current points.
+  void MicroNet(Id t, const MacroElementIds& ids, int l, Vec3* P, Vec2* A) const
   {
-    const std::array<Id, 10> net = MicroTriangleNet(this->Ids(t), (l + 2) % 3);
+    const std::array<Id, 10> net = MicroTriangleNet(ids, (l + 2) % 3);
     for (int a = 0; a < 10; ++a)
     {
       P[a] = this->Spline.ControlPoints[net[a]];
@@ -140,13 +141,17 @@ private:
     A[1] = this->U(t, (l + 1) % 3);
     A[2] = this->SplitPoints[t];
   }
-  Vec3& Centre(Id t, int l) { return this->Spline.ControlPoints[this->Ids(t).C[(l + 2) % 3]]; }
+  // The ids are computed once per triangle by the callers: they gather from the topology.
+  Vec3& Centre(const MacroElementIds& ids, int l)
+  {
+    return this->Spline.ControlPoints[ids.C[(l + 2) % 3]];
+  }
 
   void SplitPointsAndStep1();
   void Step2();
   void Step3();
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
-  Vec3 CrossDerivativeCentre(Id t, int l) const;
+  Vec3 CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const;
   // Per interior edge: body(e, t0, l0, t1, l1), in parallel.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
@@ -204,10 +209,11 @@ void Builder::SplitPointsAndStep1()
   layout.NumberOfVertices = nV;
   layout.NumberOfEdges = nE;
   layout.NumberOfTriangles = nT;
-  this->Spline.ControlPoints.resize(layout.NumberOfPoints());
-  this->Spline.DomainPoints.resize(layout.NumberOfPoints());
-  this->Spline.SplitTau.resize(nT);
-  this->SplitPoints.resize(nT);
+  // Every entry is written below, in parallel loops (first touch spread over the threads).
+  ResizeForOverwrite(this->Spline.ControlPoints, layout.NumberOfPoints());
+  ResizeForOverwrite(this->Spline.DomainPoints, layout.NumberOfPoints());
+  ResizeForOverwrite(this->Spline.SplitTau, nT);
+  ResizeForOverwrite(this->SplitPoints, nT);
   Vec3* P = this->Spline.ControlPoints.data();
   Vec2* D = this->Spline.DomainPoints.data();
 
@@ -232,7 +238,7 @@ void Builder::SplitPointsAndStep1()
       D[layout.Vertex(v)] = UVOf(d, v);
     }
   });
-  this->EdgeGradients.resize(d.EdgeGradients ? 2 * nE : 0);
+  ResizeForOverwrite(this->EdgeGradients, d.EdgeGradients ? 2 * nE : 0);
   this->For(nE, [&](Id begin, Id end) {
     for (Id e = begin; e < end; ++e)
     {
@@ -283,10 +289,9 @@ void Builder::SplitPointsAndStep1()
   });
 }
 
-Vec3 Builder::CrossDerivativeCentre(Id t, int l) const
+Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const
 {
   const Vec3* P = this->Spline.ControlPoints.data();
-  const MacroElementIds ids = this->Ids(t);
   const int i = l, j = (l + 1) % 3;
   const Vec2 Ui = this->U(t, i), Uj = this->U(t, j);
   const Vec2& Z = this->SplitPoints[t];
@@ -360,11 +365,12 @@ void Builder::Step2()
   this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
     for (Id t = begin; t < end; ++t)
     {
+      const MacroElementIds ids = this->Ids(t);
       for (int l = 0; l < 3; ++l)
       {
         if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
         {
-          this->Centre(t, l) = this->CrossDerivativeCentre(t, l);
+          this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
         }
       }
     }
@@ -395,7 +401,7 @@ void Builder::InitialEdgeCentres(Id t0, int l0, Id t1, int l1)
     auto corner = [](int i) { return Vec3(Vec3::Unit(i)); };
     SubTriangle(3, macro0.data(), corner(l0), corner((l0 + 1) % 3), this->Spline.SplitTau[t0], PM);
     SubTriangle(3, macro1.data(), corner(l1), corner((l1 + 1) % 3), this->Spline.SplitTau[t1], PMbar);
-    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(t0, l0), this->Centre(t1, l1));
+    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(ids0, l0), this->Centre(ids1, l1));
     return;
   }
   // FO (eq. 22), Ka and KaG (eq. 23); Kashyap's scheme starts from FO's cubic precision.
@@ -408,8 +414,8 @@ void Builder::InitialEdgeCentres(Id t0, int l0, Id t1, int l1)
   macro0[CubicCentre] = MacroEdgeQ(rule, macro0.data(), A, macro1.data(), B);
   macro1[CubicCentre] = TiedCubicCentre(macro0.data(), A, B);
   // C = the macro-patch blossomed at the micro-triangle's vertices (its centre).
-  this->Centre(t0, l0) = TiedCubicCentre(macro0.data(), A, AM);
-  this->Centre(t1, l1) = TiedCubicCentre(macro1.data(), B, AMbar);
+  this->Centre(ids0, l0) = TiedCubicCentre(macro0.data(), A, AM);
+  this->Centre(ids1, l1) = TiedCubicCentre(macro1.data(), B, AMbar);
 }
 
 void Builder::MinimiseC2AcrossMacroEdges()
@@ -417,9 +423,10 @@ void Builder::MinimiseC2AcrossMacroEdges()
   this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
     Vec3 PM[10], PMbar[10];
     Vec2 AM[3], AMbar[3];
-    this->MicroNet(t0, l0, PM, AM);
-    this->MicroNet(t1, l1, PMbar, AMbar);
-    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(t0, l0), this->Centre(t1, l1));
+    const MacroElementIds ids0 = this->Ids(t0), ids1 = this->Ids(t1);
+    this->MicroNet(t0, ids0, l0, PM, AM);
+    this->MicroNet(t1, ids1, l1, PMbar, AMbar);
+    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(ids0, l0), this->Centre(ids1, l1));
   });
 }
 
@@ -428,9 +435,10 @@ void Builder::RestoreC1AcrossMacroEdges()
   this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
     Vec3 PM[10];
     Vec2 AM[3], AMbar[3];
-    this->MicroNet(t0, l0, PM, AM);
+    const MacroElementIds ids0 = this->Ids(t0);
+    this->MicroNet(t0, ids0, l0, PM, AM);
     this->MicroDomain(t1, l1, AMbar);
-    RestoreMacroEdgeC1(PM, AM, AMbar, this->Centre(t0, l0), this->Centre(t1, l1));
+    RestoreMacroEdgeC1(PM, AM, AMbar, this->Centre(ids0, l0), this->Centre(this->Ids(t1), l1));
   });
 }
 

@@ -18,12 +18,16 @@ MacroElementIds GetMacroElementIds(
     ids.C[i] = layout.TrianglePoint(t, CubicSplineLayout::C(i));
     ids.T[i][i] = -1;
   }
+  const std::array<Id, 3>& edges = topo.TriangleEdges[t];
   for (int l = 0; l < 3; ++l)
   {
     const int i = l, j = (l + 1) % 3;
-    const Id e = topo.TriangleEdges[t][l];
-    ids.T[i][j] = layout.EdgePoint(topo, e, p[i]);
-    ids.T[j][i] = layout.EdgePoint(topo, e, p[j]);
+    // layout.EdgePoint without reading topo.Edges (a cache miss per edge): edges are stored as
+    // (smaller, larger) vertex id.
+    const Id first = layout.NumberOfVertices + 2 * edges[l];
+    const Id nearI = p[i] < p[j] ? 0 : 1;
+    ids.T[i][j] = first + nearI;
+    ids.T[j][i] = first + (1 - nearI);
   }
   ids.S = layout.TrianglePoint(t, CubicSplineLayout::S);
   return ids;

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "MeshTopology.h"
 
+#include "LargeArrays.h"
+
 #include <algorithm>
 #include <sstream>
 
@@ -55,7 +57,8 @@ TopologyStatus BuildMeshTopology(
   {
     start[v + 1] += start[v];
   }
-  std::vector<Id> bucket(3 * numTriangles);
+  std::vector<Id> bucket;
+  ResizeForOverwrite(bucket, 3 * numTriangles);
   {
     std::vector<Id> fill(start.begin(), start.end() - 1);
     for (Id h = 0; h < 3 * numTriangles; ++h)
@@ -68,8 +71,14 @@ TopologyStatus BuildMeshTopology(
   topology.Edges.clear();
   topology.EdgeTriangles.clear();
   topology.EdgeLocalIndex.clear();
-  topology.TriangleEdges.assign(numTriangles, { -1, -1, -1 });
-  topology.Edges.reserve(3 * numTriangles / 2 + 1);
+  AssignLarge(topology.TriangleEdges, numTriangles, std::array<Id, 3>{ -1, -1, -1 });
+  // E = (3T + boundary edges)/2 <= 2T + 1; reserved pages that stay unused cost no memory.
+  const size_t edgeGuess = 2 * numTriangles + 1;
+  topology.Edges.reserve(edgeGuess);
+  topology.EdgeTriangles.reserve(edgeGuess);
+  topology.EdgeLocalIndex.reserve(edgeGuess);
+  AdviseHugePages(topology.Edges.data(), edgeGuess * sizeof(topology.Edges[0]));
+  AdviseHugePages(topology.EdgeTriangles.data(), edgeGuess * sizeof(topology.EdgeTriangles[0]));
   for (Id v = 0; v < numPoints; ++v)
   {
     const Id begin = start[v], end = start[v + 1];

@@ -1,9 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "ParameterLocator.h"
 
+#include "LargeArrays.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace ctk
 {
@@ -52,7 +55,20 @@ bool ParameterLocator::BucketRange(Id t, Id range[4]) const
 
 void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
 {
-  this->Corners.assign(corners, corners + 3 * numTriangles);
+  ResizeForOverwrite(this->Corners, static_cast<size_t>(3 * numTriangles));
+  std::copy_n(corners, 3 * numTriangles, this->Corners.data());
+  this->BuildBuckets();
+}
+
+void ParameterLocator::Build(std::vector<Vec2>&& corners)
+{
+  this->Corners = std::move(corners);
+  this->BuildBuckets();
+}
+
+void ParameterLocator::BuildBuckets()
+{
+  const Id numTriangles = this->GetNumberOfTriangles();
   this->Offsets.clear();
   this->Items.clear();
   this->NX = this->NY = 0;
@@ -90,7 +106,7 @@ void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
 
   // Pass 1: bucket sizes; prefix sums give the row starts.
   const Id nBuckets = this->NX * this->NY;
-  this->Offsets.assign(nBuckets + 1, 0);
+  AssignLarge(this->Offsets, static_cast<size_t>(nBuckets + 1), Id(0));
   Id range[4];
   for (Id t = 0; t < numTriangles; ++t)
   {
@@ -110,7 +126,7 @@ void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
     this->Offsets[b + 1] += this->Offsets[b];
   }
   // Pass 2: fill in triangle order, so every row is sorted by triangle id.
-  this->Items.resize(this->Offsets[nBuckets]);
+  ResizeForOverwrite(this->Items, static_cast<size_t>(this->Offsets[nBuckets]));
   std::vector<Id> next(this->Offsets.begin(), this->Offsets.end() - 1);
   for (Id t = 0; t < numTriangles; ++t)
   {
@@ -137,16 +153,25 @@ void ParameterLocator::Build(const std::vector<Vec2>& uv, Id numTriangles, const
   this->Build(numTriangles, corners.data());
 }
 
-ParameterLocator::Hit ParameterLocator::Locate(double u, double v) const
+Id ParameterLocator::Bucket(double u, double v) const
 {
-  Hit hit;
   if (this->NX == 0 || !std::isfinite(u) || !std::isfinite(v))
   {
-    return hit;
+    return -1;
   }
   const Id ix = Cell(u, this->Origin[0], this->InverseSpacing[0], this->NX);
   const Id iy = Cell(v, this->Origin[1], this->InverseSpacing[1], this->NY);
-  const Id b = iy * this->NX + ix;
+  return iy * this->NX + ix;
+}
+
+ParameterLocator::Hit ParameterLocator::Locate(double u, double v) const
+{
+  Hit hit;
+  const Id b = this->Bucket(u, v);
+  if (b < 0)
+  {
+    return hit;
+  }
   const Vec2 X(u, v);
   double bestMin = -Tolerance;
   for (Id i = this->Offsets[b]; i < this->Offsets[b + 1]; ++i)

@@ -39,6 +39,12 @@ public:
   /// are never reported (they have no barycentric coordinates).
   void Build(Id numTriangles, const Vec2* corners);
 
+  /// The same, taking over the corners (3 per triangle) instead of copying them.
+  void Build(std::vector<Vec2>&& corners);
+
+  /// Corner a of triangle t is TriangleCorners(t)[a].
+  const Vec2* TriangleCorners(Id t) const { return &this->Corners[3 * t]; }
+
   /// Builds over an indexed mesh: uv holds the points, triangles[3 t + a] their indices.
   void Build(const std::vector<Vec2>& uv, Id numTriangles, const Id* triangles);
 
@@ -46,11 +52,17 @@ public:
   /// one whose smallest barycentric coordinate is largest, then the lowest id: deterministic.
   Hit Locate(double u, double v) const;
 
+  /// The bucket Locate(u, v) searches (-1 for non-finite input or an empty locator). Callers
+  /// with many queries may process them in bucket order: neighbouring queries then share
+  /// triangles and control points in cache.
+  Id Bucket(double u, double v) const;
+
   Id GetNumberOfTriangles() const { return static_cast<Id>(this->Corners.size() / 3); }
   Id GetNumberOfBuckets() const { return static_cast<Id>(this->NX) * this->NY; }
 
 private:
   bool BucketRange(Id t, Id range[4]) const;
+  void BuildBuckets();
 
   std::vector<Vec2> Corners;
   double Origin[2] = { 0.0, 0.0 };

@@ -2,9 +2,12 @@
 // ctsplines_benchmark: wall-clock figures of the module's filters on Franke's function sampled on
 // regular grids of about --sizes triangles, printed as one plain table:
 //   source          vtkSampledSurfaceSource itself (sampling + exact derivatives + edge gradients)
-//   CTo/CTi/MGo/MGi vtkCloughTocherSplineFilter, per construction (Bary, Midpoint boundary)
+//   spline <c>      vtkCloughTocherSplineFilter, every construction (Bary, Midpoint boundary,
+//                   Iterations 0); "x CTo" is its time over CTo's on the same mesh
+//   IM step (CTi)   one IM step: (time at Iterations N - time at Iterations 0) / N on CTi
 //   tessellate L4   vtkBezierTriangleTessellator at SubdivisionLevel 4 on the CTi spline
 //   probe           vtkSplineParameterProbe, random (u, v) points on the CTi spline
+// --stages and --constructions select rows (e.g. to profile one of them).
 // The last two are built only when those filters are part of the module. Every figure is the best
 // of --repeat runs (the minimum is the least noisy estimate on a shared machine).
 #include "vtkCloughTocherSplineFilter.h"
@@ -49,18 +52,57 @@ struct Options
   int Level = 4;
   double ProbePoints = 1e6;
   double MaxTessellatedTriangles = 2e7; // output triangles; bounds the memory of one run
+  int IMSteps = 10;
+  std::vector<std::string> Stages{ "source", "spline", "im", "tessellate", "probe" };
+  std::vector<std::string> Constructions{ "CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG",
+    "Kashyap", "Quartic" };
+
+  bool Has(const std::string& stage) const
+  {
+    return std::find(this->Stages.begin(), this->Stages.end(), stage) != this->Stages.end();
+  }
 };
+
+std::vector<std::string> SplitList(const char* v)
+{
+  std::vector<std::string> items;
+  std::stringstream ss(v);
+  std::string item;
+  while (std::getline(ss, item, ','))
+  {
+    items.push_back(item);
+  }
+  return items;
+}
+
+/// Construction id by name, or -1.
+int ConstructionId(const std::string& name)
+{
+  for (int c = vtkCloughTocherSplineFilter::CTo; c <= vtkCloughTocherSplineFilter::Quartic; ++c)
+  {
+    if (name == vtkCloughTocherSplineFilter::GetConstructionName(c))
+    {
+      return c;
+    }
+  }
+  return -1;
+}
 
 void Usage(const char* argv0)
 {
   std::printf("usage: %s [--sizes 1e4,1e5,1e6] [--repeat 3] [--threads N] [--level 4]\n"
-              "          [--probe-points 1e6] [--max-tessellated 2e7]\n"
+              "          [--probe-points 1e6] [--max-tessellated 2e7] [--im-steps 10]\n"
+              "          [--stages source,spline,im,tessellate,probe]\n"
+              "          [--constructions CTo,CTi,Fa,FO,Ka,MGo,MGi,KaG,Kashyap,Quartic]\n"
               "  --sizes            approximate triangle counts of the grids (comma separated)\n"
               "  --repeat           runs per figure; the best is reported\n"
               "  --threads          vtkSMPTools threads (STDThread backend); 0 = all cores\n"
               "  --level            tessellation SubdivisionLevel (segments per cell edge)\n"
               "  --probe-points     random parameter points per probe run\n"
-              "  --max-tessellated  skip tessellations producing more triangles than this\n",
+              "  --max-tessellated  skip tessellations producing more triangles than this\n"
+              "  --im-steps         Iterations of the IM row (its time is divided by this)\n"
+              "  --stages           rows to run (comma separated)\n"
+              "  --constructions    spline filter constructions of the spline rows\n",
     argv0);
 }
 
@@ -123,6 +165,34 @@ bool Parse(int argc, char** argv, Options& o)
     {
       o.MaxTessellatedTriangles = x;
     }
+    else if (a == "--im-steps" && ParseNumber(v, x) && x >= 1)
+    {
+      o.IMSteps = static_cast<int>(x);
+    }
+    else if (a == "--stages")
+    {
+      o.Stages = SplitList(v);
+      for (const std::string& st : o.Stages)
+      {
+        if (st != "source" && st != "spline" && st != "im" && st != "tessellate" && st != "probe")
+        {
+          std::fprintf(stderr, "unknown stage '%s'\n", st.c_str());
+          return false;
+        }
+      }
+    }
+    else if (a == "--constructions")
+    {
+      o.Constructions = SplitList(v);
+      for (const std::string& c : o.Constructions)
+      {
+        if (ConstructionId(c) < 0)
+        {
+          std::fprintf(stderr, "unknown construction '%s'\n", c.c_str());
+          return false;
+        }
+      }
+    }
     else
     {
       std::fprintf(stderr, "bad option or value: %s %s\n", a.c_str(), v);
@@ -147,18 +217,48 @@ double Best(int repeat, const std::function<bool()>& run, bool& ok)
   return best;
 }
 
-/// One table row; ns/triangle only for the stages that process the input triangles.
+/// One table row; ns/triangle only for the stages that process the input triangles, and the
+/// time relative to CTo's for the spline rows (relative <= 0: none).
 void Row(long long triangles, const std::string& stage, double seconds, long long items,
-  const char* unit, bool perTriangle = true)
+  const char* unit, bool perTriangle = true, double relative = 0.0)
 {
-  char per[32] = "-";
+  char per[32] = "-", rel[32] = "-";
   if (perTriangle)
   {
     std::snprintf(per, sizeof(per), "%.1f", 1e9 * seconds / double(triangles));
   }
-  std::printf("%11lld  %-22s %11.4f %12s %14.4g %s\n", triangles, stage.c_str(), seconds, per,
-    double(items) / seconds, unit);
+  if (relative > 0.0)
+  {
+    std::snprintf(rel, sizeof(rel), "%.2f", relative);
+  }
+  std::printf("%11lld  %-24s %10.4f %12s %7s %12.4g %s\n", triangles, stage.c_str(), seconds,
+    per, rel, double(items) / seconds, unit);
   std::fflush(stdout);
+}
+
+/// Best time of the spline filter on `mesh`; keeps the output in `spline` when asked.
+double TimeSpline(vtkPolyData* mesh, int construction, int iterations, int repeat, bool& ok,
+  vtkSmartPointer<vtkUnstructuredGrid>* spline = nullptr)
+{
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  filter->SetInputData(mesh);
+  filter->SetConstruction(construction);
+  filter->SetSplitPointToBary();
+  filter->SetBoundaryModeToMidpoint();
+  filter->SetIterations(iterations);
+  const double t = Best(
+    repeat,
+    [&] {
+      filter->Modified();
+      return filter->GetExecutive()->Update() != 0;
+    },
+    ok);
+  if (spline)
+  {
+    *spline = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    (*spline)->ShallowCopy(filter->GetOutput());
+  }
+  return t;
 }
 } // namespace
 
@@ -183,10 +283,11 @@ int main(int argc, char** argv)
     opt.Repeat);
   std::printf("VTK %s, SMP backend %s, %d thread(s)\n", vtkVersion::GetVTKVersion(),
     vtkSMPTools::GetBackend(), vtkSMPTools::GetEstimatedNumberOfThreads());
-  std::printf("spline filter: split point Bary, boundary Midpoint; ns/triangle is per input "
-              "triangle; rate is input triangles/s unless stated\n\n");
-  std::printf("%11s  %-22s %11s %12s %14s\n", "triangles", "stage", "seconds", "ns/triangle",
-    "rate");
+  std::printf("spline filter: split point Bary, boundary Midpoint, Iterations 0; ns/triangle is "
+              "per input triangle; x CTo is the time over CTo's; rate is input triangles/s "
+              "unless stated\n\n");
+  std::printf("%11s  %-24s %10s %12s %7s %12s\n", "triangles", "stage", "seconds", "ns/triangle",
+    "x CTo", "rate");
 
   bool allOk = true;
   for (double size : opt.Sizes)
@@ -199,7 +300,7 @@ int main(int argc, char** argv)
     source->SetResolution(n);
     bool ok = true;
     const double tSource = Best(
-      opt.Repeat,
+      opt.Has("source") ? opt.Repeat : 1,
       [&] {
         source->Modified();
         return source->GetExecutive()->Update() != 0;
@@ -214,42 +315,54 @@ int main(int argc, char** argv)
       std::fprintf(stderr, "vtkSampledSurfaceSource failed for resolution %d\n", n);
       return 1;
     }
-    Row(nT, "source (Franke grid)", tSource, nT, "tri/s");
-
-    vtkSmartPointer<vtkUnstructuredGrid> ctiSpline;
-    for (int c : { vtkCloughTocherSplineFilter::CTo, vtkCloughTocherSplineFilter::CTi,
-           vtkCloughTocherSplineFilter::MGo, vtkCloughTocherSplineFilter::MGi })
+    if (opt.Has("source"))
     {
-      vtkNew<vtkCloughTocherSplineFilter> filter;
-      filter->SetInputData(mesh);
-      filter->SetConstruction(c);
-      filter->SetSplitPointToBary();
-      filter->SetBoundaryModeToMidpoint();
-      const double t = Best(
-        opt.Repeat,
-        [&] {
-          filter->Modified();
-          return filter->GetExecutive()->Update() != 0;
-        },
-        ok);
-      allOk = allOk && ok;
-      Row(nT, std::string("spline ") + vtkCloughTocherSplineFilter::GetConstructionName(c), t,
-        nT, "tri/s");
-      if (c == vtkCloughTocherSplineFilter::CTi)
+      Row(nT, "source (Franke grid)", tSource, nT, "tri/s");
+    }
+
+    double tCTo = 0.0;
+    if (opt.Has("spline"))
+    {
+      for (const std::string& name : opt.Constructions)
       {
-        ctiSpline = vtkSmartPointer<vtkUnstructuredGrid>::New();
-        ctiSpline->ShallowCopy(filter->GetOutput());
+        const int c = ConstructionId(name);
+        const double t = TimeSpline(mesh, c, 0, opt.Repeat, ok);
+        allOk = allOk && ok;
+        if (c == vtkCloughTocherSplineFilter::CTo)
+        {
+          tCTo = t;
+        }
+        Row(nT, "spline " + name, t, nT, "tri/s", true, tCTo > 0.0 ? t / tCTo : 0.0);
       }
+    }
+    if (opt.Has("im"))
+    {
+      const double t0 = TimeSpline(mesh, vtkCloughTocherSplineFilter::CTi, 0, opt.Repeat, ok);
+      allOk = allOk && ok;
+      const double tN =
+        TimeSpline(mesh, vtkCloughTocherSplineFilter::CTi, opt.IMSteps, opt.Repeat, ok);
+      allOk = allOk && ok;
+      // Differences of two noisy minima can be tiny or negative on a loaded machine.
+      const double step = std::max(tN - t0, 1e-9) / opt.IMSteps;
+      Row(nT, "IM step (CTi, " + std::to_string(opt.IMSteps) + " vs 0)", step, nT, "tri/s", true,
+        tCTo > 0.0 ? step / tCTo : 0.0);
+    }
+    vtkSmartPointer<vtkUnstructuredGrid> ctiSpline;
+    if (opt.Has("tessellate") || opt.Has("probe"))
+    {
+      TimeSpline(mesh, vtkCloughTocherSplineFilter::CTi, 0, 1, ok, &ctiSpline);
+      allOk = allOk && ok;
     }
 
 #ifdef CTSPLINES_HAVE_TESSELLATOR
+    if (opt.Has("tessellate"))
     {
       const double outTriangles =
         double(ctiSpline->GetNumberOfCells()) * opt.Level * opt.Level;
       const std::string stage = "tessellate L" + std::to_string(opt.Level) + " (CTi)";
       if (outTriangles > opt.MaxTessellatedTriangles)
       {
-        std::printf("%11lld  %-22s skipped: %.3g output triangles > --max-tessellated %.3g\n",
+        std::printf("%11lld  %-24s skipped: %.3g output triangles > --max-tessellated %.3g\n",
           nT, stage.c_str(), outTriangles, opt.MaxTessellatedTriangles);
       }
       else
@@ -271,6 +384,7 @@ int main(int argc, char** argv)
 #endif
 
 #ifdef CTSPLINES_HAVE_PROBE
+    if (opt.Has("probe"))
     {
       const vtkIdType np = static_cast<vtkIdType>(opt.ProbePoints);
       vtkNew<vtkPoints> uv;
