@@ -5,6 +5,10 @@
 #include "InnerEdgeC1Smoothing.h"
 #include "RuleA.h"
 
+#include <algorithm>
+#include <limits>
+#include <string>
+
 namespace ctk
 {
 namespace
@@ -112,6 +116,19 @@ void AdjustBoundaryPoint(EdgeNets& n)
   n = original; // only c2 moves in this stage
   n.L[C2Index] = c2;
   n.R[C2Index] = c2;
+}
+
+// Eq. (7) divides by the barycentric coordinates v, w of S' w.r.t. (S, P1, P2) and v', w' of S
+// w.r.t. (S', P2, P1): when S' is nearly on the line S P1 or S P2 (irregular meshes), the
+// fairing of that edge is skipped rather than blown up.
+constexpr double MinimumEdgeBarycentric = 0.1;
+
+bool WellConditioned(const EdgeNets& n)
+{
+  const Vec3 b = Barycentric(n.AL[0], n.AL[1], n.AL[2], n.AR[2]);
+  const Vec3 bbar = Barycentric(n.AR[0], n.AR[1], n.AR[2], n.AL[2]);
+  return std::min({ std::abs(b[0]), std::abs(b[1]), std::abs(bbar[0]), std::abs(bbar[1]) }) >=
+    MinimumEdgeBarycentric;
 }
 
 class QuarticBuilder
@@ -249,6 +266,10 @@ void QuarticBuilder::ForInteriorEdges(Step&& step)
         doms[s][1] = this->U(ts[s], (el[s] + 1) % 3);
         doms[s][2] = tau[0] * this->U(ts[s], 0) + tau[1] * this->U(ts[s], 1) + tau[2] * this->U(ts[s], 2);
       }
+      if (!WellConditioned(n))
+      {
+        continue; // eq. (7) would divide by a vanishing barycentric coordinate
+      }
       step(n);
       // Only points specific to this edge change: c2, l4, l7, l8, r4, r7, r8.
       for (int a : { C2Index, Row1A, Row1B, Row2Mid })
@@ -333,8 +354,14 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
     }
   };
   report(QuarticStage::DegreeRaised, 0);
+  // Fig. 11 converges on regular meshes; on irregular ones the coupling of exterior fairing and
+  // C1 smoothing can amplify each round's change. A round whose change exceeds the previous
+  // one's is undone and the iteration stops (reported in status.Message).
+  std::vector<Vec3> before;
+  double previousChange = std::numeric_limits<double>::infinity();
   for (int round = 1; round <= options.Iterations; ++round)
   {
+    before = spline.ControlPoints;
     builder.ForInteriorEdges(AdjustBoundaryPoint);
     report(QuarticStage::BoundaryAdjusted, round);
     builder.ForInteriorEdges([](EdgeNets& n) {
@@ -343,6 +370,20 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
     });
     report(QuarticStage::ExteriorFaired, round);
     builder.SmoothC1();
+    double change = 0.0;
+    for (size_t p = 0; p < before.size(); ++p)
+    {
+      change = std::max(change, (spline.ControlPoints[p] - before[p]).norm());
+    }
+    if (change > previousChange)
+    {
+      spline.ControlPoints.swap(before);
+      status.Message = "the quartic fairing diverges on this mesh: stopped after " +
+        std::to_string(round - 1) + " of " + std::to_string(options.Iterations) + " rounds";
+      report(QuarticStage::Smoothed, round - 1);
+      break;
+    }
+    previousChange = change;
     report(QuarticStage::Smoothed, round);
   }
   return status;

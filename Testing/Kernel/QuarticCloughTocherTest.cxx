@@ -130,7 +130,9 @@ TEST(QuarticCloughTocher, QuadraticPrecisionAndC1AfterEveryRound)
         ASSERT_TRUE(BuildQuarticCloughTocher(mesh.Data(), mesh.Topology, o, s, SerialFor,
           [&](QuarticStage stage, int round, const QuarticSpline& cur) {
             const Jumps J = MeasureJumps(mesh, cur);
-            if (stage == QuarticStage::ExteriorFaired)
+            // Edges whose eq. (7) is ill-conditioned (S' near a line S P, on irregular meshes)
+            // are left unfaired, so the C2 claim is checked on the regular meshes.
+            if (stage == QuarticStage::ExteriorFaired && name != "jittered")
             {
               // The paper: after exterior fairing the patches meet C2 across macro-edges.
               EXPECT_LT(J.Macro[1], 1e-12) << name << " round " << round;
@@ -188,4 +190,29 @@ TEST(QuarticCloughTocher, FangMannTable1Setting)
     EXPECT_LT(e1.first, 0.3);
     EXPECT_LT(e1.second, 0.1);
   }
+}
+
+TEST(QuarticCloughTocher, StopsInsteadOfDivergingOnIrregularMeshes)
+{
+  // On strongly irregular meshes the rounds of Fig. 11 can amplify each other; the scheme then
+  // stops (and says so) and the result stays a bounded C1 spline close to the data.
+  const SampledMesh mesh = Sample("jittered", JitteredGrid(6, 0.45, 5u), AnalyticSurface::Franke);
+  const SplineOptions o{ Construction::FO, SplitPointRule::Bary, BoundaryMode::Midpoint, 8 };
+  QuarticSpline s;
+  const BuildStatus st = BuildQuarticCloughTocher(mesh.Data(), mesh.Topology, o, s);
+  ASSERT_TRUE(st.Ok);
+  EXPECT_NE(st.Message.find("diverges"), std::string::npos) << st.Message;
+  double largest = 0.0;
+  for (const Vec3& p : s.ControlPoints)
+  {
+    largest = std::max(largest, std::abs(p.z()));
+  }
+  EXPECT_LT(largest, 3.0); // Franke's range is [0, 1.22]
+  const Jumps J = MeasureJumps(mesh, s);
+  EXPECT_LT(J.Micro[1], 1e-12);
+  EXPECT_LT(J.Macro[1], 1e-12);
+  // A regular mesh runs every round.
+  const SampledMesh regular = Sample("grid", RegularGridMesh(5, GridDiagonal::Alternating), AnalyticSurface::Franke);
+  QuarticSpline r;
+  EXPECT_TRUE(BuildQuarticCloughTocher(regular.Data(), regular.Topology, o, r).Message.empty());
 }
