@@ -410,9 +410,9 @@ def build_parser():
     demo.add_argument("--output", "-o", default="ctsplines-output", help="output folder")
     demo.add_argument(
         "--construction",
-        default="CTi",
-        choices=["CTo", "CTi", "MGo", "MGi"],
-        help="Clough-Tocher construction (default CTi)",
+        default="KaG",
+        choices=_spline_choices()[0],
+        help="Clough-Tocher construction (default KaG, the study's recommendation)",
     )
     demo.add_argument("--points", type=int, default=300, help="random interior samples")
     demo.add_argument("--level", type=int, default=8, help="tessellation segments per cell edge")

@@ -10,7 +10,7 @@ from . import (
 )
 
 
-def run(output="ctsplines-output", construction="CTi", points=300, level=8, render=True):
+def run(output="ctsplines-output", construction="KaG", points=300, level=8, render=True):
     os.makedirs(output, exist_ok=True)
     source = vtkSampledSurfaceSource()
     source.SetSurfaceToFranke()
@@ -34,7 +34,7 @@ def run(output="ctsplines-output", construction="CTi", points=300, level=8, rend
     zebra.SetLightPlaneOrigin(0.5, 0.5, 3.0)
     zebra.SetLightPlaneNormal(0.0, 0.0, 1.0)
     zebra.SetLightLineDirection(1.0, 0.0, 0.0)
-    zebra.SetSpacing(2.0)
+    zebra.SetSpacing(4.0)
     zebra.Update()
     surface = zebra.GetOutput()
 
