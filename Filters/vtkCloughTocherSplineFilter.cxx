@@ -10,8 +10,11 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkCellType.h"
+#include "vtkDataSetAttributes.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
+#include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
@@ -48,6 +51,25 @@ const char* vtkCloughTocherSplineFilter::GetSplitPointName(int s)
 const char* vtkCloughTocherSplineFilter::GetBoundaryModeName(int m)
 {
   return ctk::ToString(static_cast<ctk::BoundaryMode>(m));
+}
+
+int vtkCloughTocherSplineFilter::GetRequiredGhostLevels() const
+{
+  const bool local = this->Construction == CTo || this->Construction == MGo;
+  return local && this->Iterations == 0 ? 0 : 2 + this->Iterations;
+}
+
+int vtkCloughTocherSplineFilter::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(),
+    outInfo->Get(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS()) + this->GetRequiredGhostLevels());
+  return 1;
 }
 
 int vtkCloughTocherSplineFilter::FillInputPortInformation(int, vtkInformation* info)
@@ -114,6 +136,58 @@ void AddBezierExtraction(vtkUnstructuredGrid* output,
     dofValues->SetTuple(static_cast<vtkIdType>(j), dofs[j].data());
   }
   output->GetFieldData()->AddArray(dofValues);
+}
+
+// Keeps the cells whose flag is set (with the points they use), in order; point and cell data
+// follow. Used to drop the micro-triangles of ghost triangles.
+void KeepCells(vtkUnstructuredGrid* grid, const std::vector<char>& keepCell)
+{
+  const vtkIdType nCells = grid->GetNumberOfCells(), nPoints = grid->GetNumberOfPoints();
+  std::vector<vtkIdType> pointMap(nPoints, -1);
+  vtkNew<vtkIdList> keptCells, keptPoints, ids;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    if (!keepCell[c])
+    {
+      continue;
+    }
+    keptCells->InsertNextId(c);
+    grid->GetCellPoints(c, ids);
+    for (vtkIdType a = 0; a < ids->GetNumberOfIds(); ++a)
+    {
+      vtkIdType& m = pointMap[ids->GetId(a)];
+      if (m < 0)
+      {
+        m = keptPoints->GetNumberOfIds();
+        keptPoints->InsertNextId(ids->GetId(a));
+      }
+    }
+  }
+  vtkNew<vtkUnstructuredGrid> kept;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  grid->GetPoints()->GetPoints(keptPoints, points);
+  kept->SetPoints(points);
+  kept->GetPointData()->CopyAllocate(grid->GetPointData(), keptPoints->GetNumberOfIds());
+  for (vtkIdType p = 0; p < keptPoints->GetNumberOfIds(); ++p)
+  {
+    kept->GetPointData()->CopyData(grid->GetPointData(), keptPoints->GetId(p), p);
+  }
+  kept->Allocate(keptCells->GetNumberOfIds());
+  kept->GetCellData()->CopyAllocate(grid->GetCellData(), keptCells->GetNumberOfIds());
+  for (vtkIdType k = 0; k < keptCells->GetNumberOfIds(); ++k)
+  {
+    const vtkIdType c = keptCells->GetId(k);
+    grid->GetCellPoints(c, ids);
+    for (vtkIdType a = 0; a < ids->GetNumberOfIds(); ++a)
+    {
+      ids->SetId(a, pointMap[ids->GetId(a)]);
+    }
+    kept->InsertNextCell(grid->GetCellType(c), ids);
+    kept->GetCellData()->CopyData(grid->GetCellData(), c, k);
+  }
+  kept->GetFieldData()->ShallowCopy(grid->GetFieldData());
+  grid->ShallowCopy(kept);
 }
 
 void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
@@ -275,6 +349,10 @@ int vtkCloughTocherSplineFilter::RequestData(
     vtkErrorMacro(<< built.Message);
     return 0;
   }
+  if (!built.Message.empty())
+  {
+    vtkWarningMacro(<< built.Message); // e.g. the quartic fairing stopped early
+  }
   this->UpdateProgress(0.6);
   if (this->GetAbortExecute())
   {
@@ -389,6 +467,32 @@ int vtkCloughTocherSplineFilter::RequestData(
       return 0;
     }
     AddBezierExtraction(output, data, topology, extraction);
+  }
+  // Distributed runs: global ids of the macro-triangles, then drop the ghost triangles.
+  if (vtkIdTypeArray* globalIds = vtkIdTypeArray::SafeDownCast(input->GetCellData()->GetGlobalIds()))
+  {
+    vtkNew<vtkIdTypeArray> macroGlobal;
+    macroGlobal->SetName("MacroTriangleGlobalId");
+    macroGlobal->SetNumberOfTuples(nCells);
+    for (vtkIdType c = 0; c < nCells; ++c)
+    {
+      macroGlobal->SetValue(c, globalIds->GetValue(c / 3));
+    }
+    output->GetCellData()->AddArray(macroGlobal);
+  }
+  if (vtkUnsignedCharArray* ghosts = input->GetCellGhostArray())
+  {
+    std::vector<char> keep(nCells);
+    bool anyGhost = false;
+    for (vtkIdType c = 0; c < nCells; ++c)
+    {
+      keep[c] = !(ghosts->GetValue(c / 3) & vtkDataSetAttributes::DUPLICATECELL);
+      anyGhost = anyGhost || !keep[c];
+    }
+    if (anyGhost)
+    {
+      KeepCells(output, keep);
+    }
   }
   this->UpdateProgress(1.0);
   return 1;

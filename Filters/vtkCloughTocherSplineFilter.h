@@ -23,6 +23,12 @@
  * fairing scheme and the quartic scheme from "A Quartic Clough-Tocher Interpolant" (Fang, Mann). Bad input (non-triangles, missing or wrong-sized arrays,
  * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
  * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.
+ *
+ * Distributed runs: the filter asks upstream for GetRequiredGhostLevels() ghost levels, builds the
+ * spline on the piece with its ghost triangles (cell data vtkGhostType, duplicate cells) and
+ * outputs the micro-triangles of the piece's own triangles only, so that the pieces together
+ * are the serial spline. The input's global cell ids, when present, are passed on as cell data
+ * `MacroTriangleGlobalId`.
  */
 #ifndef vtkCloughTocherSplineFilter_h
 #define vtkCloughTocherSplineFilter_h
@@ -142,6 +148,11 @@ public:
   vtkBooleanMacro(ComputeBezierExtraction, bool);
   ///@}
 
+  /// Ghost levels the construction needs around a piece to reproduce the serial result on it:
+  /// 0 for CTo and MGo, else 2 + Iterations (neighbours' data, one more layer per iteration,
+  /// one for the final C1 smoothing of Kashyap's scheme).
+  int GetRequiredGhostLevels() const;
+
   /// Name of a construction, split point or boundary mode value ("CTi", "Inc3", ...).
   static const char* GetConstructionName(int construction);
   static const char* GetSplitPointName(int splitPoint);
@@ -152,6 +163,7 @@ protected:
   ~vtkCloughTocherSplineFilter() override;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int Construction = CTi;

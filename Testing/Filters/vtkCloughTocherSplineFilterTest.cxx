@@ -15,6 +15,8 @@
 #include "vtkGenericCell.h"
 #include "vtkIdList.h"
 #include "vtkIdTypeArray.h"
+#include "vtkMath.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkPointData.h"
 #include "vtkStringArray.h"
 #include "vtkUnstructuredGrid.h"
@@ -480,4 +482,143 @@ TEST(vtkCloughTocherSplineFilter, BezierExtractionReproducesTheControlPoints)
   auto pipelineCapture = ErrorCapture::Attach(iterated->GetExecutive());
   iterated->Update();
   EXPECT_NE(capture->Message.find("iterations"), std::string::npos) << capture->Message;
+}
+
+TEST(vtkCloughTocherSplineFilter, PiecesWithGhostCellsReproduceTheSerialSpline)
+{
+  // A distributed run, emulated: each piece is its own triangles plus the ghost levels the
+  // filter asks for (flagged in vtkGhostType); the pieces' outputs must be the serial spline.
+  vtkSmartPointer<vtkPolyData> input = MakeSampledPolyData(
+    ctk::RegularGridMesh(8, ctk::GridDiagonal::Alternating), ctk::AnalyticSurface::Franke);
+  const vtkIdType nT = input->GetNumberOfCells();
+  vtkNew<vtkIdTypeArray> gids;
+  gids->SetName("GlobalCellIds");
+  for (vtkIdType t = 0; t < nT; ++t)
+  {
+    gids->InsertNextValue(1000 + t);
+  }
+  input->GetCellData()->SetGlobalIds(gids);
+  // Cells sharing a point are neighbours (VTK's ghost levels).
+  input->BuildLinks();
+  auto ring = [&](std::vector<char>& in) {
+    std::vector<char> grown = in;
+    vtkNew<vtkIdList> pts, cells;
+    for (vtkIdType t = 0; t < nT; ++t)
+    {
+      if (!in[t])
+      {
+        continue;
+      }
+      input->GetCellPoints(t, pts);
+      for (vtkIdType a = 0; a < pts->GetNumberOfIds(); ++a)
+      {
+        input->GetPointCells(pts->GetId(a), cells);
+        for (vtkIdType b = 0; b < cells->GetNumberOfIds(); ++b)
+        {
+          grown[cells->GetId(b)] = 1;
+        }
+      }
+    }
+    in.swap(grown);
+  };
+  struct Case
+  {
+    int Construction, Iterations;
+  };
+  for (const Case c : { Case{ vtkCloughTocherSplineFilter::CTo, 0 },
+         Case{ vtkCloughTocherSplineFilter::CTi, 0 }, Case{ vtkCloughTocherSplineFilter::Ka, 2 },
+         Case{ vtkCloughTocherSplineFilter::KaG, 0 }, Case{ vtkCloughTocherSplineFilter::Kashyap, 2 },
+         Case{ vtkCloughTocherSplineFilter::Quartic, 2 } })
+  {
+    vtkNew<vtkCloughTocherSplineFilter> serial;
+    serial->SetInputData(input);
+    serial->SetConstruction(c.Construction);
+    serial->SetIterations(c.Iterations);
+    serial->Update();
+    vtkUnstructuredGrid* whole = serial->GetOutput();
+    const int perCell = whole->GetCellSize(0);
+    vtkDataArray* wholeGid = whole->GetCellData()->GetArray("MacroTriangleGlobalId");
+    ASSERT_NE(wholeGid, nullptr);
+    std::map<std::pair<vtkIdType, int>, vtkIdType> serialCell;
+    vtkDataArray* wholeMicro = whole->GetCellData()->GetArray("MicroTriangleId");
+    for (vtkIdType k = 0; k < whole->GetNumberOfCells(); ++k)
+    {
+      serialCell[{ static_cast<vtkIdType>(wholeGid->GetTuple1(k)), static_cast<int>(wholeMicro->GetTuple1(k)) }] = k;
+    }
+    const int levels = serial->GetRequiredGhostLevels();
+    vtkIdType covered = 0;
+    double worst = 0.0;
+    for (int piece = 0; piece < 3; ++piece)
+    {
+      std::vector<char> own(nT, 0), with(nT, 0);
+      for (vtkIdType t = 0; t < nT; ++t)
+      {
+        double b[6];
+        input->GetCellBounds(t, b);
+        own[t] = with[t] = static_cast<int>(3.0 * (b[0] + b[1]) / 2.0) == piece;
+      }
+      for (int l = 0; l < levels; ++l)
+      {
+        ring(with);
+      }
+      vtkNew<vtkPolyData> part;
+      part->SetPoints(input->GetPoints());
+      part->GetPointData()->ShallowCopy(input->GetPointData());
+      vtkNew<vtkCellArray> polys;
+      part->GetCellData()->CopyAllocate(input->GetCellData());
+      vtkNew<vtkUnsignedCharArray> ghost;
+      ghost->SetName(vtkDataSetAttributes::GhostArrayName());
+      vtkNew<vtkIdList> pts;
+      for (vtkIdType t = 0; t < nT; ++t)
+      {
+        if (with[t])
+        {
+          input->GetCellPoints(t, pts);
+          part->GetCellData()->CopyData(input->GetCellData(), t, polys->GetNumberOfCells());
+          polys->InsertNextCell(pts);
+          ghost->InsertNextValue(own[t] ? 0 : vtkDataSetAttributes::DUPLICATECELL);
+        }
+      }
+      part->SetPolys(polys);
+      part->GetCellData()->AddArray(ghost);
+      // CopyData leaves global ids out by default: give the part its own.
+      vtkNew<vtkIdTypeArray> partIds;
+      partIds->SetName("GlobalCellIds");
+      for (vtkIdType t = 0; t < nT; ++t)
+      {
+        if (with[t])
+        {
+          partIds->InsertNextValue(gids->GetValue(t));
+        }
+      }
+      part->GetCellData()->SetGlobalIds(partIds);
+      vtkNew<vtkCloughTocherSplineFilter> f;
+      f->SetInputData(part);
+      f->SetConstruction(c.Construction);
+      f->SetIterations(c.Iterations);
+      f->Update();
+      vtkUnstructuredGrid* out = f->GetOutput();
+      EXPECT_EQ(out->GetNumberOfCells(), 3 * std::count(own.begin(), own.end(), 1));
+      covered += out->GetNumberOfCells();
+      vtkDataArray* gid = out->GetCellData()->GetArray("MacroTriangleGlobalId");
+      vtkDataArray* micro = out->GetCellData()->GetArray("MicroTriangleId");
+      ASSERT_NE(gid, nullptr);
+      vtkNew<vtkIdList> a, b;
+      for (vtkIdType k = 0; k < out->GetNumberOfCells(); ++k)
+      {
+        const vtkIdType s = serialCell.at({ static_cast<vtkIdType>(gid->GetTuple1(k)), static_cast<int>(micro->GetTuple1(k)) });
+        out->GetCellPoints(k, a);
+        whole->GetCellPoints(s, b);
+        for (int p = 0; p < perCell; ++p)
+        {
+          double x[3], y[3];
+          out->GetPoint(a->GetId(p), x);
+          whole->GetPoint(b->GetId(p), y);
+          worst = std::max(worst, std::sqrt(vtkMath::Distance2BetweenPoints(x, y)));
+        }
+      }
+    }
+    EXPECT_EQ(covered, whole->GetNumberOfCells());
+    EXPECT_LT(worst, 1e-12) << vtkCloughTocherSplineFilter::GetConstructionName(c.Construction);
+  }
 }
