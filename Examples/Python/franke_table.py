@@ -29,13 +29,6 @@ import example_common as ex  # noqa: E402
 CONSTRUCTIONS = ex.CUBIC[:7] + ["KaG", "Kashyap", "Quartic"]
 SPLITS = ["Bary", "Inc2", "Inc3"]
 FAIRING_ROUNDS = 5  # Kashyap and Quartic, as in the quartic paper
-# Measured defect, reported to the owners of the construction: (construction, domain) -> what
-# goes wrong. Its checks are listed as XFAIL (XPASS once fixed) instead of failing the run.
-KNOWN_ISSUES = {
-    ("Quartic", "Delaunay"):
-        "Quartic with 5 rounds diverges on random Delaunay meshes for some split points "
-        "(Franke max error 50 to 1.6e4; quadratic error up to 1e-9)",
-}
 
 
 def iterations(c):
@@ -64,18 +57,16 @@ def main():
         for s in SPLITS:
             row = [c, s]
             for dname, domain, n in domains:
-                known = KNOWN_ISSUES.get((c, dname))
                 spl = ex.spline(ex.source("Franke", domain, n), c, s, iterations(c))
                 _, v = ex.approximation_error(spl, reference, "Parametric")
                 row.append(v["MaxError"])
                 checks.check(np.isfinite(v["MaxError"]) and v["MaxError"] < linear[dname],
-                             f"{c}/{s} on {dname}: {v['MaxError']:.4g} < linear {linear[dname]:.4g}",
-                             known)
+                             f"{c}/{s} on {dname}: {v['MaxError']:.4g} < linear {linear[dname]:.4g}")
                 q = ex.spline(ex.source("Quadratic", domain, n), c, s, iterations(c))
                 _, vq = ex.approximation_error(q, quadratic_reference, "Parametric")
                 worst_quadratic = max(worst_quadratic, vq["MaxError"])
                 checks.check(vq["MaxError"] < 1e-10, f"{c}/{s} on {dname}: quadratic reproduced "
-                             f"({vq['MaxError']:.2e})", known)
+                             f"({vq['MaxError']:.2e})")
             rows.append(row)
     rows.append(["piecewise linear", "-"] + [linear[d] for d, _, _ in domains])
     text = ex.write_tables(
