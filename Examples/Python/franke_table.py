@@ -78,7 +78,7 @@ def main():
                f"{FAIRING_ROUNDS} rounds. Largest error on quadratic data: {worst_quadratic:.2e}."])
     print(text)
 
-    if not args.no_render and ex.has_filter("vtkBezierCurvatureFilter"):
+    if not args.no_render:
         import ctsplines
 
         src = ex.source("Franke", "RandomDelaunay", random_points)
