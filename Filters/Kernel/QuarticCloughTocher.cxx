@@ -3,6 +3,7 @@
 
 #include "AffineLeastSquares.h"
 #include "InnerEdgeC1Smoothing.h"
+#include "LargeArrays.h"
 #include "RuleA.h"
 
 #include <algorithm>
@@ -173,8 +174,8 @@ void QuarticBuilder::DegreeRaise(const CubicSpline& cubic)
   L.NumberOfVertices = nV;
   L.NumberOfEdges = nE;
   L.NumberOfTriangles = nT;
-  this->Spline.ControlPoints.resize(L.NumberOfPoints());
-  this->Spline.DomainPoints.resize(L.NumberOfPoints());
+  ResizeForOverwrite(this->Spline.ControlPoints, L.NumberOfPoints());
+  ResizeForOverwrite(this->Spline.DomainPoints, L.NumberOfPoints());
   this->Spline.SplitTau = cubic.SplitTau;
   Vec3* P = this->Spline.ControlPoints.data();
   Vec2* D = this->Spline.DomainPoints.data();
