@@ -4,6 +4,10 @@
 #include "LargeArrays.h"
 
 #include "vtkCellArray.h"
+#include "vtkCellType.h"
+#include "vtkCellTypes.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
 #include "vtkDataArray.h"
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
@@ -85,6 +89,40 @@ std::string CopyPoints(vtkPoints* points, std::vector<double>& out)
   return CopyArray(points->GetData(), "the point coordinates", 3, "point", out);
 }
 
+namespace
+{
+// Triangles straight from a cell array's offsets and connectivity (32- or 64-bit storage).
+std::string TrianglesOfCellArray(
+  vtkCellArray* cells, const char* what, std::vector<ctk::Id>& triangles)
+{
+  std::ostringstream os;
+  const vtkIdType n = cells->GetNumberOfCells();
+  ctk::ResizeForOverwrite(triangles, static_cast<size_t>(n) * 3);
+  auto extract = [&](const auto* offsets, const auto* connectivity) {
+    for (vtkIdType cellId = 0; cellId < n; ++cellId)
+    {
+      const vtkIdType begin = static_cast<vtkIdType>(offsets[cellId]);
+      const vtkIdType npts = static_cast<vtkIdType>(offsets[cellId + 1]) - begin;
+      if (npts != 3)
+      {
+        os << "cell " << cellId << " is " << what << " with " << npts
+           << " points; only triangles are accepted (apply vtkTriangleFilter first)";
+        return false;
+      }
+      for (int l = 0; l < 3; ++l)
+      {
+        triangles[3 * cellId + l] = static_cast<ctk::Id>(connectivity[begin + l]);
+      }
+    }
+    return true;
+  };
+  const bool ok = cells->IsStorage64Bit()
+    ? extract(cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0))
+    : extract(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
+  return ok ? std::string() : os.str();
+}
+} // namespace
+
 std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles)
 {
   std::ostringstream os;
@@ -107,31 +145,24 @@ std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles
        << "vtkTriangleFilter first)";
     return os.str();
   }
-  // Straight from the cell array's offsets and connectivity (32- or 64-bit storage).
-  ctk::ResizeForOverwrite(triangles, static_cast<size_t>(nPolys) * 3);
-  auto extract = [&](const auto* offsets, const auto* connectivity) {
-    for (vtkIdType cellId = 0; cellId < nPolys; ++cellId)
+  return TrianglesOfCellArray(input->GetPolys(), "a polygon", triangles);
+}
+
+std::string ExtractTriangles(vtkUnstructuredGrid* input, std::vector<ctk::Id>& triangles)
+{
+  const vtkIdType n = input->GetNumberOfCells();
+  const unsigned char* types = input->GetCellTypesArray()->GetPointer(0);
+  for (vtkIdType c = 0; c < n; ++c)
+  {
+    if (types[c] != VTK_TRIANGLE)
     {
-      const vtkIdType begin = static_cast<vtkIdType>(offsets[cellId]);
-      const vtkIdType npts = static_cast<vtkIdType>(offsets[cellId + 1]) - begin;
-      if (npts != 3)
-      {
-        os << "cell " << cellId << " is a polygon with " << npts
-           << " points; only triangles are accepted (apply vtkTriangleFilter first)";
-        return false;
-      }
-      for (int l = 0; l < 3; ++l)
-      {
-        triangles[3 * cellId + l] = static_cast<ctk::Id>(connectivity[begin + l]);
-      }
+      std::ostringstream os;
+      os << "cell " << c << " is a " << vtkCellTypes::GetClassNameFromTypeId(types[c])
+         << "; only triangles are accepted";
+      return os.str();
     }
-    return true;
-  };
-  vtkCellArray* polys = input->GetPolys();
-  const bool ok = polys->IsStorage64Bit()
-    ? extract(polys->GetOffsetsArray64()->GetPointer(0), polys->GetConnectivityArray64()->GetPointer(0))
-    : extract(polys->GetOffsetsArray32()->GetPointer(0), polys->GetConnectivityArray32()->GetPointer(0));
-  return ok ? std::string() : os.str();
+  }
+  return TrianglesOfCellArray(input->GetCells(), "a cell", triangles);
 }
 
 } // namespace ctsplines

@@ -14,6 +14,7 @@ class vtkDataArray;
 class vtkDataSetAttributes;
 class vtkPoints;
 class vtkPolyData;
+class vtkUnstructuredGrid;
 
 namespace ctsplines
 {
@@ -32,6 +33,8 @@ std::string CopyPoints(vtkPoints* points, std::vector<double>& out);
 /// Extracts the triangles of a poly data as #T by 3 point ids. Fails on vertices, lines,
 /// strips or polygons that are not triangles, naming the first offending cell id.
 std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles);
+/// The same for an unstructured grid of VTK_TRIANGLE cells (as redistribution filters output).
+std::string ExtractTriangles(vtkUnstructuredGrid* input, std::vector<ctk::Id>& triangles);
 
 } // namespace ctsplines
 

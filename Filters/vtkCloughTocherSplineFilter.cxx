@@ -23,6 +23,7 @@
 #include "vtkObjectFactory.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
+#include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkSignedCharArray.h"
 #include "vtkStringArray.h"
@@ -75,6 +76,7 @@ int vtkCloughTocherSplineFilter::RequestUpdateExtent(
 int vtkCloughTocherSplineFilter::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkPolyData");
+  info->Append(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkUnstructuredGrid");
   return 1;
 }
 
@@ -202,7 +204,7 @@ void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
 int vtkCloughTocherSplineFilter::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
-  vtkPolyData* input = vtkPolyData::GetData(inputVector[0]);
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0]);
   vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
   if (!input || !output)
   {
@@ -219,7 +221,10 @@ int vtkCloughTocherSplineFilter::RequestData(
   }
   std::vector<ctk::Id> triangles;
   std::vector<double> F, UV, Fu, Fv, edgeGradients;
-  std::string error = ctsplines::ExtractTriangles(input, triangles);
+  vtkPolyData* polyInput = vtkPolyData::SafeDownCast(input);
+  std::string error = polyInput
+    ? ctsplines::ExtractTriangles(polyInput, triangles)
+    : ctsplines::ExtractTriangles(vtkUnstructuredGrid::SafeDownCast(input), triangles);
   if (error.empty())
   {
     error = ctsplines::CopyPoints(input->GetPoints(), F);
@@ -469,14 +474,14 @@ int vtkCloughTocherSplineFilter::RequestData(
     AddBezierExtraction(output, data, topology, extraction);
   }
   // Distributed runs: global ids of the macro-triangles, then drop the ghost triangles.
-  if (vtkIdTypeArray* globalIds = vtkIdTypeArray::SafeDownCast(input->GetCellData()->GetGlobalIds()))
+  if (vtkDataArray* globalIds = input->GetCellData()->GetGlobalIds())
   {
     vtkNew<vtkIdTypeArray> macroGlobal;
     macroGlobal->SetName("MacroTriangleGlobalId");
     macroGlobal->SetNumberOfTuples(nCells);
     for (vtkIdType c = 0; c < nCells; ++c)
     {
-      macroGlobal->SetValue(c, globalIds->GetValue(c / 3));
+      macroGlobal->SetValue(c, static_cast<vtkIdType>(globalIds->GetComponent(c / 3, 0)));
     }
     output->GetCellData()->AddArray(macroGlobal);
   }

@@ -3,7 +3,8 @@
  * @class   vtkCloughTocherSplineFilter
  * @brief   Converts a parametrised triangle mesh into a cubic C1 Clough-Tocher spline.
  *
- * Input: vtkPolyData of triangles whose points carry parameter coordinates (point data `UV`, 2
+ * Input: vtkPolyData of triangles (or a vtkUnstructuredGrid of VTK_TRIANGLE cells, as
+ * redistribution filters output) whose points carry parameter coordinates (point data `UV`, 2
  * components; falls back to the active texture coordinates) and the first derivatives `dFdu`,
  * `dFdv` (3 components each). The MG constructions, KaG and the gradient boundary modes also
  * read the cell data `EdgeGradients` (18 components: for the local edges (p0,p1), (p1,p2),

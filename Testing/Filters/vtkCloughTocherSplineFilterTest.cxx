@@ -7,6 +7,7 @@
 #include "FilterTestUtilities.h"
 #include "RuleA.h"
 
+#include "vtkAppendFilter.h"
 #include "vtkBezierTriangle.h"
 #include "vtkCellData.h"
 #include "vtkCellTypes.h"
@@ -621,4 +622,38 @@ TEST(vtkCloughTocherSplineFilter, PiecesWithGhostCellsReproduceTheSerialSpline)
     EXPECT_EQ(covered, whole->GetNumberOfCells());
     EXPECT_LT(worst, 1e-12) << vtkCloughTocherSplineFilter::GetConstructionName(c.Construction);
   }
+}
+
+TEST(vtkCloughTocherSplineFilter, AcceptsUnstructuredGridsOfTriangles)
+{
+  vtkSmartPointer<vtkPolyData> input = Franke(3);
+  vtkNew<vtkAppendFilter> toGrid;
+  toGrid->AddInputData(input);
+  toGrid->Update();
+  vtkSmartPointer<vtkUnstructuredGrid> fromPoly = Convert(input, vtkCloughTocherSplineFilter::Ka);
+  vtkNew<vtkCloughTocherSplineFilter> f;
+  f->SetInputData(toGrid->GetOutput());
+  f->SetConstructionToKa();
+  f->Update();
+  vtkUnstructuredGrid* fromGrid = f->GetOutput();
+  ASSERT_EQ(fromGrid->GetNumberOfPoints(), fromPoly->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < fromGrid->GetNumberOfPoints(); ++p)
+  {
+    double a[3], b[3];
+    fromGrid->GetPoint(p, a);
+    fromPoly->GetPoint(p, b);
+    ASSERT_EQ(vtkMath::Distance2BetweenPoints(a, b), 0.0);
+  }
+  // Other cell types are named.
+  vtkNew<vtkUnstructuredGrid> mixed;
+  mixed->DeepCopy(toGrid->GetOutput());
+  const vtkIdType quad[4] = { 0, 1, 5, 4 };
+  mixed->InsertNextCell(VTK_QUAD, 4, quad);
+  mixed->GetCellData()->Initialize();
+  vtkNew<vtkCloughTocherSplineFilter> g;
+  g->SetInputData(mixed);
+  auto capture = ErrorCapture::Attach(g);
+  auto pipelineCapture = ErrorCapture::Attach(g->GetExecutive());
+  g->Update();
+  EXPECT_NE(capture->Message.find("cell 18 is a vtkQuad"), std::string::npos) << capture->Message;
 }
