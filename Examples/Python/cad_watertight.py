@@ -6,8 +6,9 @@
 Samples every B-rep face edge first (vtkCADFaceSampler), converts each face (KaG by default),
 stitches the faces with C0 continuity (vtkWatertightSplineStitcher) and writes into DIR:
 faces.vtm (the sampled triangle meshes), splines_unstitched.vtm (each face converted on its own),
-splines_stitched.vtm, stitched.vtu (one grid, interface control points merged), gaps.png (the gap
-between the two sides of every interface before and after stitching) and prints the stage
+splines_stitched.vtm, stitched.vtu (one grid, interface control points merged),
+gaps_unstitched.png and gaps_stitched.png (every interface curve coloured by the gap between its
+two sides, before and after stitching) and prints the stage
 breakdown, counts, free edges, the C0 gap and the deviation from the CAD surfaces.
 """
 import argparse
@@ -21,8 +22,8 @@ from vtkmodules.vtkCommonCore import vtkIdTypeArray  # noqa: F401  (VTK types fi
 from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataWriter, vtkXMLUnstructuredGridWriter
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-import ctsplines
-from ctsplines.CTSplinesIOCAD import vtkCADFaceSampler, vtkWatertightSplineStitcher
+from ctsplines import (vtkCADFaceSampler, vtkCloughTocherSplineFilter,
+                       vtkWatertightSplineStitcher)
 
 CUBIC = ["CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG"]
 
@@ -59,18 +60,54 @@ def boundary_cubics(faces, splines):
 
 
 def interface_gaps(cubics):
-    """Midpoints and largest distance between the sides of every interface (edges with two or
-    more sides)."""
+    """One side's curve (9 points) and the largest distance between the sides of every
+    interface (edges with two or more sides)."""
     s = np.linspace(0, 1, 9)
     basis = np.stack([(1 - s) ** 3, 3 * (1 - s) ** 2 * s, 3 * (1 - s) * s ** 2, s ** 3], 1)
-    mids, gaps = [], []
+    lines, gaps = [], []
     for sides in cubics.values():
         if len(sides) < 2:
             continue
         curves = [basis @ p for p in sides]
         gaps.append(max(np.linalg.norm(c - curves[0], axis=1).max() for c in curves[1:]))
-        mids.append(curves[0][4])
-    return np.array(mids).reshape(-1, 3), np.array(gaps)
+        lines.append(curves[0])
+    return np.array(lines).reshape(-1, 9, 3), np.array(gaps)
+
+
+def gap_figure(path, title, faces, lines, gaps, diag, vmax):
+    """The sampled faces in grey and every interface curve coloured by its gap (relative to the
+    diagonal, floored at 1e-12 so that exact zeros show), on the same scale for every figure."""
+    import matplotlib.pyplot as plt
+    from matplotlib.colors import LogNorm
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+
+    fig = plt.figure(figsize=(5.6, 4.6))
+    ax = fig.add_subplot(projection="3d")
+    triangles = []
+    for f in range(faces.GetNumberOfBlocks()):
+        block = faces.GetBlock(f)
+        pts = vtk_to_numpy(block.GetPoints().GetData())
+        triangles.append(pts[vtk_to_numpy(block.GetPolys().GetConnectivityArray()).reshape(-1, 3)])
+    ax.add_collection3d(Poly3DCollection(np.concatenate(triangles), facecolor=(0.8, 0.8, 0.8),
+                                         edgecolor="none", alpha=0.25))
+    norm = LogNorm(vmin=1e-12, vmax=vmax)
+    rel = np.maximum(gaps / diag, 1e-12)
+    curves = Line3DCollection(lines, cmap="turbo", norm=norm, linewidths=1.6)
+    curves.set_array(rel)
+    ax.add_collection3d(curves)
+    lo, hi = lines.reshape(-1, 3).min(0), lines.reshape(-1, 3).max(0)
+    centre, half = (lo + hi) / 2, (hi - lo).max() / 2
+    for axis, c in zip("xyz", centre):
+        getattr(ax, f"set_{axis}lim")(c - half, c + half)
+    ax.set_box_aspect((1, 1, 1))
+    ax.set_axis_off()
+    ax.set_title(f"{title}\nmax interface gap {gaps.max() / diag:.2g} of the diagonal",
+                 fontsize=10)
+    fig.colorbar(curves, ax=ax, shrink=0.65, pad=0.02,
+                 label="interface gap / diagonal (0 drawn at 1e-12)")
+    fig.tight_layout()
+    fig.savefig(path, dpi=90, bbox_inches="tight")
+    plt.close(fig)
 
 
 def write(obj, path, multiblock):
@@ -115,7 +152,7 @@ def main():
     unstitched = stitched.NewInstance()
     unstitched.SetNumberOfBlocks(faces.GetNumberOfBlocks())
     for f in range(faces.GetNumberOfBlocks()):
-        ct = ctsplines.vtkCloughTocherSplineFilter()
+        ct = vtkCloughTocherSplineFilter()
         ct.SetInputData(faces.GetBlock(f))
         ct.SetConstruction(CUBIC.index(args.construction))
         ct.Update()
@@ -149,26 +186,20 @@ def main():
     if not args.no_figures:
         import matplotlib
         matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        from matplotlib.colors import LogNorm
 
         before = interface_gaps(boundary_cubics(faces, unstitched))
         after = interface_gaps(boundary_cubics(faces, stitched))
-        floor = 1e-12 * diag
-        fig = plt.figure(figsize=(12, 5))
-        for i, (title, (mids, gaps)) in enumerate(
-                [("each face on its own", before), ("stitched", after)]):
-            ax = fig.add_subplot(1, 2, i + 1, projection="3d")
-            rel = np.maximum(gaps, floor) / diag
-            sc = ax.scatter(mids[:, 0], mids[:, 1], mids[:, 2], c=rel, s=6, cmap="inferno",
-                            norm=LogNorm(vmin=1e-12, vmax=max(1e-3, rel.max())))
-            ax.set_title(f"{title}\nmax interface gap {gaps.max() / diag if len(gaps) else 0:.2g}"
-                         " of the diagonal", fontsize=10)
-            fig.colorbar(sc, ax=ax, shrink=0.6, label="gap / diagonal (floored at 1e-12)")
-        fig.tight_layout()
-        fig.savefig(os.path.join(args.output, "gaps.png"), dpi=110)
-        print(f"  interface gaps before stitching: max {before[1].max() / diag:.3g}, "
-              f"after: max {after[1].max() / diag:.3g} ({len(after[1])} interface macro-edges)")
+        if len(after[1]) == 0:
+            print("  no interfaces between faces: no gap figures")
+        else:
+            vmax = max(1e-3, before[1].max() / diag)
+            gap_figure(os.path.join(args.output, "gaps_unstitched.png"),
+                       "each face converted on its own", faces, *before, diag, vmax)
+            gap_figure(os.path.join(args.output, "gaps_stitched.png"), "stitched (watertight)",
+                       faces, *after, diag, vmax)
+            print(f"  interface gaps before stitching: max {before[1].max() / diag:.3g}, "
+                  f"after: max {after[1].max() / diag:.3g} ({len(after[1])} interface "
+                  "macro-edges)")
     print("  written to", args.output)
     return 0
 

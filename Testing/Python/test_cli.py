@@ -3,14 +3,13 @@
 temporary folder: outputs checked by reading them back, error paths by exit code and message."""
 import os
 import re
-import subprocess
-import sys
-import tempfile
 import unittest
 
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 from vtkmodules.vtkIOXML import vtkXMLPolyDataReader, vtkXMLUnstructuredGridReader
+
+from cli_case import CommandLineCase
 
 
 def quadratic(p):
@@ -40,24 +39,7 @@ def points(data):
     return vtk_to_numpy(data.GetPoints().GetData())
 
 
-class CommandLineTest(unittest.TestCase):
-    def setUp(self):
-        self._tmp = tempfile.TemporaryDirectory()
-        self.dir = self._tmp.name
-
-    def tearDown(self):
-        self._tmp.cleanup()
-
-    def path(self, name):
-        return os.path.join(self.dir, name)
-
-    def cli(self, *args, code=0):
-        p = subprocess.run([sys.executable, "-m", "ctsplines", *args], capture_output=True,
-                           text=True, timeout=300, stdin=subprocess.DEVNULL)
-        self.assertEqual(p.returncode, code, f"args {args}\nstdout:\n{p.stdout}\n"
-                         f"stderr:\n{p.stderr}")
-        return p
-
+class CommandLineTest(CommandLineCase):
     def assertNoVTKNoise(self, text):
         for noise in ("ERROR: In", "vtkExecutive", "returned failure", "0x", "Debug: Off"):
             self.assertNotIn(noise, text)

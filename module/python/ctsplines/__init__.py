@@ -4,8 +4,11 @@
     import vtk                      # the same VTK: objects pass freely between both
     from ctsplines import vtkCloughTocherSplineFilter
 
-The wrapped classes come from the C++ module CTSplines::Filters.
+The wrapped classes come from the C++ module CTSplines::Filters and, when the build found
+OpenCASCADE, CTSplines::IOCAD (vtkCADFaceSampler, vtkWatertightSplineStitcher; check with
+``ctsplines.HAS_IOCAD``).
 """
+import importlib.util as _importlib_util
 import os as _os
 
 # Wrapped classes build on VTK's own Python modules: import them first so that both packages
@@ -16,6 +19,12 @@ from vtkmodules import vtkCommonExecutionModel as _vtkCommonExecutionModel  # no
 
 from .CTSplinesFilters import *  # noqa: F401,F403
 from .arrays import functional_mesh, mesh_from_arrays  # noqa: F401
+
+# CTSplinesIOCAD exists only in builds with OpenCASCADE. Looking for the module rather than
+# catching ImportError keeps a broken one (a missing OCCT library) a visible error.
+HAS_IOCAD = _importlib_util.find_spec(".CTSplinesIOCAD", __name__) is not None
+if HAS_IOCAD:
+    from .CTSplinesIOCAD import *  # noqa: F401,F403
 
 
 def _use_threads():

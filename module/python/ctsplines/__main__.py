@@ -4,8 +4,9 @@
 ``demo`` converts the built-in default (Franke's function sampled on a Delaunay triangulation of
 seeded random points, with exact gradients) into a cubic Clough-Tocher spline and writes the
 Bézier spline (.vtu), its tessellation (.vtp) and a rendered PNG with reflection lines.
-``convert`` turns a parametrised triangle mesh from a file into a spline, ``info`` summarises a
-file and tells whether it is valid conversion input, ``sample`` writes a mesh of a test surface.
+``convert`` turns a parametrised triangle mesh from a file into a spline, or a STEP/IGES model
+into per-face splines stitched watertight; ``info`` summarises a file and tells whether it is
+valid conversion input, ``sample`` writes a mesh of a test surface.
 
 Exit codes: 0 success, 1 the filter rejected the input (its messages are printed), 2 bad command
 line, 3 a file is missing, of an unknown format or unreadable.
@@ -205,9 +206,76 @@ def _bezier_order(data):
     return sorted(orders) if orders else None
 
 
+def _cad_usage(args):
+    """Checks the options of a CAD conversion; argparse's error() exits with 2."""
+    from .cad import STITCHED_CONSTRUCTIONS
+
+    cubic = args._choices[0][:STITCHED_CONSTRUCTIONS]
+    if args.construction not in cubic:
+        args._parser.error(f"a CAD model takes one of the cubic constructions {', '.join(cubic)}"
+                           " (the faces are stitched through their cubic boundary curves)")
+    for option, value in (("--tessellate", args.tessellate), ("--tessellation", args.tessellation),
+                          ("--reference", args.reference)):
+        if value is not None:
+            args._parser.error(f"{option} applies to meshes, not to CAD models")
+
+
+def _convert_cad(args):
+    from . import cad
+    from .io import Progress, VTKMessages
+
+    _cad_usage(args)
+    output = args.output or os.path.splitext(os.path.basename(args.input))[0] + ".vtm"
+    options = {
+        "tolerance": 1e-4 if args.tolerance is None else args.tolerance,
+        "aspect_ratio": args.aspect_ratio or 0.0,
+        "construction": args._choices[0].index(args.construction),
+        "split_point": args._choices[1].index(args.split_point),
+        "boundary_mode": args._choices[2].index(args.boundary_mode),
+        "iterations": args.iterations,
+    }
+    progress = Progress(Progress.wanted(args.progress))
+    with VTKMessages() as messages:
+        r = cad.convert(args.input, output, options, messages, progress)
+        for w in dict.fromkeys(messages.warnings):
+            print(f"warning: {w}", file=sys.stderr)
+    d = r["diagonal"]
+    print(f"model: {args.input} ({r['faces']} faces, {r['brep_edges']} B-rep edges, "
+          f"{r['triangles']} triangles; tolerance {options['tolerance']:g} of the diagonal "
+          f"{d:.6g})")
+    print(f"splines: {r['splines']} (one block per face, {args.construction}, "
+          f"{args.split_point}, {args.boundary_mode}, {args.iterations} iterations)")
+    print(f"watertight: {r['merged']} ({r['patches']} patches, {r['bezier_triangles']} Bézier "
+          f"triangles, {r['control_points']} control points)")
+    print(f"free edges: {r['free_edges']} (non-manifold edges: {r['non_manifold_edges']})")
+    print(f"C0 gap: max {r['c0_gap']:.3e} (relative {r['c0_gap'] / d:.3e}); before stitching "
+          f"{r['gap_before']:.3e} (relative {r['gap_before'] / d:.3e})")
+    print(f"deviation from the CAD surfaces (relative to the diagonal): max "
+          f"{r['max_deviation']:.3e}, RMS {r['rms_deviation']:.3e}")
+    print("time [s]: " + ", ".join(f"{name} {t:.3f}" for name, t in r["stages"])
+          + f"; total {r['total']:.3f}")
+    return 0
+
+
 def _convert(args):
     from . import vtkBezierTriangleTessellator, vtkCloughTocherSplineFilter
-    from .io import Progress, VTKMessages, as_polydata, read, write
+    from .io import Progress, VTKMessages, as_polydata, is_cad, read, write
+
+    if args.output_option is not None:
+        if args.output is not None and args.output != args.output_option:
+            args._parser.error("give the output once: as OUTPUT or with -o")
+        args.output = args.output_option
+    if is_cad(args.input):
+        if args.construction is None:
+            args.construction = "KaG"  # the stitcher's and the study's choice
+        return _convert_cad(args)
+    if args.output is None:
+        args._parser.error("the output spline is required for a mesh (OUTPUT or -o)")
+    for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio)):
+        if value is not None:
+            args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
+    if args.construction is None:
+        args.construction = "CTi"
 
     log = lambda text: print(text, file=sys.stderr)  # noqa: E731
     progress = Progress(Progress.wanted(args.progress))
@@ -342,14 +410,17 @@ def _sample(args):
     return 0
 
 
-def _add_spline_options(p, choices):
+def _add_spline_options(p, choices, cad=False):
     constructions, splits, boundaries = choices
     g = p.add_argument_group("spline construction")
-    g.add_argument("--construction", "-c", default="CTi", choices=constructions,
+    # convert resolves None: CTi for meshes, KaG for CAD models.
+    g.add_argument("--construction", "-c", default=None if cad else "CTi", choices=constructions,
                    help="how the central control points are fixed: CTo and MGo are local; CTi, "
                    "Fa, FO, Ka, MGi and KaG read the neighbours (MG and KaG need the "
                    "EdgeGradients cell data); Kashyap is Kashyap's cubic fairing scheme; "
-                   "Quartic is Fang and Mann's quartic scheme (default %(default)s)")
+                   "Quartic is Fang and Mann's quartic scheme (default "
+                   + ("CTi for meshes, KaG for CAD models, which take CTo to KaG only)" if cad
+                      else "%(default)s)"))
     g.add_argument("--split-point", default="Bary", choices=splits,
                    help="the point splitting every triangle into three: barycentre or one of "
                    "two incentre rules (default %(default)s)")
@@ -382,6 +453,20 @@ def _positive(text):
     value = int(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"{value} is not positive")
+    return value
+
+
+def _tolerance(text):
+    value = float(text)
+    if not 1e-9 <= value <= 1:  # vtkCADFaceSampler's range; it would clamp silently
+        raise argparse.ArgumentTypeError(f"{text} is not between 1e-9 and 1")
+    return value
+
+
+def _non_negative_float(text):
+    value = float(text)
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"{text} is negative")
     return value
 
 
@@ -422,17 +507,37 @@ def build_parser():
     choices = _spline_choices()
     convert = sub.add_parser(
         "convert",
-        help="convert a parametrised triangle mesh file into a Bézier spline (.vtu)",
+        help="convert a parametrised triangle mesh file into a Bézier spline (.vtu), or a "
+        "STEP/IGES model into watertight per-face splines (.vtm + .vtu)",
         description="Reads a triangle mesh whose points carry parameter values (point data UV, "
         "or texture coordinates as in OBJ and PLY files) and, ideally, first derivatives dFdu, "
         "dFdv; converts it into a Clough-Tocher spline of Bézier triangles and writes it as "
         "VTU. Missing derivatives are estimated from the positions (see --derivatives). Prints "
         "the continuity across the cell edges and the distance to the input triangles (or the "
-        "error against --reference).",
+        "error against --reference). "
+        "A CAD model (.step, .stp, .iges, .igs) is sampled face by face, edge first "
+        "(--tolerance), every face converted and the faces stitched with C0 continuity: "
+        "`-o OUT.vtm` writes the per-face splines to OUT.vtm (one block per B-rep face; VTK "
+        "keeps the block files in the folder OUT/) and the merged watertight grid to OUT.vtu "
+        "(default OUT: the model's name in the current folder). Prints faces, triangles, "
+        "patches, free edges, the C0 gap, the deviation from the CAD surfaces and the time per "
+        "stage.",
     )
-    convert.add_argument("input", help="input mesh: .vtp, .vtu, .vtk, .obj or .ply")
-    convert.add_argument("output", help="the spline, .vtu (or legacy .vtk)")
-    _add_spline_options(convert, choices)
+    convert.add_argument("input", help="input mesh: .vtp, .vtu, .vtk, .obj or .ply; or a CAD "
+                         "model: .step, .stp, .iges or .igs")
+    convert.add_argument("output", nargs="?",
+                         help="the spline, .vtu (or legacy .vtk); for a CAD model the per-face "
+                         "splines, .vtm (the merged grid goes to the same name with .vtu)")
+    convert.add_argument("--output", "-o", dest="output_option", metavar="OUTPUT",
+                         help="the same as the positional OUTPUT")
+    _add_spline_options(convert, choices, cad=True)
+    cad = convert.add_argument_group("CAD models (.step, .stp, .iges, .igs)")
+    cad.add_argument("--tolerance", type=_tolerance, metavar="REL",
+                     help="error bound of the edge and face sampling, relative to the model's "
+                     "bounding-box diagonal (default 1e-4)")
+    cad.add_argument("--aspect-ratio", type=_non_negative_float, metavar="RATIO",
+                     help="bound on the 3D aspect ratio of the sampled triangles (1 is "
+                     "equilateral); 0 for none (default 0)")
     convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
                          help="auto: use the file's derivative arrays, estimate them when "
                          "missing; file: only the file's (missing ones are an error); "
@@ -450,7 +555,7 @@ def build_parser():
     out.add_argument("--no-analysis", action="store_true",
                      help="skip the continuity and error summaries")
     _progress_option(convert)
-    convert.set_defaults(func=_convert, _choices=choices)
+    convert.set_defaults(func=_convert, _choices=choices, _parser=convert)
 
     info = sub.add_parser(
         "info",

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Files and pipeline plumbing for the command line: reading meshes (VTP, VTU, VTK, OBJ, PLY),
-writing results, collecting VTK's error messages and showing progress."""
+"""Files and pipeline plumbing for the command line: reading meshes (VTP, VTU, VTK, OBJ, PLY) and
+CAD models (STEP, IGES), writing results, collecting VTK's error messages and showing
+progress."""
 import os
 import re
 import sys
@@ -26,6 +27,7 @@ class FilterError(Exception):
 
 READ_FORMATS = (".vtp", ".vtu", ".vtk", ".obj", ".ply")
 WRITE_FORMATS = (".vtp", ".vtu", ".vtk", ".obj", ".ply")
+CAD_FORMATS = (".step", ".stp", ".iges", ".igs")
 
 # "ERROR: In file.cxx, line 12\nvtkSomeClass (0x55d0...): the message\n\n"
 _VTK_MESSAGE = re.compile(
@@ -160,12 +162,38 @@ def _reader(path):
     return reader
 
 
-def read(path, messages):
-    """Reads a data set; raises InputError for a missing, unknown or unreadable file."""
+def is_cad(path):
+    return _extension(path) in CAD_FORMATS
+
+
+def _check_exists(path):
     if not os.path.exists(path):
         raise InputError(f"{path}: no such file")
     if os.path.isdir(path):
         raise InputError(f"{path}: is a directory")
+
+
+def cad_sampler(path, messages):
+    """A watched vtkCADFaceSampler for a STEP or IGES file (not yet updated). Raises InputError
+    for a missing file or an unknown extension, and when this build has no CTSplines::IOCAD."""
+    _check_exists(path)
+    if not is_cad(path):
+        raise InputError(f"{path}: not a CAD model (readable: {', '.join(CAD_FORMATS)})")
+    from . import HAS_IOCAD
+
+    if not HAS_IOCAD:
+        raise InputError(f"{path}: this build of ctsplines has no CAD import (CTSplines::IOCAD "
+                         "is built only when CMake finds OpenCASCADE)")
+    from . import vtkCADFaceSampler
+
+    sampler = messages.watch(vtkCADFaceSampler())
+    sampler.SetFileName(path)
+    return sampler
+
+
+def read(path, messages):
+    """Reads a data set; raises InputError for a missing, unknown or unreadable file."""
+    _check_exists(path)
     reader = messages.watch(_reader(path))
     if _extension(path) == ".ply" and not reader.CanReadFile(path):
         raise InputError(f"{path}: not a PLY file")
@@ -214,11 +242,15 @@ def as_polydata(data):
 def write(data, path, messages):
     """Writes a data set by the file's extension. A spline (vtkUnstructuredGrid) only goes to
     .vtu or .vtk; polydata to any of WRITE_FORMATS (OBJ/PLY with the UV as texture
-    coordinates). Raises InputError for an unknown extension, FilterError when writing fails."""
+    coordinates); a multiblock data set only to .vtm. Raises InputError for an unknown extension,
+    FilterError when writing fails."""
     ext = _extension(path)
     grid = data.IsA("vtkUnstructuredGrid")
-    if ext not in WRITE_FORMATS or (grid and ext not in (".vtu", ".vtk")):
+    if data.IsA("vtkMultiBlockDataSet"):
+        allowed = (".vtm",)
+    else:
         allowed = (".vtu", ".vtk") if grid else WRITE_FORMATS
+    if ext not in allowed:
         raise InputError(f"{path}: cannot write a {data.GetClassName()} as '{ext or '(none)'}' "
                          f"(use {', '.join(allowed)})")
     if ext == ".vtu" and not grid:
@@ -244,7 +276,9 @@ def write(data, path, messages):
             tcoords.DeepCopy(pd.GetTCoords())
             pd.SetTCoords(tcoords)
         data = copy
-    if ext == ".vtp":
+    if ext == ".vtm":
+        from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataWriter as W
+    elif ext == ".vtp":
         from vtkmodules.vtkIOXML import vtkXMLPolyDataWriter as W
     elif ext == ".vtu":
         from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter as W
@@ -262,7 +296,7 @@ def write(data, path, messages):
     writer.SetInputData(data)
     if ext == ".ply":
         writer.SetFileTypeToBinary()
-    elif ext in (".vtp", ".vtu"):
+    elif ext in (".vtp", ".vtu", ".vtm"):
         # VTK 9.2's reader fails on appended data (base64 or raw) that holds string arrays, as
         # the field data naming the surface or construction does: write the data inline.
         writer.SetDataModeToBinary()

@@ -1,0 +1,120 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""`python3 -m ctsplines convert MODEL.step -o OUT.vtm`: the watertight CAD conversion from the
+command line, on the box with a hole that CAD.WriteTestModel writes and on component8.step when
+CAD.FetchModels could fetch it (both into $CTSPLINES_CAD_MODELS). Skipped without CTSplines::IOCAD
+or without the models."""
+import os
+import re
+import shutil
+import unittest
+
+from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader, vtkXMLUnstructuredGridReader
+
+import ctsplines
+from cli_case import CommandLineCase
+
+MODELS = os.environ.get("CTSPLINES_CAD_MODELS", "")
+
+
+def model(name):
+    path = os.path.join(MODELS, name)
+    return path if MODELS and os.path.isfile(path) else None
+
+
+def field(data, name):
+    return data.GetFieldData().GetArray(name).GetValue(0)
+
+
+@unittest.skipUnless(ctsplines.HAS_IOCAD, "ctsplines was built without CTSplines::IOCAD")
+class CADCommandLineTest(CommandLineCase):
+    def box(self):
+        path = model("box_with_hole.step")
+        if path is None:
+            self.skipTest("box_with_hole.step not written (fixture CAD.WriteTestModel)")
+        return path
+
+    def convert_and_check(self, step, tolerance, *options):
+        out = self.path("out.vtm")
+        text = self.cli("convert", step, "--tolerance", str(tolerance), "-o", out,
+                        *options).stdout
+        # The naming: OUT.vtm with its block files in OUT/, the merged grid in OUT.vtu.
+        self.assertTrue(os.path.isdir(self.path("out")), os.listdir(self.dir))
+        reader = vtkXMLMultiBlockDataReader()
+        reader.SetFileName(out)
+        reader.Update()
+        splines = reader.GetOutput()
+        grid_reader = vtkXMLUnstructuredGridReader()
+        grid_reader.SetFileName(self.path("out.vtu"))
+        grid_reader.Update()
+        merged = grid_reader.GetOutput()
+
+        faces = int(re.search(r"\((\d+) faces, \d+ B-rep edges, (\d+) triangles", text).group(1))
+        self.assertEqual(splines.GetNumberOfBlocks(), faces, text)
+        self.assertGreater(merged.GetNumberOfCells(), 0)
+        cells = sum(splines.GetBlock(f).GetNumberOfCells() for f in range(faces))
+        # Merging shares interface control points; it keeps every Bézier triangle.
+        self.assertEqual(merged.GetNumberOfCells(), cells)
+        self.assertLess(merged.GetNumberOfPoints(),
+                        sum(splines.GetBlock(f).GetNumberOfPoints() for f in range(faces)))
+        # A closed solid: watertight, every interface exactly shared.
+        self.assertEqual(field(merged, "NumberOfFreeEdges"), 0)
+        self.assertEqual(field(merged, "NumberOfNonManifoldEdges"), 0)
+        self.assertEqual(field(merged, "MaxC0Gap"), 0.0)
+        self.assertIn("free edges: 0 (non-manifold edges: 0)", text)
+        self.assertIn("C0 gap: max 0.000e+00", text)
+        deviation = float(re.search(r"relative to the diagonal\): max (\S+),", text).group(1))
+        self.assertLess(deviation, 10 * tolerance, text)
+        for stage in ("read", "edges", "loops", "faces", "splines", "stitch", "merge", "total"):
+            self.assertRegex(text, rf"\b{stage} \d+\.\d{{3}}")
+        return text
+
+    def test_box_with_hole(self):
+        text = self.convert_and_check(self.box(), 1e-3)
+        self.assertIn("KaG, Bary, Midpoint, 0 iterations", text)  # the CAD defaults
+
+    def test_options_and_stp_extension(self):
+        stp = self.path("box.stp")
+        shutil.copy(self.box(), stp)
+        text = self.convert_and_check(stp, 1e-3, "--construction", "CTi", "--split-point", "Inc2",
+                                      "--boundary-mode", "Perpendicular", "--iterations", "1",
+                                      "--aspect-ratio", "20")
+        self.assertIn("CTi, Inc2, Perpendicular, 1 iterations", text)
+
+    def test_default_output_is_named_after_the_model(self):
+        self.cli("convert", self.box(), "--tolerance", "1e-2")
+        for name in ("box_with_hole.vtm", "box_with_hole.vtu"):
+            self.assertTrue(os.path.isfile(self.path(name)), os.listdir(self.dir))
+
+    def test_component8(self):
+        step = model("component8.step")
+        if step is None:
+            self.skipTest("component8.step not fetched (gmsh-doc unavailable)")
+        text = self.convert_and_check(step, 1e-4)
+        self.assertIn("(21 faces, 48 B-rep edges", text)
+
+    def test_errors(self):
+        p = self.cli("convert", self.path("missing.step"), "-o", self.path("o.vtm"), code=3)
+        self.assertIn("no such file", p.stderr)
+        garbage = self.path("garbage.step")
+        with open(garbage, "w") as f:
+            f.write("this is not ISO-10303-21\n")
+        p = self.cli("convert", garbage, "-o", self.path("o.vtm"), code=3)
+        self.assertIn("cannot read", p.stderr)
+        for noise in ("ERROR: In", "vtkExecutive", "returned failure", "0x"):
+            self.assertNotIn(noise, p.stderr)
+        box = self.box()
+        p = self.cli("convert", box, "-o", self.path("o.vtu"), code=3)
+        self.assertIn(".vtm", p.stderr)
+        self.cli("convert", box, "-o", self.path("o.vtm"), "-c", "Quartic", code=2)
+        self.cli("convert", box, "-o", self.path("o.vtm"), "--tolerance", "0", code=2)
+        self.cli("convert", box, "-o", self.path("o.vtm"), "--tessellate", "2", code=2)
+        self.cli("convert", box, self.path("a.vtm"), "-o", self.path("b.vtm"), code=2)
+
+    def test_help_explains_the_cad_options(self):
+        out = self.cli("convert", "--help").stdout
+        for text in ("--tolerance", "--aspect-ratio", ".step", "OUT.vtu", "-o"):
+            self.assertIn(text, out)
+
+
+if __name__ == "__main__":
+    unittest.main()

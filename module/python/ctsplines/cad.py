@@ -1,0 +1,102 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Watertight conversion of a STEP or IGES model for ``python3 -m ctsplines convert``:
+vtkCADFaceSampler -> vtkWatertightSplineStitcher, outputs written, numbers gathered."""
+import os
+import time
+
+from .io import FilterError, InputError, cad_sampler, write
+
+# The cubic constructions vtkWatertightSplineStitcher accepts (values 0..7 of
+# vtkCloughTocherSplineFilter); the fairing schemes after them have no C0 stitching.
+STITCHED_CONSTRUCTIONS = 8
+
+# Errors of vtkCADFaceSampler that mean the file itself could not be used (exit code 3); the
+# others (an edge without pcurve, a face that cannot be meshed) are the model's (exit code 1).
+_READ_ERRORS = ("cannot read", "unknown CAD file extension", "no faces in")
+
+
+def output_paths(output):
+    """OUT.vtm (per-face splines; VTK puts the block files into the folder OUT/) and OUT.vtu
+    (the merged watertight grid) for an output OUT.vtm."""
+    stem, ext = os.path.splitext(output)
+    if ext.lower() != ".vtm":
+        raise InputError(f"{output}: the per-face splines of a CAD model are a multiblock "
+                         "data set, written as .vtm")
+    return output, stem + ".vtu"
+
+
+def _field(data, name, i=0):
+    a = data.GetFieldData().GetArray(name)
+    return a.GetComponent(i, 0) if a is not None else float("nan")
+
+
+def _update(algorithm, messages):
+    ok = algorithm.GetExecutive().Update()
+    errors = list(dict.fromkeys(messages.take_errors()))
+    return ok and not errors, errors
+
+
+def convert(model, output, options, messages, progress):
+    """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
+    it. options: tolerance, aspect_ratio, construction, split_point, boundary_mode, iterations
+    (ints for the enumerations). Returns the summary as a dict."""
+    splines_path, merged_path = output_paths(output)
+    sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
+    from . import vtkWatertightSplineStitcher
+
+    progress.watch(sampler, "sample faces")
+    sampler.SetTolerance(options["tolerance"])
+    sampler.SetAspectRatio(options["aspect_ratio"])
+    start = time.perf_counter()
+    ok, errors = _update(sampler, messages)
+    if not ok:
+        detail = "\n  ".join(errors or ["the sampler failed"])
+        if any(e.split(": ", 1)[-1].startswith(_READ_ERRORS) for e in errors):
+            raise InputError(f"{model}: cannot read it:\n  {detail}")
+        raise FilterError(f"{model} cannot be sampled:\n  {detail}")
+    faces = sampler.GetOutputDataObject(0)
+
+    stitcher = messages.watch(vtkWatertightSplineStitcher())
+    progress.watch(stitcher, "splines")
+    stitcher.SetInputConnection(sampler.GetOutputPort())
+    stitcher.SetConstruction(options["construction"])
+    stitcher.SetSplitPoint(options["split_point"])
+    stitcher.SetBoundaryMode(options["boundary_mode"])
+    stitcher.SetIterations(options["iterations"])
+    stitcher.SetSurfaceSource(sampler)  # for the deviation from the CAD surfaces
+    ok, errors = _update(stitcher, messages)
+    if not ok:
+        raise FilterError(f"{model}: the faces cannot be stitched:\n  "
+                          + "\n  ".join(errors or ["the stitcher failed"]))
+    total = time.perf_counter() - start
+    splines = stitcher.GetOutputDataObject(0)
+    merged = stitcher.GetOutputDataObject(1)
+
+    write(splines, splines_path, messages)
+    write(merged, merged_path, messages)
+
+    n = faces.GetNumberOfBlocks()
+    stages = [(name, _field(faces, "StageTimes", i))
+              for i, name in enumerate(("read", "edges", "loops", "faces"))]
+    stages += [(name, _field(merged, "StageTimes", i))
+               for i, name in enumerate(("splines", "stitch", "merge"))]
+    return {
+        "splines": splines_path,
+        "merged": merged_path,
+        "faces": n,
+        "triangles": sum(faces.GetBlock(f).GetNumberOfCells() for f in range(n)),
+        "brep_edges": int(_field(faces, "NumberOfBRepEdges")),
+        "diagonal": _field(faces, "Diagonal"),
+        "patches": int(_field(merged, "NumberOfMacroTriangles")),
+        "bezier_triangles": merged.GetNumberOfCells(),
+        "control_points": merged.GetNumberOfPoints(),
+        "free_edges": int(_field(merged, "NumberOfFreeEdges")),
+        "non_manifold_edges": int(_field(merged, "NumberOfNonManifoldEdges")),
+        "c0_gap": _field(merged, "MaxC0Gap"),
+        "gap_before": _field(merged, "MaxGapBeforeStitching"),
+        "max_deviation": _field(merged, "MaxDeviation"),
+        "rms_deviation": _field(merged, "RMSDeviation"),
+        "edge_gap": _field(faces, "MaxEdgeGap"),
+        "stages": stages,
+        "total": total,
+    }
