@@ -32,6 +32,13 @@ public:
     object->AddObserver(vtkCommand::ErrorEvent, capture);
     return capture;
   }
+  /// Observes an algorithm and its executive.
+  static vtkSmartPointer<ErrorCapture> AttachToAlgorithm(vtkAlgorithm* algorithm)
+  {
+    auto capture = Attach(algorithm);
+    algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, capture);
+    return capture;
+  }
   int Count = 0;
   std::string Message;
 };
@@ -40,8 +47,7 @@ public:
 /// and sets `result` to what the executive's Update returned.
 inline std::string RunCapturingErrors(vtkAlgorithm* algorithm, vtkDataObject* input, int& result)
 {
-  auto errors = ErrorCapture::Attach(algorithm);
-  algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, errors);
+  auto errors = ErrorCapture::AttachToAlgorithm(algorithm);
   algorithm->SetInputDataObject(input);
   result = algorithm->GetExecutive()->Update();
   return errors->Message;

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkBezierTriangleTessellator.h"
 
+#include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
 #include "vtkCloughTocherSplineFilter.h"
 
 #include "vtkBezierTriangle.h"
-#include "vtkCallbackCommand.h"
 #include "vtkCellType.h"
 #include "vtkExecutive.h"
 #include "vtkIdTypeArray.h"
@@ -26,23 +26,6 @@
 
 namespace
 {
-// Collects the error messages of an algorithm and its executive (which also keeps them off the
-// console).
-struct ErrorCapture
-{
-  std::string Messages;
-  vtkNew<vtkCallbackCommand> Callback;
-  explicit ErrorCapture(vtkAlgorithm* algorithm)
-  {
-    this->Callback->SetClientData(this);
-    this->Callback->SetCallback([](vtkObject*, unsigned long, void* self, void* message) {
-      static_cast<ErrorCapture*>(self)->Messages += static_cast<const char*>(message);
-      static_cast<ErrorCapture*>(self)->Messages += "\n";
-    });
-    algorithm->AddObserver(vtkCommand::ErrorEvent, this->Callback);
-    algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, this->Callback);
-  }
-};
 
 vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(ctk::AnalyticSurface surface, int n)
 {
@@ -466,10 +449,10 @@ TEST(vtkBezierTriangleTessellator, EmptyInputGivesEmptyOutput)
 {
   vtkNew<vtkUnstructuredGrid> empty;
   vtkNew<vtkBezierTriangleTessellator> tessellator;
-  ErrorCapture errors(tessellator);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(tessellator);
   tessellator->SetInputData(empty);
   EXPECT_EQ(tessellator->GetExecutive()->Update(), 1);
-  EXPECT_TRUE(errors.Messages.empty()) << errors.Messages;
+  EXPECT_TRUE(errors->Message.empty()) << errors->Message;
   EXPECT_EQ(tessellator->GetOutput()->GetNumberOfPoints(), 0);
   EXPECT_EQ(tessellator->GetOutput()->GetNumberOfCells(), 0);
 }
@@ -481,12 +464,12 @@ TEST(vtkBezierTriangleTessellator, RejectsOtherCellTypes)
   const vtkIdType tri[3] = { 0, 1, 2 };
   spline->InsertNextCell(VTK_TRIANGLE, 3, tri);
   vtkNew<vtkBezierTriangleTessellator> tessellator;
-  ErrorCapture errors(tessellator);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(tessellator);
   tessellator->SetInputData(spline);
   EXPECT_EQ(tessellator->GetExecutive()->Update(), 0);
-  EXPECT_NE(errors.Messages.find("cell " + std::to_string(bad) + " is a vtkTriangle"),
+  EXPECT_NE(errors->Message.find("cell " + std::to_string(bad) + " is a vtkTriangle"),
     std::string::npos)
-    << errors.Messages;
+    << errors->Message;
 }
 
 TEST(vtkBezierTriangleTessellator, RejectsBadPointCounts)
@@ -502,10 +485,10 @@ TEST(vtkBezierTriangleTessellator, RejectsBadPointCounts)
   grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 6, ids);
   grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 7, ids);
   vtkNew<vtkBezierTriangleTessellator> tessellator;
-  ErrorCapture errors(tessellator);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(tessellator);
   tessellator->SetInputData(grid);
   EXPECT_EQ(tessellator->GetExecutive()->Update(), 0);
-  EXPECT_NE(errors.Messages.find("cell 1 has 7 points"), std::string::npos) << errors.Messages;
+  EXPECT_NE(errors->Message.find("cell 1 has 7 points"), std::string::npos) << errors->Message;
 }
 
 TEST(vtkBezierTriangleTessellator, RejectsBadRationalWeights)
@@ -518,11 +501,11 @@ TEST(vtkBezierTriangleTessellator, RejectsBadRationalWeights)
   weights->Fill(1.0);
   octant->GetPointData()->AddArray(weights);
   vtkNew<vtkBezierTriangleTessellator> tessellator;
-  ErrorCapture errors(tessellator);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(tessellator);
   tessellator->SetInputData(octant);
   EXPECT_EQ(tessellator->GetExecutive()->Update(), 0);
-  EXPECT_NE(errors.Messages.find("'RationalWeights' has 2 components"), std::string::npos)
-    << errors.Messages;
+  EXPECT_NE(errors->Message.find("'RationalWeights' has 2 components"), std::string::npos)
+    << errors->Message;
 }
 
 TEST(vtkBezierTriangleTessellator, PrintSelfAndDefaults)

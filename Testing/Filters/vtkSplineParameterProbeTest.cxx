@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkSplineParameterProbe.h"
 
+#include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
 #include "vtkBezierTriangleTessellator.h"
 #include "vtkCloughTocherSplineFilter.h"
 
-#include "vtkCallbackCommand.h"
 #include "vtkCellType.h"
 #include "vtkCharArray.h"
 #include "vtkExecutive.h"
@@ -22,23 +22,6 @@
 
 namespace
 {
-// Collects the error messages of an algorithm and its executive (which also keeps them off the
-// console).
-struct ErrorCapture
-{
-  std::string Messages;
-  vtkNew<vtkCallbackCommand> Callback;
-  explicit ErrorCapture(vtkAlgorithm* algorithm)
-  {
-    this->Callback->SetClientData(this);
-    this->Callback->SetCallback([](vtkObject*, unsigned long, void* self, void* message) {
-      static_cast<ErrorCapture*>(self)->Messages += static_cast<const char*>(message);
-      static_cast<ErrorCapture*>(self)->Messages += "\n";
-    });
-    algorithm->AddObserver(vtkCommand::ErrorEvent, this->Callback);
-    algorithm->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, this->Callback);
-  }
-};
 
 const ctk::ParameterMesh& Grid()
 {
@@ -351,11 +334,11 @@ TEST(vtkSplineParameterProbe, EmptySourceMasksEverything)
   uv->SetNumberOfComponents(2);
   empty->GetPointData()->AddArray(uv);
   vtkNew<vtkSplineParameterProbe> probe;
-  ErrorCapture errors(probe);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(probe);
   probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5) }));
   probe->SetSourceData(empty);
   EXPECT_EQ(probe->GetExecutive()->Update(), 1);
-  EXPECT_TRUE(errors.Messages.empty()) << errors.Messages;
+  EXPECT_TRUE(errors->Message.empty()) << errors->Message;
   EXPECT_EQ(probe->GetOutput()->GetPointData()->GetArray("vtkValidPointMask")->GetComponent(0, 0), 0);
 }
 
@@ -365,14 +348,14 @@ namespace
 std::string FailingProbe(vtkDataObject* source)
 {
   vtkNew<vtkSplineParameterProbe> probe;
-  ErrorCapture errors(probe);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(probe);
   probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5), ctk::Vec2(0.1, 0.2) }));
   if (source)
   {
     probe->SetSourceData(source);
   }
   EXPECT_EQ(probe->GetExecutive()->Update(), 0);
-  return errors.Messages;
+  return errors->Message;
 }
 } // namespace
 
@@ -392,12 +375,12 @@ TEST(vtkSplineParameterProbe, SourceWithoutUV)
   // A custom name is looked up instead.
   vtkSmartPointer<vtkUnstructuredGrid> good = MakeSpline(ctk::AnalyticSurface::Plane);
   vtkNew<vtkSplineParameterProbe> probe;
-  ErrorCapture errors(probe);
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(probe);
   probe->SetUVArrayName("Params");
   probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5) }));
   probe->SetSourceData(good);
   EXPECT_EQ(probe->GetExecutive()->Update(), 0);
-  EXPECT_NE(errors.Messages.find("'Params'"), std::string::npos) << errors.Messages;
+  EXPECT_NE(errors->Message.find("'Params'"), std::string::npos) << errors->Message;
 }
 
 TEST(vtkSplineParameterProbe, UVWithWrongComponentCount)
