@@ -494,4 +494,11 @@ void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType triangles
   }
 }
 
+std::string GatherBezierCellsWithUV(
+  vtkDataSet* ds, const std::string& uvName, BezierCells& cells, const char* uvRequiredFor)
+{
+  std::string error = GatherBezierCells(ds, cells);
+  return error.empty() ? ReadUV(ds, uvName, cells, uvRequiredFor) : error;
+}
+
 } // namespace ctsplines

@@ -57,6 +57,10 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells,
 std::string ReadUV(vtkDataSet* ds, const std::string& name, BezierCells& cells,
   const char* requiredFor = nullptr);
 
+/// GatherBezierCells, then ReadUV: the common opening of the filters that read a spline grid.
+std::string GatherBezierCellsWithUV(vtkDataSet* ds, const std::string& uvName, BezierCells& cells,
+  const char* uvRequiredFor = nullptr);
+
 /// Copies a per-point array (checked like CopyArray, plus one tuple per point).
 std::string CopyPointArray(
   vtkDataArray* array, vtkIdType nPoints, const std::string& what, int components,

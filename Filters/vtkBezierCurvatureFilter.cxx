@@ -89,11 +89,7 @@ int vtkBezierCurvatureFilter::RequestData(
 
   // 1. Validate and flatten the input so that the parallel part reads plain arrays.
   ctsplines::BezierCells cells;
-  std::string error = ctsplines::GatherBezierCells(input, cells);
-  if (error.empty())
-  {
-    error = ctsplines::ReadUV(input, this->UVArrayName, cells);
-  }
+  std::string error = ctsplines::GatherBezierCellsWithUV(input, this->UVArrayName, cells);
   const bool withUV = !cells.UV.empty();
   if (!error.empty())
   {

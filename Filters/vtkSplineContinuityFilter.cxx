@@ -218,12 +218,8 @@ int vtkSplineContinuityFilter::RequestData(
 
   // 1. Validate and flatten the input.
   ctsplines::BezierCells cells;
-  std::string error = ctsplines::GatherBezierCells(input, cells);
-  if (error.empty())
-  {
-    error = ctsplines::ReadUV(input, this->UVArrayName, cells,
-      "the domain point (u, v) of each control point, needed by Rule A");
-  }
+  std::string error = ctsplines::GatherBezierCellsWithUV(input, this->UVArrayName, cells,
+    "the domain point (u, v) of each control point, needed by Rule A");
   const std::vector<double>& uv = cells.UV;
   for (vtkIdType c = 0; c < nCells && error.empty() && !cells.Weights.empty(); ++c)
   {
