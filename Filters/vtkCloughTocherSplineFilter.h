@@ -20,7 +20,7 @@
  * Constructions follow "Watertight conversion of trimmed CAD surfaces to Clough-Tocher splines":
  * CTo, CTi, Fa, FO, Ka, MGo, MGi, KaG, the IM iteration, split points Bary, Inc2, Inc3 and four
  * boundary modes for the constructions that read neighbours (CTo and MGo are local and ignore
- * it; KaG uses GradientToSplitPoint unless a gradient mode is chosen), and Kashyap's cubic
+ * it; KaG and MGi use GradientToSplitPoint unless a gradient mode is chosen), and Kashyap's cubic
  * fairing scheme and the quartic scheme from "A Quartic Clough-Tocher Interpolant" (Fang, Mann). Bad input (non-triangles, missing or wrong-sized arrays,
  * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
  * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.

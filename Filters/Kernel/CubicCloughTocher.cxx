@@ -71,8 +71,9 @@ bool IsEdgeBased(Construction c)
 
 BoundaryMode EffectiveBoundaryMode(const SplineOptions& o)
 {
-  // KaG is Ka with mid-edge gradients on boundary edges.
-  if (o.Method == Construction::KaG && !IsGradientMode(o.Boundary))
+  // KaG is Ka with mid-edge gradients on boundary edges; MGi, which has them on every edge,
+  // uses them there too.
+  if ((o.Method == Construction::KaG || o.Method == Construction::MGi) && !IsGradientMode(o.Boundary))
   {
     return BoundaryMode::GradientToSplitPoint;
   }

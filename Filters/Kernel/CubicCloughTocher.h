@@ -71,7 +71,7 @@ struct SplineOptions
   int Iterations = 0; // IM steps, or fairing rounds for Kashyap
 };
 
-/// The boundary rule in force: KaG turns a non-gradient mode into GradientToSplitPoint.
+/// The boundary rule in force: KaG and MGi turn a non-gradient mode into GradientToSplitPoint.
 BoundaryMode EffectiveBoundaryMode(const SplineOptions& options);
 
 /// Whether the options read SplineData::EdgeGradients (on all edges or on boundary edges).

@@ -360,6 +360,13 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
   // one's is undone and the iteration stops (reported in status.Message).
   std::vector<Vec3> before;
   double previousChange = std::numeric_limits<double>::infinity();
+  // Changes at round-off level (exact data: the rounds move nothing) never count as growth.
+  double scale = 0.0;
+  for (const Vec3& p : spline.ControlPoints)
+  {
+    scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  }
+  const double roundOff = 1e-12 * scale;
   for (int round = 1; round <= options.Iterations; ++round)
   {
     before = spline.ControlPoints;
@@ -376,7 +383,7 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
     {
       change = std::max(change, (spline.ControlPoints[p] - before[p]).norm());
     }
-    if (change > previousChange)
+    if (change > std::max(previousChange, roundOff))
     {
       spline.ControlPoints.swap(before);
       status.Message = "the quartic fairing diverges on this mesh: stopped after " +
