@@ -9,7 +9,10 @@
 #include "CubicMacroElement.h"
 #include "SplitPoint.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
+#include "vtkCommand.h"
+#include "vtkExecutive.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
@@ -31,6 +34,7 @@
 #include <chrono>
 #include <cmath>
 #include <map>
+#include <string>
 #include <unordered_map>
 #include <vector>
 
@@ -159,12 +163,21 @@ int vtkWatertightSplineStitcher::RequestData(
     ct->SetSplitPoint(this->SplitPoint);
     ct->SetBoundaryMode(this->BoundaryMode);
     ct->SetIterations(this->Iterations);
+    // The face's own error (e.g. a degenerate parameter triangle) goes into this filter's message.
+    std::string faceError;
+    vtkNew<vtkCallbackCommand> onError;
+    onError->SetClientData(&faceError);
+    onError->SetCallback([](vtkObject*, unsigned long, void* clientData, void* message) {
+      *static_cast<std::string*>(clientData) += static_cast<const char*>(message);
+    });
+    ct->AddObserver(vtkCommand::ErrorEvent, onError);
+    ct->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, onError);
     ct->Update();
     fs.Grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
     fs.Grid->DeepCopy(ct->GetOutput());
     if (fs.Grid->GetNumberOfCells() == 0)
     {
-      vtkErrorMacro(<< "face " << f << ": spline construction failed");
+      vtkErrorMacro(<< "face " << f << ": spline construction failed: " << faceError);
       return 0;
     }
     splineTime += Seconds(start);
