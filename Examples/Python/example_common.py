@@ -138,14 +138,11 @@ def render(surface, filename, array=None, scalar_range=None, colormap="diverging
     """Offscreen PNG of a vtkPolyData, shaded, optionally coloured by a point data array.
     colormap: "diverging" (blue-white-red), "gray" (reflection lines) or "rainbow". Needs an X
     display: run under xvfb-run -a on a headless machine."""
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
     import vtkmodules.vtkRenderingFreeType  # noqa: F401  (text)
+    from ctsplines.demo import offscreen_window, write_png
     from vtkmodules.vtkCommonCore import vtkLookupTable
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-    from vtkmodules.vtkRenderingCore import (
-        vtkActor, vtkPolyDataMapper, vtkRenderer, vtkRenderWindow, vtkTextActor,
-        vtkWindowToImageFilter)
     from vtkmodules.vtkRenderingAnnotation import vtkScalarBarActor
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer, vtkTextActor
 
     mapper = vtkPolyDataMapper()
     mapper.SetInputData(surface)
@@ -200,25 +197,13 @@ def render(surface, filename, array=None, scalar_range=None, colormap="diverging
         text.GetTextProperty().SetFontSize(18)
         text.SetPosition(10, size[1] - 30)
         renderer.AddActor2D(text)
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.AddRenderer(renderer)
-    window.SetSize(*size)
+    window = offscreen_window(renderer, size)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(*view[0])
     camera.SetFocalPoint(*view[1])
     camera.SetViewUp(0.0, 0.0, 1.0)
     renderer.ResetCamera()
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(filename)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    window.Finalize()
-    return filename
+    return write_png(window, filename)
 
 
 def reflection_lines(surface, eye, stripes=12.0):

@@ -86,18 +86,40 @@ def fit_view(renderer, window, surface, fill=0.92, rounds=3):
         renderer.ResetCameraClippingRange()
 
 
+def offscreen_window(renderer, size):
+    """An offscreen render window showing `renderer` (needs an X display: run under xvfb-run on a
+    headless machine)."""
+    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
+    from vtkmodules.vtkRenderingCore import vtkRenderWindow
+
+    window = vtkRenderWindow()
+    window.SetOffScreenRendering(1)
+    window.AddRenderer(renderer)
+    window.SetSize(*size)
+    return window
+
+
+def write_png(window, filename):
+    """Renders the window and writes it to a PNG file, then releases the window."""
+    from vtkmodules.vtkIOImage import vtkPNGWriter
+    from vtkmodules.vtkRenderingCore import vtkWindowToImageFilter
+
+    window.Render()
+    grab = vtkWindowToImageFilter()
+    grab.SetInput(window)
+    grab.Update()
+    writer = vtkPNGWriter()
+    writer.SetFileName(filename)
+    writer.SetInputConnection(grab.GetOutputPort())
+    writer.Write()
+    window.Finalize()
+    return filename
+
+
 def render_png(surface, array, filename, eye, size=(900, 700)):
     """Offscreen rendering (needs an X display: run under xvfb-run on a headless machine)."""
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
-    from vtkmodules.vtkIOImage import vtkPNGWriter
-    from vtkmodules.vtkRenderingCore import (
-        vtkActor,
-        vtkPolyDataMapper,
-        vtkRenderer,
-        vtkRenderWindow,
-        vtkWindowToImageFilter,
-    )
     from vtkmodules.vtkCommonCore import vtkLookupTable
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
 
     lut = vtkLookupTable()
     lut.SetNumberOfTableValues(256)
@@ -118,10 +140,7 @@ def render_png(surface, array, filename, eye, size=(900, 700)):
     renderer = vtkRenderer()
     renderer.AddActor(actor)
     renderer.SetBackground(1.0, 1.0, 1.0)
-    window = vtkRenderWindow()
-    window.SetOffScreenRendering(1)
-    window.AddRenderer(renderer)
-    window.SetSize(*size)
+    window = offscreen_window(renderer, size)
     camera = renderer.GetActiveCamera()
     camera.SetPosition(*eye)
     bounds = surface.GetBounds()
@@ -129,12 +148,4 @@ def render_png(surface, array, filename, eye, size=(900, 700)):
     camera.SetViewUp(0.0, 0.0, 1.0)
     renderer.ResetCamera()
     fit_view(renderer, window, surface)
-    window.Render()
-    grab = vtkWindowToImageFilter()
-    grab.SetInput(window)
-    grab.Update()
-    writer = vtkPNGWriter()
-    writer.SetFileName(filename)
-    writer.SetInputConnection(grab.GetOutputPort())
-    writer.Write()
-    window.Finalize()
+    write_png(window, filename)
