@@ -2,6 +2,10 @@
 """The main job on a built-in default: sample, convert, tessellate, write, render."""
 import os
 
+# Registers the OpenGL implementations of mappers and windows; it must precede the creation of any
+# rendering object (importing it needs no display).
+import vtkmodules.vtkRenderingOpenGL2  # noqa: F401
+
 from . import (
     vtkBezierTriangleTessellator,
     vtkCloughTocherSplineFilter,
@@ -89,7 +93,6 @@ def fit_view(renderer, window, surface, fill=0.92, rounds=3):
 def offscreen_window(renderer, size):
     """An offscreen render window showing `renderer` (needs an X display: run under xvfb-run on a
     headless machine)."""
-    import vtkmodules.vtkRenderingOpenGL2  # noqa: F401  (registers the OpenGL backend)
     from vtkmodules.vtkRenderingCore import vtkRenderWindow
 
     window = vtkRenderWindow()
