@@ -15,13 +15,14 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 namespace ctsplines
 {
 std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  const char* element, std::vector<double>& out)
+  const char* element, std::vector<double>& out, int nanGroup)
 {
   std::ostringstream os;
   if (!array)
@@ -43,7 +44,7 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
     for (size_t k = 0; k < count; ++k)
     {
       const double x = get(k);
-      if (!std::isfinite(x))
+      if (!std::isfinite(x) && !(nanGroup > 0 && std::isnan(x)))
       {
         os << what << " has a non-finite value (" << x << ") at " << element << " "
            << static_cast<vtkIdType>(k / components);
@@ -71,6 +72,21 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
       return array->GetComponent(
         static_cast<vtkIdType>(k / components), static_cast<int>(k % components));
     });
+  }
+  if (ok && nanGroup > 0)
+  {
+    for (size_t g = 0; g < out.size(); g += nanGroup)
+    {
+      const auto nans = std::count_if(
+        out.begin() + g, out.begin() + g + nanGroup, [](double x) { return std::isnan(x); });
+      if (nans != 0 && nans != nanGroup)
+      {
+        os << what << " has a partly NaN group (components " << g % components << " to "
+           << g % components + nanGroup - 1 << ") at " << element << " "
+           << static_cast<vtkIdType>(g / components) << ": give all or none";
+        return os.str();
+      }
+    }
   }
   return ok ? std::string() : os.str();
 }

@@ -20,9 +20,10 @@ namespace ctsplines
 {
 /// Copies `array` (any numeric type) into row-major doubles after checking that it exists, has
 /// `components` components and only finite values. `what` names the array's role in messages
-/// ("point data array 'dFdu'"); `element` is "point" or "cell".
+/// ("point data array 'dFdu'"); `element` is "point" or "cell". With nanGroup > 0, NaN marks
+/// "no value" for whole aligned groups of nanGroup components (a partly NaN group is an error).
 std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  const char* element, std::vector<double>& out);
+  const char* element, std::vector<double>& out, int nanGroup = 0);
 
 /// Finds a point/cell data array by name; empty name or missing array gives nullptr.
 vtkDataArray* FindArray(vtkDataSetAttributes* attributes, const std::string& name);

@@ -220,7 +220,7 @@ int vtkCloughTocherSplineFilter::RequestData(
     return 0;
   }
   std::vector<ctk::Id> triangles;
-  std::vector<double> F, UV, Fu, Fv, edgeGradients;
+  std::vector<double> F, UV, Fu, Fv, edgeGradients, boundaryCurves;
   vtkPolyData* polyInput = vtkPolyData::SafeDownCast(input);
   std::string error = polyInput
     ? ctsplines::ExtractTriangles(polyInput, triangles)
@@ -274,6 +274,26 @@ int vtkCloughTocherSplineFilter::RequestData(
       "' (mid-edge gradients, needed by " + GetConstructionName(this->Construction) +
       " with boundary mode " + GetBoundaryModeName(this->BoundaryMode) + ")";
     error = ctsplines::CopyArray(eg, what, 18, "cell", edgeGradients);
+  }
+  if (error.empty() && !this->BoundaryCurvePointsArrayName.empty())
+  {
+    const std::string what =
+      "cell data array '" + this->BoundaryCurvePointsArrayName + "' (boundary curve points)";
+    if (this->Construction > KaG)
+    {
+      error = what + " is given, but " + GetConstructionName(this->Construction) +
+        " does not take prescribed boundary curves (cubic constructions CTo..KaG do)";
+    }
+    else if (this->ComputeBezierExtraction)
+    {
+      error = what + " is given: the Bezier extraction is of the unconstrained spline space";
+    }
+    else
+    {
+      error = ctsplines::CopyArray(
+        ctsplines::FindArray(input->GetCellData(), this->BoundaryCurvePointsArrayName), what, 18,
+        "cell", boundaryCurves, 6);
+    }
   }
   if (!error.empty())
   {
@@ -344,6 +364,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   data.Fu = Fu.data();
   data.Fv = Fv.data();
   data.EdgeGradients = edgeGradients.empty() ? nullptr : edgeGradients.data();
+  data.BoundaryCurvePoints = boundaryCurves.empty() ? nullptr : boundaryCurves.data();
   ctk::CubicSpline cubic;
   ctk::QuarticSpline quarticSpline;
   const ctk::BuildStatus built = quartic
@@ -515,4 +536,5 @@ void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DuArrayName: " << this->DuArrayName << "\n";
   os << indent << "DvArrayName: " << this->DvArrayName << "\n";
   os << indent << "EdgeGradientsArrayName: " << this->EdgeGradientsArrayName << "\n";
+  os << indent << "BoundaryCurvePointsArrayName: " << this->BoundaryCurvePointsArrayName << "\n";
 }

@@ -136,6 +136,21 @@ public:
   ///@}
 
   ///@{
+  /// Optional cell data array (18 components) prescribing the boundary curves: for each local
+  /// edge (p0,p1), (p1,p2), (p2,p0) on the mesh boundary, the inner control points of the cubic
+  /// the spline must follow there (near the edge's first point, then near its second); NaN
+  /// (all six) leaves an edge to the vertex derivatives, values on interior edges are ignored.
+  /// Each macro-patch stays C1 inside (Step 1, the boundary rule and Step 3 follow the curve);
+  /// across the interior macro-edges at a boundary vertex C1 needs the prescribed points to agree
+  /// with that vertex's derivatives (T - V = J (U_j - U_i) / 3, eq. 11) and is lost by their
+  /// mismatch otherwise. This is how vtkWatertightSplineStitcher gives neighbouring CAD faces one
+  /// boundary (the sampler's `EdgeCurvePoints`). Cubic constructions CTo..KaG, without the Bézier
+  /// extraction; default empty (none).
+  vtkSetStdStringFromCharMacro(BoundaryCurvePointsArrayName);
+  vtkGetCharFromStdStringMacro(BoundaryCurvePointsArrayName);
+  ///@}
+
+  ///@{
   /// Also output the Bézier extraction of the spline space (for isogeometric analysis): cell
   /// data `GlobalDofIds` (21 components, -1 padded) and `BezierExtraction` (10 x 21, row-major,
   /// rows in the cell's VTK point order), field data `NumberOfDofs`, `EdgeDofIds` (per macro-edge
@@ -176,6 +191,7 @@ protected:
   std::string DuArrayName = "dFdu";
   std::string DvArrayName = "dFdv";
   std::string EdgeGradientsArrayName = "EdgeGradients";
+  std::string BoundaryCurvePointsArrayName;
 
 private:
   vtkCloughTocherSplineFilter(const vtkCloughTocherSplineFilter&) = delete;

@@ -2,6 +2,8 @@
 // OpenCASCADE side of the CAD import: reading, edge-first sampling, face loops. No CGAL here.
 #include "CADBRepSampling.h"
 
+#include "InterfaceTangentPlanes.h"
+
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBndLib.hxx>
@@ -255,6 +257,13 @@ bool CADModel::Sample(const SamplingOptions& options)
   this->VertexGap = 0;
   this->EdgeGap = 0;
   this->EdgeSamples = 0;
+  // Pass 1: every edge's pcurves (a seam has two on its face), its end vertices, and the
+  // vertex positions: the mean of the adjacent surfaces at the pcurve ends. The faces of a real
+  // model miss each other and the edge curves by up to ~1e-4 of the diagonal; the mean halves
+  // what any one face sees.
+  std::vector<std::vector<PCurveUse>> edgeUses(nE);
+  std::vector<Point3> vertexSum(nV, Point3{ 0, 0, 0 });
+  std::vector<int> vertexCount(nV, 0);
   for (int e = 0; e < nE; ++e)
   {
     EdgeSampling& es = d.Edges[e];
@@ -273,7 +282,7 @@ bool CADModel::Sample(const SamplingOptions& options)
       es.Degenerate = true;
       continue;
     }
-    std::vector<PCurveUse> uses;
+    std::vector<PCurveUse>& uses = edgeUses[e];
     const int ef = edgeFaces.FindIndex(E);
     if (ef > 0)
     {
@@ -301,14 +310,85 @@ bool CADModel::Sample(const SamplingOptions& options)
       }
     }
     const BRepAdaptor_Curve curve(E);
+    for (const PCurveUse& u : uses)
+    {
+      for (int end = 0; end < 2; ++end)
+      {
+        const double t = end ? curve.LastParameter() : curve.FirstParameter();
+        const gp_Pnt2d q = u.Curve->Value(t);
+        const Point3 p = ToPoint(d.Surfaces[u.Face].Value(q.X(), q.Y()).XYZ());
+        const Id v = end ? es.Vertex1 : es.Vertex0;
+        for (int i = 0; i < 3; ++i)
+        {
+          vertexSum[v][i] += p[i];
+        }
+        ++vertexCount[v];
+      }
+    }
+  }
+  for (int v = 0; v < nV; ++v)
+  {
+    if (vertexCount[v] > 0)
+    {
+      const Point3 mean{ vertexSum[v][0] / vertexCount[v], vertexSum[v][1] / vertexCount[v],
+        vertexSum[v][2] / vertexCount[v] };
+      this->VertexGap = std::max(this->VertexGap, Distance(mean, this->NodePoints[v]));
+      this->NodePoints[v] = mean;
+    }
+  }
+
+  // Pass 2: adaptive Hermite samples of each edge's mean curve.
+  for (int e = 0; e < nE; ++e)
+  {
+    EdgeSampling& es = d.Edges[e];
+    if (es.Degenerate)
+    {
+      continue;
+    }
+    const TopoDS_Edge E = TopoDS::Edge(d.EdgeMap(e + 1).Oriented(TopAbs_FORWARD));
+    const std::vector<PCurveUse>& uses = edgeUses[e];
+    const BRepAdaptor_Curve curve(E);
     const double t0 = curve.FirstParameter(), t1 = curve.LastParameter();
     const Point3 p0 = this->NodePoints[es.Vertex0], p1 = this->NodePoints[es.Vertex1];
+    // The edge's point at t: the mean of the adjacent surfaces over their pcurves (the 3D
+    // curve when no face has a pcurve), its derivative, and how far the faces are from it.
     auto pointAt = [&](double t, Point3& p, Point3& dp) {
-      gp_Pnt q;
-      gp_Vec v;
-      curve.D1(t, q, v);
-      p = ToPoint(q.XYZ());
-      dp = ToPoint(v.XYZ());
+      double spread = 0;
+      if (uses.empty())
+      {
+        gp_Pnt q;
+        gp_Vec v;
+        curve.D1(t, q, v);
+        p = ToPoint(q.XYZ());
+        dp = ToPoint(v.XYZ());
+        return spread;
+      }
+      p = dp = Point3{ 0, 0, 0 };
+      std::vector<Point3> onFace;
+      for (const PCurveUse& u : uses)
+      {
+        gp_Pnt2d q;
+        gp_Vec2d dq;
+        u.Curve->D1(t, q, dq);
+        gp_Pnt x;
+        gp_Vec xu, xv;
+        d.Surfaces[u.Face].D1(q.X(), q.Y(), x, xu, xv);
+        const gp_Vec dx = dq.X() * xu + dq.Y() * xv;
+        onFace.push_back(ToPoint(x.XYZ()));
+        for (int i = 0; i < 3; ++i)
+        {
+          p[i] += x.Coord(i + 1) / uses.size();
+          dp[i] += dx.Coord(i + 1) / uses.size();
+        }
+      }
+      for (std::size_t i = 0; i < onFace.size(); ++i)
+      {
+        for (std::size_t j = 0; j < i; ++j)
+        {
+          spread = std::max(spread, Distance(onFace[i], onFace[j]));
+        }
+      }
+      return spread;
     };
     struct Sample
     {
@@ -317,22 +397,25 @@ bool CADModel::Sample(const SamplingOptions& options)
     };
     auto makeSample = [&](double t) {
       Sample s{ t, {}, {} };
-      pointAt(t, s.P, s.D);
+      this->EdgeGap = std::max(this->EdgeGap, pointAt(t, s.P, s.D));
       return s;
     };
-    // Shared vertices: the curve ends are replaced by the vertex points (the gap is measured).
+    // Shared vertices: the curve ends are the vertex nodes (means over all faces at the vertex).
     Sample first = makeSample(t0), last = makeSample(t1);
-    this->VertexGap = std::max({ this->VertexGap, Distance(first.P, p0), Distance(last.P, p1) });
     first.P = p0;
     last.P = p1;
-    const bool closed = v0.IsSame(v1);
-    const int n0 = closed ? 3 : 2;
+    const int n0 = es.Vertex0 == es.Vertex1 ? 3 : 2;
     std::vector<Sample> samples{ first };
     for (int k = 1; k < n0; ++k)
     {
       samples.push_back(makeSample(t0 + (t1 - t0) * k / n0));
     }
     samples.push_back(last);
+    // A span is split while its Hermite cubic is off the mean curve, or while any adjacent
+    // surface over the pcurve chord (the stitched spline's boundary lies over that chord) is off
+    // the cubic by more than the edge tolerance beyond that surface's own distance from the mean
+    // curve. Half the tolerance: the other half is left to the face interiors.
+    const double edgeTol = 0.5 * tol;
     auto spanError = [&](const Sample& a, const Sample& b) {
       const double h = b.T - a.T;
       Point3 ca, cb;
@@ -370,7 +453,7 @@ bool CADModel::Sample(const SamplingOptions& options)
       {
         const Sample& a = samples[k];
         const Sample& b = samples[k + 1];
-        if (std::abs(b.T - a.T) > minSpan && spanError(a, b) > tol &&
+        if (std::abs(b.T - a.T) > minSpan && spanError(a, b) > edgeTol &&
           static_cast<int>(samples.size() + next.size()) < 2 * options.MaxSamplesPerEdge)
         {
           next.push_back(makeSample(0.5 * (a.T + b.T)));
@@ -475,6 +558,7 @@ bool CADModel::Sample(const SamplingOptions& options)
             const std::size_t span = reversed ? k - 1 : k;
             LoopSegment seg;
             seg.Edge = e;
+            seg.Span = static_cast<Id>(span);
             seg.Near0 = es.Inner[span][reversed ? 1 : 0];
             seg.Near1 = es.Inner[span][reversed ? 0 : 1];
             run.Segments.push_back(seg);
@@ -561,6 +645,17 @@ bool CADModel::Sample(const SamplingOptions& options)
     this->EdgeGap = std::max(this->EdgeGap, face.MaxGap);
   }
   this->Time.Loops = Seconds(start);
+
+  // 3. Smooth interfaces, and their tangent planes in the stitching data (RestoreG1).
+  start = Clock::now();
+  TangentPlaneOptions planes;
+  planes.RestoreG1 = options.RestoreG1;
+  planes.G1Threshold = options.G1Threshold;
+  const TangentPlaneReport report = SetInterfaceTangentPlanes(this->FaceList, this->NodePoints,
+    [this](int f, double s, double t, double* P, double* Ds, double* Dt) { this->Evaluate(f, s, t, P, Ds, Dt); },
+    planes);
+  this->Changed = { report.MaxCurveChange, report.MaxDerivativeChange, report.SmoothNodes, report.SmoothSpans };
+  this->Time.TangentPlanes = Seconds(start);
   return true;
 }
 

@@ -24,6 +24,10 @@ struct LoopNode
 {
   double UV[2];
   Id GlobalNode;
+  /// Derivatives for stitching (InterfaceTangentPlanes.h): the surface's, projected to the
+  /// shared tangent plane where a smooth interface is restored to G1.
+  Point3 Ds{}, Dt{};
+  bool Consistent = false;
 };
 
 /// Loop segment k joins node k and node k+1 (cyclically). Near0 and Near1 are the inner
@@ -32,8 +36,15 @@ struct LoopNode
 struct LoopSegment
 {
   Id Edge = -1; // B-rep edge index (0-based), -1 for a joint between pcurve ends
+  Id Span = -1; // index of the span within the edge's samples (-1 for joints and poles)
   bool Degenerate = false; // pole edge or joint: one 3D point
   Point3 Near0{}, Near1{};
+  /// Unit normal shared by the faces at the span's midpoint when the interface is restored to
+  /// G1 there (InterfaceTangentPlanes.h); zero otherwise.
+  Point3 MidNormal{};
+  /// Whether the CAD faces along the span meet tangentially (normals at the span midpoint
+  /// within the G1 threshold): a smooth interface rather than a feature edge.
+  bool Tangent = false;
 };
 
 struct FaceLoop
@@ -58,12 +69,21 @@ struct SamplingOptions
 {
   double Tolerance = 1e-4; // relative to the bounding-box diagonal
   int MaxSamplesPerEdge = 4096;
+  bool RestoreG1 = false;   // see InterfaceTangentPlanes.h
+  double G1Threshold = 10;  // degrees
 };
 
 /// Wall-clock seconds of the stages.
 struct StageTimes
 {
-  double Read = 0, Edges = 0, Loops = 0;
+  double Read = 0, Edges = 0, Loops = 0, TangentPlanes = 0;
+};
+
+/// What the tangent-plane stage changed (InterfaceTangentPlanes.h).
+struct BoundaryChanges
+{
+  double MaxCurveChange = 0, MaxDerivativeChange = 0;
+  Id SmoothNodes = 0, SmoothSpans = 0;
 };
 
 class CADModel
@@ -101,6 +121,7 @@ public:
   double MaxEdgeGap() const { return this->EdgeGap; }
   Id NumberOfEdgeSamples() const { return this->EdgeSamples; }
   const StageTimes& Times() const { return this->Time; }
+  const BoundaryChanges& Changes() const { return this->Changed; }
   const std::string& Error() const { return this->ErrorMessage; }
 
 private:
@@ -113,6 +134,7 @@ private:
   double VertexGap = 0, EdgeGap = 0;
   Id EdgeSamples = 0;
   StageTimes Time;
+  BoundaryChanges Changed;
   std::string ErrorMessage;
 };
 

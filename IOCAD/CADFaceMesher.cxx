@@ -17,6 +17,20 @@
 
 namespace ctcad
 {
+void StitchEdgeGradient(const LoopSegment& seg, double gradient[6])
+{
+  const Point3& n = seg.MidNormal; // zero unless restored to G1
+  for (int g = 0; g < 2; ++g)
+  {
+    double* x = gradient + 3 * g;
+    const double d = n[0] * x[0] + n[1] * x[1] + n[2] * x[2];
+    for (int i = 0; i < 3; ++i)
+    {
+      x[i] -= d * n[i];
+    }
+  }
+}
+
 namespace
 {
 struct VertexInfo
@@ -118,6 +132,155 @@ double Dist(const Point3& a, const Point3& b)
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
     (a[2] - b[2]) * (a[2] - b[2]));
 }
+
+/// Boundary segments by the (unordered) pair of point indices they join.
+struct SegmentRef
+{
+  const LoopSegment* Segment;
+  Id First; // point index of the segment's node k
+};
+using SegmentMap = std::unordered_map<std::uint64_t, SegmentRef>;
+
+/// The loop segment of local edge l of face f (its points l, l+1), or nullptr; flipped when the
+/// segment runs from point l+1.
+const LoopSegment* FaceSegment(const CDT& cdt, const CDT::Face_handle f, int l,
+  const SegmentMap& segments, bool& flipped)
+{
+  const Id a = f->vertex(l)->info().Index, b = f->vertex((l + 1) % 3)->info().Index;
+  const auto it = segments.find(PairKey(a, b));
+  // The constrained edge is the one opposite vertex l + 2.
+  if (it == segments.end() || !cdt.is_constrained(CDT::Edge(f, (l + 2) % 3)))
+  {
+    return nullptr;
+  }
+  flipped = it->second.First != a;
+  return it->second.Segment;
+}
+
+/// Builds the stitched spline of the current face mesh (options.Spline, boundary edges following
+/// the loop segments' cubics, exact mid-edge gradients) and measures it against the surface at
+/// the check points of every micro-triangle; the worst point of every triangle that is off by
+/// more than the tolerance goes into `inserts`.
+bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& faces,
+  const FaceMesh& mesh, const SegmentMap& segments, const SurfaceFunction& surface,
+  const FaceMeshOptions& options, std::vector<Point>& inserts, double& maxError, std::string& error)
+{
+  const ctk::Id nT = static_cast<ctk::Id>(faces.size());
+  const ctk::Id nV = static_cast<ctk::Id>(mesh.UV.size());
+  std::vector<ctk::Id> tri(3 * nT);
+  std::vector<double> uv(2 * nV), F(3 * nV), Fu(3 * nV), Fv(3 * nV);
+  for (ctk::Id v = 0; v < nV; ++v)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      F[3 * v + i] = mesh.F[v][i];
+      Fu[3 * v + i] = mesh.Fs[v][i];
+      Fv[3 * v + i] = mesh.Ft[v][i];
+    }
+    uv[2 * v] = mesh.UV[v][0];
+    uv[2 * v + 1] = mesh.UV[v][1];
+  }
+  std::vector<double> gradients(18 * nT), curves(18 * nT, std::nan(""));
+  std::vector<std::array<bool, 3>> onBoundary(nT);
+  for (ctk::Id t = 0; t < nT; ++t)
+  {
+    const CDT::Face_handle f = faces[t];
+    for (int l = 0; l < 3; ++l)
+    {
+      tri[3 * t + l] = f->vertex(l)->info().Index;
+    }
+    for (int l = 0; l < 3; ++l)
+    {
+      const auto& a = mesh.UV[tri[3 * t + l]];
+      const auto& b = mesh.UV[tri[3 * t + (l + 1) % 3]];
+      double P[3];
+      surface(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, &gradients[18 * t + 6 * l],
+        &gradients[18 * t + 6 * l + 3]);
+      bool flipped = false;
+      const LoopSegment* seg = FaceSegment(cdt, f, l, segments, flipped);
+      onBoundary[t][l] = seg != nullptr;
+      if (seg)
+      {
+        StitchEdgeGradient(*seg, &gradients[18 * t + 6 * l]);
+      }
+      for (int i = 0; seg && i < 3; ++i)
+      {
+        curves[18 * t + 6 * l + i] = (flipped ? seg->Near1 : seg->Near0)[i];
+        curves[18 * t + 6 * l + 3 + i] = (flipped ? seg->Near0 : seg->Near1)[i];
+      }
+    }
+  }
+  ctk::SplineData data;
+  data.NumberOfVertices = nV;
+  data.NumberOfTriangles = nT;
+  data.Triangles = tri.data();
+  data.UV = uv.data();
+  data.F = F.data();
+  data.Fu = Fu.data();
+  data.Fv = Fv.data();
+  data.EdgeGradients = gradients.data();
+  data.BoundaryCurvePoints = curves.data();
+  ctk::MeshTopology topo;
+  const ctk::TopologyStatus ts = ctk::BuildMeshTopology(nV, nT, tri.data(), topo);
+  ctk::CubicSpline spline;
+  const ctk::BuildStatus bs = ts.Ok
+    ? ctk::BuildCubicCloughTocher(data, topo, options.Spline, spline)
+    : ctk::BuildStatus{ false, ts.Message };
+  if (!bs.Ok)
+  {
+    error = std::string(ctk::ToString(options.Spline.Method)) + " spline of the face mesh: " + bs.Message;
+    return false;
+  }
+  // Barycentric check points of a micro-triangle (U_{k+1}, U_{k+2}, Z); the last is the
+  // macro-edge midpoint, skipped on boundary edges (the edge sampling bounds those).
+  static const ctk::Vec3 pattern[5] = { ctk::Vec3(1, 1, 1) / 3, ctk::Vec3(4, 1, 1) / 6,
+    ctk::Vec3(1, 4, 1) / 6, ctk::Vec3(1, 1, 4) / 6, ctk::Vec3(0.5, 0.5, 0) };
+  for (ctk::Id t = 0; t < nT; ++t)
+  {
+    const ctk::MacroElementIds ids = ctk::GetMacroElementIds(spline.Layout, topo, tri.data(), t);
+    ctk::Vec2 U[3];
+    for (int i = 0; i < 3; ++i)
+    {
+      U[i] = ctk::Vec2(uv[2 * tri[3 * t + i]], uv[2 * tri[3 * t + i] + 1]);
+    }
+    const ctk::Vec3& tau = spline.SplitTau[t];
+    const ctk::Vec2 Z = tau[0] * U[0] + tau[1] * U[1] + tau[2] * U[2];
+    double worst = 0;
+    ctk::Vec2 worstX;
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, k);
+      ctk::Vec3 P[10];
+      for (int i = 0; i < 10; ++i)
+      {
+        P[i] = spline.ControlPoints[net[i]];
+      }
+      const ctk::Vec2 &A0 = U[(k + 1) % 3], &A1 = U[(k + 2) % 3];
+      const int points = onBoundary[t][(k + 1) % 3] ? 4 : 5;
+      for (int q = 0; q < points; ++q)
+      {
+        const ctk::Vec3& w = pattern[q];
+        const ctk::Vec2 X = w[0] * A0 + w[1] * A1 + w[2] * Z;
+        const ctk::Vec3 value = ctk::EvaluateBezierTriangle(3, P, nullptr, w).Value;
+        Point3 S, Ds, Dt;
+        surface(X.x(), X.y(), S.data(), Ds.data(), Dt.data());
+        const double e = (value - ctk::Vec3(S[0], S[1], S[2])).norm();
+        if (e > worst)
+        {
+          worst = e;
+          worstX = X;
+        }
+      }
+    }
+    maxError = std::max(maxError, worst);
+    // A margin: five points per micro-triangle see most, not all, of the error.
+    if (worst > 0.8 * options.Tolerance)
+    {
+      inserts.emplace_back(worstX.x(), worstX.y());
+    }
+  }
+  return true;
+}
 } // namespace
 
 bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
@@ -125,24 +288,22 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
 {
   mesh = FaceMesh();
   CDT cdt;
-  auto addPoint = [&](double s, double t, Id global) {
+  auto addPoint = [&](double s, double t, const LoopNode* node) {
     Point3 P, Ds, Dt;
     surface(s, t, P.data(), Ds.data(), Dt.data());
-    // Boundary nodes keep the shared edge sample, not the surface point under the pcurve.
+    mesh.SurfaceFs.push_back(Ds);
+    mesh.SurfaceFt.push_back(Dt);
+    // Boundary nodes keep the shared edge sample, not the surface point under the pcurve, and
+    // the derivatives that agree with the shared edge cubics.
+    const Id global = node ? node->GlobalNode : -1;
     mesh.F.push_back(global >= 0 ? nodePoints[global] : P);
     mesh.UV.push_back({ s, t });
-    mesh.Fs.push_back(Ds);
-    mesh.Ft.push_back(Dt);
+    mesh.Fs.push_back(node && node->Consistent ? node->Ds : Ds);
+    mesh.Ft.push_back(node && node->Consistent ? node->Dt : Dt);
     mesh.GlobalNode.push_back(global);
     return static_cast<Id>(mesh.UV.size()) - 1;
   };
-  // Segments by the (unordered) pair of point indices they join.
-  struct SegmentRef
-  {
-    const LoopSegment* Segment;
-    Id First; // point index of the segment's node k
-  };
-  std::unordered_map<std::uint64_t, SegmentRef> segments;
+  SegmentMap segments;
   for (const FaceLoop& loop : loops)
   {
     const std::size_t n = loop.Nodes.size();
@@ -153,7 +314,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       handles[k] = cdt.insert(Point(node.UV[0], node.UV[1]));
       if (handles[k]->info().Index < 0)
       {
-        handles[k]->info().Index = addPoint(node.UV[0], node.UV[1], node.GlobalNode);
+        handles[k]->info().Index = addPoint(node.UV[0], node.UV[1], &node);
       }
     }
     for (std::size_t k = 0; k < n; ++k)
@@ -182,8 +343,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   ctOptions.Method = ctk::Construction::CTo;
   ctOptions.SplitPoint = ctk::SplitPointRule::Bary;
   std::vector<CDT::Face_handle> faces;
-  for (int round = 0;; ++round)
-  {
+  auto collectFaces = [&]() {
     MarkDomains(cdt);
     faces.clear();
     for (auto f : cdt.finite_face_handles())
@@ -195,12 +355,35 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
           if (f->vertex(i)->info().Index < 0) // made by intersecting constraints
           {
             const Point& p = f->vertex(i)->point();
-            f->vertex(i)->info().Index = addPoint(p.x(), p.y(), -1);
+            f->vertex(i)->info().Index = addPoint(p.x(), p.y(), nullptr);
           }
         }
         faces.push_back(f);
       }
     }
+  };
+  // Interior points only: a point on a constraint would split a boundary segment.
+  auto insertPoints = [&](const std::vector<Point>& inserts) {
+    std::size_t added = 0;
+    for (const Point& p : inserts)
+    {
+      CDT::Locate_type lt;
+      int li;
+      const CDT::Face_handle loc = cdt.locate(p, lt, li);
+      if (lt == CDT::VERTEX || lt == CDT::OUTSIDE_CONVEX_HULL || lt == CDT::OUTSIDE_AFFINE_HULL ||
+        !loc->info().InDomain() || (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(loc, li))))
+      {
+        continue;
+      }
+      const CDT::Vertex_handle v = cdt.insert(p, lt, loc, li);
+      v->info().Index = addPoint(p.x(), p.y(), nullptr);
+      ++added;
+    }
+    return added;
+  };
+  for (int round = 0;; ++round)
+  {
+    collectFaces();
     mesh.Rounds = round;
     std::vector<Point> inserts;
     // New triangles: one kernel CTo/Bary spline over all of them; its S point is the value at
@@ -376,27 +559,38 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       mesh.Converged = inserts.empty();
       break;
     }
-    // Interior points only: a point on a constraint would split a boundary segment.
-    std::size_t added = 0;
-    for (const Point& p : inserts)
-    {
-      CDT::Locate_type lt;
-      int li;
-      const CDT::Face_handle loc = cdt.locate(p, lt, li);
-      if (lt == CDT::VERTEX || lt == CDT::OUTSIDE_CONVEX_HULL || lt == CDT::OUTSIDE_AFFINE_HULL ||
-        !loc->info().InDomain() || (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(loc, li))))
-      {
-        continue;
-      }
-      const CDT::Vertex_handle v = cdt.insert(p, lt, loc, li);
-      v->info().Index = addPoint(p.x(), p.y(), -1);
-      ++added;
-    }
-    if (added == 0)
+    if (insertPoints(inserts) == 0)
     {
       break;
     }
   }
+
+  // Check rounds: the estimate above is CTo's without the shared boundary curves; the spline the
+  // stitcher makes (the chosen construction, following the edge cubics) is checked on the whole
+  // face and refined where it is off. Non-local constructions: every triangle, every round.
+  for (int check = 0; options.CheckConstruction && mesh.Converged; ++check)
+  {
+    collectFaces();
+    std::vector<Point> inserts;
+    double maxError = 0;
+    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, inserts, maxError, mesh.Error))
+    {
+      return false;
+    }
+    mesh.MaxEstimatedError = maxError;
+    mesh.CheckRounds = check + 1;
+    if (inserts.empty())
+    {
+      break;
+    }
+    if (check >= options.MaxRounds || static_cast<long>(faces.size()) >= options.MaxTriangles ||
+      insertPoints(inserts) == 0)
+    {
+      mesh.Converged = false;
+      break;
+    }
+  }
+  collectFaces();
 
   // Output: in-domain triangles, their boundary segments.
   mesh.Triangles.reserve(faces.size());
@@ -408,18 +602,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     std::array<bool, 3> flipped{ false, false, false };
     for (int l = 0; l < 3; ++l)
     {
-      const Id a = t[l], b = t[(l + 1) % 3];
-      const auto it = segments.find(PairKey(a, b));
-      if (it != segments.end())
-      {
-        // The edge opposite vertex (l + 2) % 3 must be the constrained one.
-        const int opposite = (l + 2) % 3;
-        if (cdt.is_constrained(CDT::Edge(f, opposite)))
-        {
-          seg[l] = it->second.Segment;
-          flipped[l] = it->second.First != a;
-        }
-      }
+      seg[l] = FaceSegment(cdt, f, l, segments, flipped[l]);
     }
     mesh.Triangles.push_back(t);
     mesh.Segments.push_back(seg);

@@ -2,12 +2,15 @@
 // Interior triangulation of one face's parameter domain (study section 4, second stage): a
 // constrained Delaunay triangulation (CGAL) of the boundary loops, refined by inserting interior
 // points only (boundary segments are never split, so neighbours keep sharing their nodes) until
-// the CTo/Bary spline's error at triangle centroids and edge midpoints is below the tolerance.
+// the CTo/Bary spline's error at triangle centroids and edge midpoints is below the tolerance,
+// then until the spline the stitcher makes is.
 // No OpenCASCADE here: the surface comes in as a callback.
 #ifndef CTSplines_IOCAD_CADFaceMesher_h
 #define CTSplines_IOCAD_CADFaceMesher_h
 
 #include "CADBRepSampling.h"
+
+#include "CubicCloughTocher.h"
 
 #include <functional>
 
@@ -24,12 +27,20 @@ struct FaceMeshOptions
   double MaxEdgeLength = 0; // absolute bound on 3D edge lengths; 0 = none
   int MaxRounds = 60;
   long MaxTriangles = 500000;
+  /// After the CTo rounds, check the spline the stitcher makes (this construction, following
+  /// the shared edge cubics) on the whole face and refine until it is within the tolerance at
+  /// the check points of every micro-triangle (centre, three inner points, macro-edge midpoint).
+  bool CheckConstruction = false;
+  ctk::SplineOptions Spline;
 };
 
 struct FaceMesh
 {
   std::vector<std::array<double, 2>> UV;
+  /// Points and derivatives for stitching (at boundary nodes the consistent ones of
+  /// InterfaceTangentPlanes.h), and the surface's own derivatives.
   std::vector<Point3> F, Fs, Ft;
+  std::vector<Point3> SurfaceFs, SurfaceFt;
   std::vector<Id> GlobalNode; // -1 for interior points
   std::vector<std::array<Id, 3>> Triangles; // counter-clockwise in the parameter plane
   /// Per local edge (p0,p1), (p1,p2), (p2,p0): the loop segment it is, or nullptr; and whether
@@ -37,10 +48,15 @@ struct FaceMesh
   std::vector<std::array<const LoopSegment*, 3>> Segments;
   std::vector<std::array<bool, 3>> SegmentFlipped;
   int Rounds = 0;
+  int CheckRounds = 0; // rounds that checked the stitched spline (the last found it within)
   bool Converged = false;
   double MaxEstimatedError = 0; // at centroids and interior edge midpoints, last round
   std::string Error;
 };
+
+/// The mid-edge gradient (f_u then f_v) the stitched spline uses on a boundary span: the
+/// surface's, projected to the span's shared tangent plane where the interface is restored to G1.
+void StitchEdgeGradient(const LoopSegment& seg, double gradient[6]);
 
 /// Meshes one face given its loops (in its oriented parameter plane), the 3D points of the
 /// global boundary nodes and its surface. Returns false with mesh.Error on failure.

@@ -18,6 +18,7 @@
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
+#include "vtkSignedCharArray.h"
 #include "vtkStringArray.h"
 
 #include <algorithm>
@@ -104,12 +105,21 @@ int vtkCADFaceSampler::RequestData(
   }
   ctcad::SamplingOptions sampling;
   sampling.Tolerance = this->Tolerance;
+  sampling.RestoreG1 = this->RestoreG1;
+  sampling.G1Threshold = this->G1Threshold;
   if (!model->Sample(sampling))
   {
     vtkErrorMacro(<< model->Error());
     return 0;
   }
 
+  if (this->RestoreG1 && model->Changes().MaxCurveChange > 0.5 * this->Tolerance * model->Diagonal())
+  {
+    vtkWarningMacro(<< "RestoreG1 moved edge-cubic points by " << model->Changes().MaxCurveChange
+                    << " (" << model->Changes().MaxCurveChange / model->Diagonal()
+                    << " of the diagonal): interfaces within G1Threshold = " << this->G1Threshold
+                    << " degrees are far from tangent; the deviation may exceed the tolerance");
+  }
   // Faces are independent once their loops exist: mesh them concurrently (each face evaluates
   // only its own surface adaptor, so no OCCT object is shared between threads).
   const auto start = std::chrono::steady_clock::now();
@@ -123,6 +133,10 @@ int vtkCADFaceSampler::RequestData(
   meshOptions.MaxEdgeLength = this->MaxEdgeLength * model->Diagonal();
   meshOptions.MaxRounds = this->MaxRounds;
   meshOptions.MaxTriangles = static_cast<long>(this->MaxTrianglesPerFace);
+  meshOptions.CheckConstruction = this->RefineStitchedSpline;
+  meshOptions.Spline.Method = static_cast<ctk::Construction>(this->Construction);
+  meshOptions.Spline.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
+  meshOptions.Spline.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
   std::atomic<int> next(0);
   auto worker = [&]() {
     for (int f; (f = next++) < nF;)
@@ -171,6 +185,8 @@ int vtkCADFaceSampler::RequestData(
     auto uv = NewArray("UV", 2, nP);
     auto du = NewArray("dFdu", 3, nP);
     auto dv = NewArray("dFdv", 3, nP);
+    auto stitchDu = NewArray("StitchDFdu", 3, nP);
+    auto stitchDv = NewArray("StitchDFdv", 3, nP);
     vtkNew<vtkIdTypeArray> gid;
     gid->SetName("GlobalNodeId");
     gid->SetNumberOfTuples(nP);
@@ -178,13 +194,20 @@ int vtkCADFaceSampler::RequestData(
     {
       points->SetPoint(p, mesh.F[p].data());
       uv->SetTuple(p, mesh.UV[p].data());
-      du->SetTuple(p, mesh.Fs[p].data());
-      dv->SetTuple(p, mesh.Ft[p].data());
+      du->SetTuple(p, mesh.SurfaceFs[p].data());
+      dv->SetTuple(p, mesh.SurfaceFt[p].data());
+      stitchDu->SetTuple(p, mesh.Fs[p].data());
+      stitchDv->SetTuple(p, mesh.Ft[p].data());
       // Interior points become model nodes of their own (one face each).
       gid->SetValue(p, mesh.GlobalNode[p] >= 0 ? mesh.GlobalNode[p] : model->AddNode(mesh.F[p]));
     }
     vtkNew<vtkCellArray> polys;
     auto edgeGradients = NewArray("EdgeGradients", 18, nT);
+    auto stitchGradients = NewArray("StitchEdgeGradients", 18, nT);
+    vtkNew<vtkSignedCharArray> tangent;
+    tangent->SetName("TangentInterface");
+    tangent->SetNumberOfComponents(3);
+    tangent->SetNumberOfTuples(nT);
     auto curvePoints = NewArray("EdgeCurvePoints", 18, nT);
     vtkNew<vtkIdTypeArray> edgeIds;
     edgeIds->SetName("BRepEdgeId");
@@ -195,7 +218,7 @@ int vtkCADFaceSampler::RequestData(
       const std::array<ctcad::Id, 3>& tri = mesh.Triangles[t];
       const vtkIdType ids[3] = { tri[0], tri[1], tri[2] };
       polys->InsertNextCell(3, ids);
-      double g[18], c[18];
+      double g[18], sg[18], c[18];
       for (int l = 0; l < 3; ++l)
       {
         const auto& a = mesh.UV[tri[l]];
@@ -204,6 +227,12 @@ int vtkCADFaceSampler::RequestData(
         model->Evaluate(f, 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, g + 6 * l, g + 6 * l + 3);
         const ctcad::LoopSegment* seg = mesh.Segments[t][l];
         edgeIds->SetTypedComponent(t, l, seg ? (seg->Edge >= 0 ? seg->Edge : -2) : -1);
+        tangent->SetTypedComponent(t, l, seg ? (seg->Tangent ? 1 : 0) : -1);
+        std::copy_n(g + 6 * l, 6, sg + 6 * l);
+        if (seg)
+        {
+          ctcad::StitchEdgeGradient(*seg, sg + 6 * l);
+        }
         for (int i = 0; i < 3; ++i)
         {
           const bool flip = mesh.SegmentFlipped[t][l];
@@ -212,6 +241,7 @@ int vtkCADFaceSampler::RequestData(
         }
       }
       edgeGradients->SetTuple(t, g);
+      stitchGradients->SetTuple(t, sg);
       curvePoints->SetTuple(t, c);
     }
     pd->SetPoints(points);
@@ -219,8 +249,12 @@ int vtkCADFaceSampler::RequestData(
     pd->GetPointData()->AddArray(uv);
     pd->GetPointData()->AddArray(du);
     pd->GetPointData()->AddArray(dv);
+    pd->GetPointData()->AddArray(stitchDu);
+    pd->GetPointData()->AddArray(stitchDv);
     pd->GetPointData()->AddArray(gid);
     pd->GetCellData()->AddArray(edgeGradients);
+    pd->GetCellData()->AddArray(stitchGradients);
+    pd->GetCellData()->AddArray(tangent);
     pd->GetCellData()->AddArray(curvePoints);
     pd->GetCellData()->AddArray(edgeIds);
     vtkFieldData* fd = pd->GetFieldData();
@@ -233,6 +267,7 @@ int vtkCADFaceSampler::RequestData(
     AddField(fd, "MaxGap", faces[f].MaxGap);
     AddIntField(fd, "Converged", mesh.Converged ? 1 : 0);
     AddField(fd, "MaxEstimatedError", mesh.MaxEstimatedError);
+    AddIntField(fd, "RefinementRounds", mesh.Rounds + mesh.CheckRounds);
     output->SetBlock(f, pd);
     output->GetMetaData(static_cast<unsigned int>(f))->Set(vtkCompositeDataSet::NAME(), faces[f].Name.c_str());
   }
@@ -244,10 +279,20 @@ int vtkCADFaceSampler::RequestData(
   AddIntField(fd, "NumberOfBRepVertices", model->NumberOfVertices());
   AddField(fd, "MaxVertexGap", model->MaxVertexGap());
   AddField(fd, "MaxEdgeGap", model->MaxEdgeGap());
+  const ctcad::BoundaryChanges& changes = model->Changes();
+  AddField(fd, "MaxBoundaryCurveChange", changes.MaxCurveChange);
+  AddField(fd, "MaxBoundaryDerivativeChange", changes.MaxDerivativeChange);
+  AddIntField(fd, "RestoreG1", this->RestoreG1 ? 1 : 0);
+  AddIntField(fd, "NumberOfG1Nodes", changes.SmoothNodes);
+  AddIntField(fd, "NumberOfG1Spans", changes.SmoothSpans);
+  // What the faces were refined for (vtkWatertightSplineStitcher compares with its own).
+  AddIntField(fd, "RefinedConstruction", this->RefineStitchedSpline ? this->Construction : -1);
+  AddIntField(fd, "RefinedSplitPoint", this->SplitPoint);
+  AddIntField(fd, "RefinedBoundaryMode", this->BoundaryMode);
   vtkNew<vtkDoubleArray> times;
   times->SetName("StageTimes");
   const ctcad::StageTimes& st = model->Times();
-  for (const double v : { st.Read, st.Edges, st.Loops, faceTime })
+  for (const double v : { st.Read, st.Edges, st.Loops, st.TangentPlanes, faceTime })
   {
     times->InsertNextValue(v);
   }
@@ -265,4 +310,10 @@ void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";
   os << indent << "MaxRounds: " << this->MaxRounds << "\n";
   os << indent << "MaxTrianglesPerFace: " << this->MaxTrianglesPerFace << "\n";
+  os << indent << "RefineStitchedSpline: " << this->RefineStitchedSpline << "\n";
+  os << indent << "Construction: " << this->Construction << "\n";
+  os << indent << "SplitPoint: " << this->SplitPoint << "\n";
+  os << indent << "BoundaryMode: " << this->BoundaryMode << "\n";
+  os << indent << "RestoreG1: " << this->RestoreG1 << "\n";
+  os << indent << "G1Threshold: " << this->G1Threshold << "\n";
 }

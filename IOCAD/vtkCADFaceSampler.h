@@ -5,27 +5,41 @@
  *          mesh, edge first, so that neighbouring faces share their boundary nodes.
  *
  * Study section 4. Every B-rep edge is sampled once, adaptively, as a C1 cubic Hermite spline of
- * its 3D curve (refined while it is off the curve, or off the surface over the pcurve chord of an
- * adjacent face, by more than the tolerance); the samples are mapped into each adjacent face
+ * the mean of its adjacent surfaces over their pcurves (the faces of a real model miss each other
+ * by up to ~1e-4 of the diagonal, and the stored 3D curves can be farther off; the mean halves
+ * what any face sees), refined while the cubic is off that mean curve, or off a surface over the
+ * pcurve chord beyond that surface's own distance, by more than half the tolerance; vertices are
+ * the means of the surfaces at the pcurve ends. The samples are mapped into each adjacent face
  * through its pcurve. Each face's parameter domain is then triangulated (constrained Delaunay,
- * holes by nesting) and refined with interior points only until the CTo/Bary spline's error at
- * triangle centroids and edge midpoints is below the tolerance. Seams (an edge twice in one wire),
- * pole (degenerate) edges and pcurve ends within the vertex tolerance are handled.
+ * holes by nesting) and refined with interior points only (boundary segments are never split)
+ * until the CTo/Bary spline's error at triangle centroids and edge midpoints is below the
+ * tolerance (the study's criterion), then until the stitched spline (see RefineStitchedSpline)
+ * is. Seams (an edge twice in one wire), pole (degenerate) edges and pcurve ends within the
+ * vertex tolerance are handled.
  *
  * Output: vtkMultiBlockDataSet, one vtkPolyData block per B-rep face (block name = the STEP face
  * name or "Face i"). Points (double) are the samples: boundary nodes are the edge samples, shared
  * bit for bit by the faces at an edge. Point data: `UV` (the face's oriented parameters (s, t):
  * (u, v), or (-u, v) on a reversed face so that dFdu x dFdv points outwards), `dFdu`, `dFdv` (exact,
- * from the surface), `GlobalNodeId` (one id per model node; seam and pole nodes repeat within a
- * face). Cell data: `EdgeGradients` (18: per local edge (p0,p1), (p1,p2), (p2,p0), f_u then f_v at
- * the parameter midpoint, exact), `BRepEdgeId` (3: the B-rep edge of each local edge, -1 inside
- * the face, -2 for a joint between pcurve ends), `EdgeCurvePoints` (18: per boundary local edge the
- * inner control points of the edge's Hermite cubic near its first and second point; NaN inside).
- * Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest measured distance between
- * the edge curves and this face's surface), `Converged`, `MaxEstimatedError`. Top-level field data:
- * `Diagonal`, `AbsoluteTolerance`, `NumberOfGlobalNodes`, `NumberOfBRepEdges`,
- * `NumberOfBRepVertices`, `MaxVertexGap`, `MaxEdgeGap`, `StageTimes` (read, edges, loops, faces in
- * seconds).
+ * from the surface), `StitchDFdu`, `StitchDFdv` (what vtkWatertightSplineStitcher uses: the same,
+ * but projected to the shared tangent plane at boundary nodes of tangent interfaces with
+ * RestoreG1), `GlobalNodeId` (one id per model node; seam and pole nodes repeat within a face).
+ * Cell data: `EdgeGradients` (18: per local edge (p0,p1), (p1,p2), (p2,p0), f_u then f_v at the
+ * parameter midpoint, exact), `StitchEdgeGradients` (the same, projected to the shared tangent
+ * plane on tangent interfaces with RestoreG1), `BRepEdgeId` (3: the B-rep edge of each local edge,
+ * -1 inside the face, -2 for a joint between pcurve ends), `EdgeCurvePoints` (18: per boundary
+ * local edge the inner control points of the edge's Hermite cubic near its first and second
+ * point; NaN inside), `TangentInterface` (3: 1 where the CAD faces along that boundary edge meet
+ * tangentially, normals within G1Threshold at its midpoint, 0 on feature edges and free edges, -1
+ * inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest distance between
+ * this face's surface and the shared boundary nodes), `Converged`, `MaxEstimatedError`,
+ * `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
+ * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
+ * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
+ * the adjacent surfaces along an edge: the model's own gaps), `RestoreG1`, `NumberOfG1Nodes`,
+ * `NumberOfG1Spans`, `MaxBoundaryCurveChange`, `MaxBoundaryDerivativeChange` (what RestoreG1
+ * changed), `RefinedConstruction` (-1 without RefineStitchedSpline), `RefinedSplitPoint`,
+ * `RefinedBoundaryMode`, `StageTimes` (read, edges, loops, tangent planes, faces in seconds).
  */
 #ifndef vtkCADFaceSampler_h
 #define vtkCADFaceSampler_h
@@ -80,6 +94,37 @@ public:
   vtkGetMacro(MaxTrianglesPerFace, vtkIdType);
   ///@}
 
+  ///@{
+  /// The spline the faces are refined for: with RefineStitchedSpline on (default), after the
+  /// study's CTo/Bary criterion each face is refined until the spline vtkWatertightSplineStitcher
+  /// makes with this Construction, SplitPoint and BoundaryMode (vtkCloughTocherSplineFilter's
+  /// values; give the stitcher the same, it warns otherwise) is within the tolerance at five
+  /// check points per micro-triangle. Defaults KaG, Bary, Midpoint (the stitcher's).
+  vtkSetMacro(RefineStitchedSpline, bool);
+  vtkGetMacro(RefineStitchedSpline, bool);
+  vtkBooleanMacro(RefineStitchedSpline, bool);
+  vtkSetClampMacro(Construction, int, 0, 7);
+  vtkGetMacro(Construction, int);
+  vtkSetClampMacro(SplitPoint, int, 0, 2);
+  vtkGetMacro(SplitPoint, int);
+  vtkSetClampMacro(BoundaryMode, int, 0, 3);
+  vtkGetMacro(BoundaryMode, int);
+  ///@}
+
+  ///@{
+  /// G1 across smooth interfaces (beyond the study): faces whose normals at a boundary node, or
+  /// at a span midpoint, differ by less than G1Threshold degrees get one tangent plane there in
+  /// the stitching data (StitchDFdu/StitchDFdv, EdgeCurvePoints, StitchEdgeGradients), so that the
+  /// stitched spline's tangent planes agree at every node and span midpoint of those interfaces
+  /// (the midpoints with the constructions that read mid-edge gradients on the boundary: KaG,
+  /// MGo, MGi, gradient boundary modes). Faces stay C1 inside. Default off, 10 degrees.
+  vtkSetMacro(RestoreG1, bool);
+  vtkGetMacro(RestoreG1, bool);
+  vtkBooleanMacro(RestoreG1, bool);
+  vtkSetClampMacro(G1Threshold, double, 0.0, 90.0);
+  vtkGetMacro(G1Threshold, double);
+  ///@}
+
   /// After an update: the surface point of face `face` (block index) at its oriented
   /// parameters (s, t). Returns false when there is no such face.
   bool EvaluateSurface(int face, double s, double t, double p[3]);
@@ -98,6 +143,12 @@ protected:
   double MaxEdgeLength = 0;
   int MaxRounds = 60;
   vtkIdType MaxTrianglesPerFace = 500000;
+  bool RefineStitchedSpline = true;
+  int Construction = 7;
+  int SplitPoint = 0;
+  int BoundaryMode = 1;
+  bool RestoreG1 = false;
+  double G1Threshold = 10;
 
 private:
   vtkCADFaceSampler(const vtkCADFaceSampler&) = delete;

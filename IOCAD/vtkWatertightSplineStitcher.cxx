@@ -4,10 +4,12 @@
 #include "vtkCADFaceSampler.h"
 #include "vtkCloughTocherSplineFilter.h"
 
-#include "CrossDerivativeRules.h"
+#include "BezierTriangle.h"
 #include "CubicCloughTocher.h"
 #include "CubicMacroElement.h"
 #include "SplitPoint.h"
+
+#include <Eigen/Geometry> // cross products
 
 #include "vtkCallbackCommand.h"
 #include "vtkCellArray.h"
@@ -21,6 +23,7 @@
 #include "vtkInformation.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkObjectFactory.h"
@@ -67,7 +70,51 @@ ctk::Vec3 Cubic(const ctk::Vec3& a, const ctk::Vec3& b, const ctk::Vec3& c, cons
 struct Side
 {
   std::array<ctk::Vec3, 4> P;
+  /// Unit normals of the face's boundary micro-triangle at the G1 sample points, from the lower
+  /// node id (zero where the surface is degenerate, at poles).
+  std::array<ctk::Vec3, 9> Normal;
 };
+
+/// Unit normals of the boundary micro-triangle of macro-triangle t at its local edge l, at the
+/// edge points s = (k + 1/2) / 9, k = 0..8, from the edge's end with the lower node id.
+std::array<ctk::Vec3, 9> EdgeNormals(const ctk::MacroElementIds& ids, const std::vector<ctk::Vec3>& P,
+  int l, bool fromFirst)
+{
+  // Micro-triangle k = l + 2 spans (U_l, U_{l+1}, Z), counter-clockwise like its macro-triangle,
+  // so the normal points out of the solid (the faces' parameter planes are oriented so).
+  const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, (l + 2) % 3);
+  ctk::Vec3 Q[10];
+  for (int i = 0; i < 10; ++i)
+  {
+    Q[i] = P[net[i]];
+  }
+  std::array<ctk::Vec3, 9> normals;
+  for (int k = 0; k < 9; ++k)
+  {
+    // Interior points only: at the edge's ends the surface may be degenerate (poles, apices).
+    const double s = fromFirst ? (k + 0.5) / 9 : 1 - (k + 0.5) / 9;
+    const ctk::BezierJet jet = ctk::EvaluateBezierTriangle(3, Q, nullptr, ctk::Vec3(1 - s, s, 0), 1);
+    const ctk::Vec3 n = (jet.DT[1] - jet.DT[0]).cross(jet.DT[2] - jet.DT[0]);
+    const double len = n.norm();
+    const double scale = (jet.DT[1] - jet.DT[0]).norm() * (jet.DT[2] - jet.DT[0]).norm();
+    normals[k] = len > 1e-12 * scale ? ctk::Vec3(n / len) : ctk::Vec3::Zero();
+  }
+  return normals;
+}
+// Per face: the cubic spline points (layout order), ids, and what the merge needs.
+struct FaceSpline
+{
+  vtkSmartPointer<vtkUnstructuredGrid> Grid;
+  std::vector<ctk::Vec3> P;
+  std::vector<ctk::Id> Triangles;
+  ctk::MeshTopology Topo;
+  ctk::CubicSplineLayout Layout;
+  vtkIdTypeArray* Gid = nullptr;
+  vtkDataArray* UV = nullptr;
+  vtkDataArray* Tangent = nullptr;
+  std::vector<ctk::Vec3> Tau;
+};
+
 } // namespace
 
 vtkWatertightSplineStitcher::vtkWatertightSplineStitcher()
@@ -121,22 +168,27 @@ int vtkWatertightSplineStitcher::RequestData(
   options.Method = static_cast<ctk::Construction>(this->Construction);
   options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
-  const ctk::BoundaryMode boundary = ctk::EffectiveBoundaryMode(options);
 
+  // The sampler refines the faces for one spline; another one may exceed its tolerance.
+  vtkDataArray* refined = input->GetFieldData()->GetArray("RefinedConstruction");
+  if (refined && refined->GetTuple1(0) >= 0)
+  {
+    const int wanted[3] = { this->Construction, this->SplitPoint, this->BoundaryMode };
+    const char* names[3] = { "RefinedConstruction", "RefinedSplitPoint", "RefinedBoundaryMode" };
+    for (int k = 0; k < 3; ++k)
+    {
+      vtkDataArray* a = input->GetFieldData()->GetArray(names[k]);
+      if (a && static_cast<int>(a->GetTuple1(0)) != wanted[k])
+      {
+        vtkWarningMacro(<< "the faces were refined for another spline (" << names[k] << " "
+                        << a->GetTuple1(0) << ", here " << wanted[k]
+                        << "): the deviation may exceed the sampler's tolerance");
+        break;
+      }
+    }
+  }
   double splineTime = 0, stitchTime = 0;
   double gapBefore = 0;
-  // Per face: the cubic spline points (layout order), ids, and what the merge needs.
-  struct FaceSpline
-  {
-    vtkSmartPointer<vtkUnstructuredGrid> Grid;
-    std::vector<ctk::Vec3> P;
-    std::vector<ctk::Id> Triangles;
-    ctk::MeshTopology Topo;
-    ctk::CubicSplineLayout Layout;
-    vtkIdTypeArray* Gid = nullptr;
-    vtkDataArray* UV = nullptr;
-    std::vector<ctk::Vec3> Tau;
-  };
   std::vector<FaceSpline> splines(nF);
   for (unsigned int f = 0; f < nF; ++f)
   {
@@ -149,11 +201,17 @@ int vtkWatertightSplineStitcher::RequestData(
     }
     fs.Gid = vtkIdTypeArray::SafeDownCast(block->GetPointData()->GetArray("GlobalNodeId"));
     vtkDataArray* curve = block->GetCellData()->GetArray("EdgeCurvePoints");
-    vtkDataArray* grads = block->GetCellData()->GetArray("EdgeGradients");
+    vtkDataArray* grads = block->GetCellData()->GetArray("StitchEdgeGradients");
+    vtkDataArray* du = block->GetPointData()->GetArray("dFdu");
+    vtkDataArray* dv = block->GetPointData()->GetArray("dFdv");
     fs.UV = block->GetPointData()->GetArray("UV");
-    if (!fs.Gid || !curve || !grads || !fs.UV || curve->GetNumberOfComponents() != 18)
+    fs.Tangent = block->GetCellData()->GetArray("TangentInterface");
+    if (!fs.Gid || !curve || !grads || !fs.UV || !du || !dv ||
+      !block->GetPointData()->GetArray("StitchDFdu") || !block->GetPointData()->GetArray("StitchDFdv") ||
+      curve->GetNumberOfComponents() != 18)
     {
-      vtkErrorMacro(<< "block " << f << " lacks GlobalNodeId, UV, EdgeGradients or EdgeCurvePoints");
+      vtkErrorMacro(<< "block " << f << " lacks one of GlobalNodeId, UV, dFdu, dFdv, StitchDFdu, "
+                    << "StitchDFdv, StitchEdgeGradients, EdgeCurvePoints (vtkCADFaceSampler's arrays)");
       return 0;
     }
     auto start = Clock::now();
@@ -163,6 +221,11 @@ int vtkWatertightSplineStitcher::RequestData(
     ct->SetSplitPoint(this->SplitPoint);
     ct->SetBoundaryMode(this->BoundaryMode);
     ct->SetIterations(this->Iterations);
+    // Stitching: every face follows the shared B-rep edge cubics on its boundary.
+    ct->SetBoundaryCurvePointsArrayName("EdgeCurvePoints");
+    ct->SetDuArrayName("StitchDFdu");
+    ct->SetDvArrayName("StitchDFdv");
+    ct->SetEdgeGradientsArrayName("StitchEdgeGradients");
     // The face's own error (e.g. a degenerate parameter triangle) goes into this filter's message.
     std::string faceError;
     vtkNew<vtkCallbackCommand> onError;
@@ -182,7 +245,7 @@ int vtkWatertightSplineStitcher::RequestData(
     }
     splineTime += Seconds(start);
 
-    // Stitching: the layout of the filter's output is the kernel's (points in layout order).
+    // The filter's output points are in the kernel's layout order.
     start = Clock::now();
     const ctk::Id nV = block->GetNumberOfPoints(), nT = block->GetNumberOfCells();
     fs.Triangles.resize(3 * nT);
@@ -203,87 +266,34 @@ int vtkWatertightSplineStitcher::RequestData(
       pts->GetPoint(i, fs.P[i].data());
     }
     auto uvOf = [&](ctk::Id v) { return ctk::Vec2(fs.UV->GetComponent(v, 0), fs.UV->GetComponent(v, 1)); };
+    auto row = [](vtkDataArray* a, ctk::Id v) { return ctk::Vec3(a->GetComponent(v, 0), a->GetComponent(v, 1), a->GetComponent(v, 2)); };
     fs.Tau.resize(nT);
     for (ctk::Id t = 0; t < nT; ++t)
     {
       const ctk::Id* tri = fs.Triangles.data() + 3 * t;
       fs.Tau[t] = ctk::SplitPointBarycentric(options.SplitPoint, uvOf(tri[0]), uvOf(tri[1]),
         uvOf(tri[2]), fs.P[tri[0]], fs.P[tri[1]], fs.P[tri[2]]);
-    }
-    for (ctk::Id t = 0; t < nT; ++t)
-    {
-      const ctk::MacroElementIds ids =
-        ctk::GetMacroElementIds(fs.Layout, fs.Topo, fs.Triangles.data(), t);
+      // How far each face's own boundary cubic (eq. 11 from its vertex derivatives) was from
+      // the shared edge cubic it now follows.
       double c[18];
       curve->GetTuple(t, c);
-      bool moved = false;
       for (int l = 0; l < 3; ++l)
       {
         if (std::isnan(c[6 * l]) || fs.Topo.Neighbor(t, l) >= 0)
         {
           continue;
         }
-        const int i = l, j = (l + 1) % 3;
+        const ctk::Id a = tri[l], b = tri[(l + 1) % 3];
+        const ctk::Vec3 va = fs.P[a], vb = fs.P[b];
+        const ctk::Vec3 ta = ctk::EdgeControlPoint(va, row(du, a), row(dv, a), uvOf(a), uvOf(b));
+        const ctk::Vec3 tb = ctk::EdgeControlPoint(vb, row(du, b), row(dv, b), uvOf(b), uvOf(a));
         const ctk::Vec3 near0(c[6 * l], c[6 * l + 1], c[6 * l + 2]);
         const ctk::Vec3 near1(c[6 * l + 3], c[6 * l + 4], c[6 * l + 5]);
-        const ctk::Vec3 &vi = fs.P[ids.V[i]], &vj = fs.P[ids.V[j]];
         for (const double s : { 0.25, 0.5, 0.75 })
         {
-          gapBefore = std::max(gapBefore,
-            (Cubic(vi, fs.P[ids.T[i][j]], fs.P[ids.T[j][i]], vj, s) - Cubic(vi, near0, near1, vj, s)).norm());
+          gapBefore = std::max(gapBefore, (Cubic(va, ta, tb, vb, s) - Cubic(va, near0, near1, vb, s)).norm());
         }
-        fs.P[ids.T[i][j]] = near0;
-        fs.P[ids.T[j][i]] = near1;
-        moved = true;
       }
-      if (!moved)
-      {
-        continue;
-      }
-      // Step 1's inner ring from the moved T points, the boundary centres by the construction's
-      // boundary rule, then Step 3: C1 inside the macro-patch again.
-      ctk::ComputeInnerRing1(ids, fs.Tau[t], fs.P.data());
-      const ctk::Id* tri = fs.Triangles.data() + 3 * t;
-      const ctk::Vec2 U[3] = { uvOf(tri[0]), uvOf(tri[1]), uvOf(tri[2]) };
-      const ctk::Vec2 Z = fs.Tau[t][0] * U[0] + fs.Tau[t][1] * U[1] + fs.Tau[t][2] * U[2];
-      double g[18];
-      grads->GetTuple(t, g);
-      for (int l = 0; l < 3; ++l)
-      {
-        if (fs.Topo.Neighbor(t, l) >= 0)
-        {
-          continue;
-        }
-        const int i = l, j = (l + 1) % 3;
-        const ctk::EdgeRows rows{ fs.P[ids.V[i]], fs.P[ids.T[i][j]], fs.P[ids.T[j][i]],
-          fs.P[ids.V[j]], fs.P[ids.I1[i]], fs.P[ids.I1[j]] };
-        const ctk::Vec3 gu(g[6 * l], g[6 * l + 1], g[6 * l + 2]);
-        const ctk::Vec3 gv(g[6 * l + 3], g[6 * l + 4], g[6 * l + 5]);
-        ctk::Vec3 C;
-        if (options.Method == ctk::Construction::CTo || (options.Method != ctk::Construction::MGo &&
-            boundary == ctk::BoundaryMode::Perpendicular))
-        {
-          C = ctk::LinearCrossDerivativeCentre(rows, ctk::PerpendicularLambda(U[i], U[j], Z));
-        }
-        else if (options.Method == ctk::Construction::MGo || boundary == ctk::BoundaryMode::GradientPerpendicular)
-        {
-          C = ctk::MidEdgeGradientCentre(rows, U[i], U[j], Z, gu, gv, ctk::EdgePerpendicular(U[i], U[j]));
-        }
-        else if (boundary == ctk::BoundaryMode::Midpoint)
-        {
-          C = ctk::LinearCrossDerivativeCentre(rows, 0.5);
-        }
-        else
-        {
-          C = ctk::MidEdgeGradientCentre(rows, U[i], U[j], Z, gu, gv, 0.5 * (U[i] + U[j]) - Z);
-        }
-        fs.P[ids.C[(l + 2) % 3]] = C;
-      }
-      ctk::ComputeInnerRing2AndSplitPoint(ids, fs.Tau[t], fs.P.data());
-    }
-    for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
-    {
-      pts->SetPoint(i, fs.P[i].data());
     }
     stitchTime += Seconds(start);
     faces->SetBlock(f, fs.Grid);
@@ -294,7 +304,7 @@ int vtkWatertightSplineStitcher::RequestData(
   }
 
   // Merge: V points by GlobalNodeId, boundary T points by (near node, far node), the rest apart.
-  auto start = Clock::now();
+  Clock::time_point start = Clock::now();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   std::unordered_map<vtkIdType, vtkIdType> nodePoint;
@@ -302,6 +312,13 @@ int vtkWatertightSplineStitcher::RequestData(
   std::map<std::pair<vtkIdType, vtkIdType>, int> macroEdgeUse;
   std::map<std::pair<vtkIdType, vtkIdType>, Side> firstSide;
   double maxC0Gap = 0;
+  // G1 angles over interface macro-edges: [0] feature edges, [1] tangent interfaces (the CAD
+  // faces meet tangentially there: the sampler's TangentInterface).
+  struct AngleSummary
+  {
+    double Max = 0, Sum = 0;
+    vtkIdType Count = 0;
+  } G1[2];
   vtkNew<vtkCellArray> cells;
   vtkNew<vtkIdTypeArray> faceIds, macroIds;
   faceIds->SetName("FaceId");
@@ -347,10 +364,16 @@ int vtkWatertightSplineStitcher::RequestData(
         }
         map[id] = it.first->second;
       }
-      // The C0 gap, from this face's own control points against the first side seen.
+      // The C0 gap and the G1 angle, from this face's own control points against the first
+      // side seen.
       const bool forward = gid(a) <= gid(b);
+      const ctk::Id t = fs.Topo.EdgeTriangles[e][0];
+      const int l = fs.Topo.EdgeLocalIndex[e][0];
+      const ctk::MacroElementIds ids = ctk::GetMacroElementIds(fs.Layout, fs.Topo, fs.Triangles.data(), t);
+      const bool fromFirst = gid(fs.Triangles[3 * t + l]) <= gid(fs.Triangles[3 * t + (l + 1) % 3]);
       const Side side{ { forward ? fs.P[a] : fs.P[b], forward ? fs.P[ta] : fs.P[tb],
-        forward ? fs.P[tb] : fs.P[ta], forward ? fs.P[b] : fs.P[a] } };
+                         forward ? fs.P[tb] : fs.P[ta], forward ? fs.P[b] : fs.P[a] },
+        EdgeNormals(ids, fs.P, l, fromFirst) };
       auto first = firstSide.emplace(key, side);
       if (!first.second)
       {
@@ -360,6 +383,20 @@ int vtkWatertightSplineStitcher::RequestData(
           maxC0Gap = std::max(maxC0Gap,
             (Cubic(o.P[0], o.P[1], o.P[2], o.P[3], s) - Cubic(side.P[0], side.P[1], side.P[2], side.P[3], s)).norm());
         }
+        double angle = 0;
+        for (int k = 0; k < 9; ++k)
+        {
+          if (o.Normal[k].squaredNorm() > 0 && side.Normal[k].squaredNorm() > 0)
+          {
+            angle = std::max(angle,
+              std::atan2(o.Normal[k].cross(side.Normal[k]).norm(), o.Normal[k].dot(side.Normal[k])));
+          }
+        }
+        angle *= 180 / vtkMath::Pi();
+        const bool tangent = fs.Tangent && fs.Tangent->GetComponent(t, l) > 0;
+        G1[tangent].Max = std::max(G1[tangent].Max, angle);
+        G1[tangent].Sum += angle;
+        ++G1[tangent].Count;
       }
     }
     for (std::size_t i = 0; i < map.size(); ++i)
@@ -408,15 +445,13 @@ int vtkWatertightSplineStitcher::RequestData(
   AddField(fd, "MaxC0Gap", maxC0Gap);
   AddField(fd, "MaxGapBeforeStitching", gapBefore);
   AddField(fd, "NumberOfMacroTriangles", static_cast<double>(macroTriangles));
-  vtkNew<vtkDoubleArray> times;
-  times->SetName("StageTimes");
-  for (const double v : { splineTime, stitchTime, mergeTime })
-  {
-    times->InsertNextValue(v);
-  }
-  fd->AddArray(times);
+  AddField(fd, "MaxG1Angle", std::max(G1[0].Max, G1[1].Max));
+  AddField(fd, "NumberOfTangentInterfaceEdges", static_cast<double>(G1[1].Count));
+  AddField(fd, "MaxG1AngleTangent", G1[1].Max);
+  AddField(fd, "MeanG1AngleTangent", G1[1].Count ? G1[1].Sum / G1[1].Count : 0.0);
 
   // Deviation from the CAD surfaces at centroids, edge midpoints and pseudo-random points.
+  start = Clock::now();
   if (this->SurfaceSource && this->SurfaceSource->GetDiagonal() > 0)
   {
     double maxDev = 0, sum = 0;
@@ -494,6 +529,13 @@ int vtkWatertightSplineStitcher::RequestData(
     AddField(fd, "MaxDeviation", maxDev / diag);
     AddField(fd, "RMSDeviation", count ? std::sqrt(sum / count) / diag : 0.0);
   }
+  vtkNew<vtkDoubleArray> times;
+  times->SetName("StageTimes");
+  for (const double v : { splineTime, stitchTime, mergeTime, Seconds(start) })
+  {
+    times->InsertNextValue(v);
+  }
+  fd->AddArray(times);
   return 1;
 }
 

@@ -4,25 +4,34 @@
  * @brief   Converts every face of a vtkCADFaceSampler output into a cubic Clough-Tocher spline
  *          and stitches the faces with C0 continuity.
  *
- * Study section 4: each face is converted on its own (vtkCloughTocherSplineFilter), then the
- * boundary control points of every boundary macro-edge are moved to the control points of the
- * B-rep edge's cubic Hermite span (the sampler's `EdgeCurvePoints`): vertices V are the shared
- * edge samples already, T points become the Hermite inner points, and Step 1's inner ring,
- * the boundary micro-triangle centres (the construction's boundary rule) and Step 3 are redone,
- * so each macro-patch stays C1 inside. Both sides of an interface then carry the same doubles:
- * C0 without gaps, C1 lost (near G1) at the interface only.
+ * Study section 4: each face is converted on its own by vtkCloughTocherSplineFilter with its
+ * boundary macro-edges following the B-rep edges' cubic Hermite spans (the sampler's
+ * `EdgeCurvePoints`, through the filter's BoundaryCurvePointsArrayName): vertices V are the shared
+ * edge samples, boundary T points the Hermite inner points, and Step 1's inner ring, the boundary
+ * rule and Step 3 follow them, so each macro-patch stays C1 inside. Both sides of an interface
+ * then carry the same doubles: C0 without gaps. C1 is lost across the interface (G1 where the
+ * sampler's RestoreG1 gave tangent interfaces one tangent plane) and, by the mismatch between the
+ * edge cubic and the face's own derivatives at a boundary vertex (O(h^2) where the pcurves are
+ * curved), across the interior macro-edges at boundary vertices.
  *
- * Input: the vtkMultiBlockDataSet of vtkCADFaceSampler (per face: UV, dFdu, dFdv, GlobalNodeId,
- * EdgeGradients, EdgeCurvePoints).
- * Output port 0: vtkMultiBlockDataSet of per-face splines (as vtkCloughTocherSplineFilter's output,
- * control points moved). Output port 1: one vtkUnstructuredGrid of all faces where interface
- * control points are single points (merged by GlobalNodeId and edge identity, never by
- * coordinates); cell data `FaceId`, `MacroTriangleId`, `MicroTriangleId`; field data
- * `NumberOfFreeEdges`, `NumberOfNonManifoldEdges` (macro-edges used by one face side / more than
- * two), `MaxC0Gap` (largest distance between the two sides' boundary cubics, evaluated on the
- * per-face outputs), `MaxGapBeforeStitching`, `NumberOfMacroTriangles`, `StageTimes`
- * (splines, stitching, merging in seconds) and, with a SurfaceSource, `MaxDeviation` and
- * `RMSDeviation` (relative to the diagonal) of the stitched splines from the CAD surfaces.
+ * Input: the vtkMultiBlockDataSet of vtkCADFaceSampler (per face: UV, dFdu, dFdv, StitchDFdu,
+ * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, TangentInterface). The spline
+ * reads the Stitch* arrays; the faces should have been refined for this Construction, SplitPoint
+ * and BoundaryMode (the sampler's; a warning says when not).
+ * Output port 0: vtkMultiBlockDataSet of per-face splines (vtkCloughTocherSplineFilter's output).
+ * Output port 1: one vtkUnstructuredGrid of all faces where interface control points are single
+ * points (merged by GlobalNodeId and edge identity, never by coordinates); cell data `FaceId`,
+ * `MacroTriangleId`, `MicroTriangleId`; field data `NumberOfFreeEdges`,
+ * `NumberOfNonManifoldEdges` (macro-edges used by one face side / more than two), `MaxC0Gap`
+ * (largest distance between the two sides' boundary cubics, evaluated on the per-face outputs),
+ * `MaxGapBeforeStitching` (largest distance between a face's own boundary cubic, from its exact
+ * derivatives, and the shared edge cubic), `NumberOfMacroTriangles`, `MaxG1Angle` (degrees, the
+ * largest angle between the two sides' normals at nine interior points of every interface
+ * macro-edge),
+ * `NumberOfTangentInterfaceEdges`, `MaxG1AngleTangent`, `MeanG1AngleTangent` (the same over the
+ * interfaces where the CAD faces meet tangentially), `StageTimes` (splines, stitch data, merge,
+ * deviation in seconds) and, with a SurfaceSource, `MaxDeviation` and `RMSDeviation` (relative to
+ * the diagonal) of the stitched splines from the CAD surfaces, each face's own in its block.
  */
 #ifndef vtkWatertightSplineStitcher_h
 #define vtkWatertightSplineStitcher_h

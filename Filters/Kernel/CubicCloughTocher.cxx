@@ -250,6 +250,22 @@ void Builder::SplitPointsAndStep1()
         P[id] = EdgeControlPoint(Row3(d.F, a), Row3(d.Fu, a), Row3(d.Fv, a), UVOf(d, a), UVOf(d, b));
         D[id] = (2.0 * UVOf(d, a) + UVOf(d, b)) / 3.0;
       }
+      const Id t = this->Topo.EdgeTriangles[e][0];
+      if (d.BoundaryCurvePoints && this->Topo.EdgeTriangles[e][1] < 0 && t >= 0)
+      {
+        const int l = this->Topo.EdgeLocalIndex[e][0];
+        const double* c = d.BoundaryCurvePoints + 18 * t + 6 * l;
+        if (!std::isnan(c[0]))
+        {
+          // c[0..2] is near the edge's first point in the triangle, p_l.
+          const Id first = d.Triangles[3 * t + l];
+          for (int s = 0; s < 2; ++s)
+          {
+            const Id a = this->Topo.Edges[e][s];
+            P[layout.EdgePoint(this->Topo, e, a)] = Row3(c, a == first ? 0 : 1);
+          }
+        }
+      }
       if (d.EdgeGradients)
       {
         Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();

@@ -61,6 +61,14 @@ struct SplineData
   /// SplineOptions::SplitPoint (the Bézier extraction probes data with the split points of the
   /// real data, since Inc3 depends on positions).
   const Vec3* SplitTau = nullptr;
+  /// Optional #T by 18: prescribed inner control points of boundary macro-edges (a curve the
+  /// spline must follow, e.g. the shared B-rep edge cubic of watertight stitching, study
+  /// section 4). For local edge l of triangle t: the point near p_l, then the one near
+  /// p_{l+1}. NaN (all six values) leaves the edge to eq. (11); interior edges are ignored.
+  /// Step 1's inner ring, the boundary rule and Step 3 then follow the prescribed curve, so
+  /// every macro-patch stays C1 inside; C1 across interior macro-edges at a boundary vertex
+  /// needs the points to agree with the vertex derivatives (eq. 11).
+  const double* BoundaryCurvePoints = nullptr;
 };
 
 struct SplineOptions

@@ -5,8 +5,11 @@
 #include "vtkCADFaceSampler.h"
 #include "vtkWatertightSplineStitcher.h"
 
+#include "vtkCallbackCommand.h"
 #include "vtkCellData.h"
+#include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkMultiBlockDataSet.h"
@@ -18,6 +21,10 @@
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <IGESControl_Controller.hxx>
+#include <IGESControl_Writer.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -35,6 +42,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 
 namespace
@@ -46,6 +54,30 @@ std::string TempStep(const std::string& name, const TopoDS_Shape& shape)
   writer.Transfer(shape, STEPControl_AsIs);
   EXPECT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);
   return path;
+}
+
+std::string TempIges(const std::string& name, const TopoDS_Shape& shape)
+{
+  const std::string path = ::testing::TempDir() + "/ctsplines_" + name + ".igs";
+  IGESControl_Controller::Init();
+  IGESControl_Writer writer("MM", 1); // faces as B-rep (trimmed surfaces)
+  writer.AddShape(shape);
+  writer.ComputeModel();
+  EXPECT_TRUE(writer.Write(path.c_str()));
+  return path;
+}
+
+/// Two planar quadrilaterals sewn along a shared edge with a dihedral kink of `degrees`: an
+/// interface that is tangent only within a CAD system's angular tolerance.
+TopoDS_Shape KinkedPlanes(double degrees)
+{
+  const double z = std::tan(degrees * M_PI / 180.0);
+  const gp_Pnt a(0, 0, 0), b(1, 0, 0), c(1, 1, 0), d(0, 1, 0), e(2, 0, z), f(2, 1, z);
+  BRepBuilderAPI_Sewing sewing(1e-7);
+  sewing.Add(BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakePolygon(a, b, c, d, true).Wire()).Shape());
+  sewing.Add(BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakePolygon(b, e, f, c, true).Wire()).Shape());
+  sewing.Perform();
+  return sewing.SewedShape();
 }
 
 TopoDS_Shape Sphere()
@@ -103,11 +135,13 @@ struct Conversion
   vtkUnstructuredGrid* Merged = nullptr;
   double Seconds = 0;
 
-  void Run(const std::string& file, double tolerance, int construction = 7)
+  void Run(const std::string& file, double tolerance, int construction = 7, bool restoreG1 = false)
   {
     const auto start = std::chrono::steady_clock::now();
     this->Sampler->SetFileName(file.c_str());
     this->Sampler->SetTolerance(tolerance);
+    this->Sampler->SetConstruction(construction);
+    this->Sampler->SetRestoreG1(restoreG1);
     this->Stitcher->SetInputConnection(this->Sampler->GetOutputPort());
     this->Stitcher->SetConstruction(construction);
     this->Stitcher->SetSurfaceSource(this->Sampler);
@@ -285,10 +319,11 @@ TEST(CADConversion, SphereIsClosedAndWatertight)
   EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4);
 }
 
-TEST(CADConversion, CylinderWithHole)
+/// The cylinder with a hole read from `file` (STEP or IGES): closed, watertight, within 1e-4.
+void CheckCylinderWithHole(const std::string& file, const char* what)
 {
   Conversion c;
-  c.Run(TempStep("cylinder_hole", CylinderWithHole()), 1e-4);
+  c.Run(file, 1e-4);
   EXPECT_GE(c.Faces->GetNumberOfBlocks(), 4u);
   EXPECT_GT(CheckSharedNodes(c), 0);
   CheckDerivatives(c);
@@ -298,12 +333,17 @@ TEST(CADConversion, CylinderWithHole)
   EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
   EXPECT_GT(Field(fd, "MaxGapBeforeStitching"), 0.0) << "stitching moved something";
-  std::printf("cylinder with hole: %u faces, %lld macro-triangles, max deviation %.3g, RMS %.3g, "
-              "gap before stitching %.3g, %.3f s\n",
-    c.Faces->GetNumberOfBlocks(), static_cast<long long>(Field(fd, "NumberOfMacroTriangles")),
+  std::printf("cylinder with hole (%s): %u faces, %lld macro-triangles, max deviation %.3g, RMS "
+              "%.3g, gap before stitching %.3g, %.3f s\n",
+    what, c.Faces->GetNumberOfBlocks(), static_cast<long long>(Field(fd, "NumberOfMacroTriangles")),
     Field(fd, "MaxDeviation"), Field(fd, "RMSDeviation"), Field(fd, "MaxGapBeforeStitching"),
     c.Seconds);
-  EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}
+
+TEST(CADConversion, CylinderWithHole)
+{
+  CheckCylinderWithHole(TempStep("cylinder_hole", CylinderWithHole()), "STEP");
 }
 
 TEST(CADConversion, TrimmedBSplinePatch)
@@ -324,22 +364,41 @@ TEST(CADConversion, TrimmedBSplinePatch)
   EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4);
 }
 
+/// Collects the messages of one event type (errors, warnings) of an object.
+struct MessageCapture
+{
+  std::string Text;
+  vtkNew<vtkCallbackCommand> Command;
+  MessageCapture(vtkObject* object, unsigned long event)
+  {
+    this->Command->SetClientData(&this->Text);
+    this->Command->SetCallback([](vtkObject*, unsigned long, void* clientData, void* message) {
+      *static_cast<std::string*>(clientData) += static_cast<const char*>(message);
+    });
+    object->AddObserver(event, this->Command);
+  }
+};
+
 TEST(CADConversion, UnknownExtensionIsAnError)
 {
   vtkNew<vtkCADFaceSampler> sampler;
   sampler->SetFileName("/nonexistent/model.obj");
-  sampler->GlobalWarningDisplayOff();
+  MessageCapture errors(sampler, vtkCommand::ErrorEvent);
+  MessageCapture pipeline(sampler->GetExecutive(), vtkCommand::ErrorEvent);
   sampler->Update();
   EXPECT_EQ(sampler->GetOutput()->GetNumberOfBlocks(), 0u);
+  EXPECT_NE(errors.Text.find("unknown CAD file extension"), std::string::npos) << errors.Text;
 }
 
-TEST(CADConversion, Component8)
+/// A real model of gmsh-doc (fetched by the CAD.FetchModels fixture) converted at 1e-4: closed,
+/// watertight, every face within the tolerance; prints the study's figures.
+void CheckRealModel(const std::string& name)
 {
   const char* dir = std::getenv("CTSPLINES_CAD_MODELS");
-  const std::string file = std::string(dir ? dir : "") + "/component8.step";
+  const std::string file = std::string(dir ? dir : "") + "/" + name;
   if (!dir || !std::ifstream(file).good())
   {
-    GTEST_SKIP() << "component8.step not fetched (gmsh-doc unavailable)";
+    GTEST_SKIP() << name << " not fetched (gmsh-doc unavailable)";
   }
   const double tolerance = 1e-4;
   Conversion c;
@@ -353,35 +412,104 @@ TEST(CADConversion, Component8)
   {
     triangles += c.Face(f)->GetNumberOfCells();
   }
-  std::printf("component8.step at tolerance %g of the diagonal (%.4g):\n", tolerance, Field(sf, "Diagonal"));
+  std::printf("%s at tolerance %g of the diagonal (%.4g):\n", name.c_str(), tolerance, Field(sf, "Diagonal"));
   std::printf("  faces %u, B-rep edges %g, vertices %g, triangles %lld, Bezier patches %lld\n",
     c.Faces->GetNumberOfBlocks(), Field(sf, "NumberOfBRepEdges"), Field(sf, "NumberOfBRepVertices"),
     static_cast<long long>(triangles), static_cast<long long>(c.Merged->GetNumberOfCells()));
   std::printf("  free edges %g, non-manifold edges %g, max C0 gap %g, gap before stitching %.3g\n",
     Field(fd, "NumberOfFreeEdges"), Field(fd, "NumberOfNonManifoldEdges"), Field(fd, "MaxC0Gap"),
     Field(fd, "MaxGapBeforeStitching"));
-  std::printf("  measured model gaps: vertex %.3g, edge-surface %.3g\n", Field(sf, "MaxVertexGap"),
+  std::printf("  measured model gaps (absolute): vertex moves %.3g, between faces along edges %.3g\n", Field(sf, "MaxVertexGap"),
     Field(sf, "MaxEdgeGap"));
   std::printf("  deviation (relative): max %.3g, RMS %.3g\n", Field(fd, "MaxDeviation"), Field(fd, "RMSDeviation"));
-  std::printf("  times: read %.3f, edges %.3f, loops %.3f, faces %.3f, splines %.3f, stitch %.3f, "
-              "merge %.3f, total %.3f s\n",
+  std::printf("  times: read %.3f, edges %.3f, loops %.3f, tangent planes %.3f, faces %.3f, splines "
+              "%.3f, stitch %.3f, merge %.3f, deviation %.3f, total %.3f s\n",
     Field(sf, "StageTimes", 0), Field(sf, "StageTimes", 1), Field(sf, "StageTimes", 2),
-    Field(sf, "StageTimes", 3), Field(fd, "StageTimes", 0), Field(fd, "StageTimes", 1),
-    Field(fd, "StageTimes", 2), c.Seconds);
+    Field(sf, "StageTimes", 3), Field(sf, "StageTimes", 4), Field(fd, "StageTimes", 0),
+    Field(fd, "StageTimes", 1), Field(fd, "StageTimes", 2), Field(fd, "StageTimes", 3), c.Seconds);
+  std::printf("  G1 angle: max %.3g degrees over all interfaces, %.3g over the %g tangent ones\n",
+    Field(fd, "MaxG1Angle"), Field(fd, "MaxG1AngleTangent"), Field(fd, "NumberOfTangentInterfaceEdges"));
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
   EXPECT_LE(Field(fd, "RMSDeviation"), tolerance);
-  // The deviation is measured parameter-wise against the face's surface, whose distance to
-  // the model's own edge curves (the gap the stitched boundary follows) reaches 1e-4 of the
-  // diagonal on some faces of this model. The refinement estimate (CTo at centroids, micro-
-  // triangle centres, edge midpoints) is not an upper bound for the stitched KaG spline at
-  // random points (study section 4): allow 50 % over the tolerance.
+  // The deviation, parameter-wise from each face's own surface, is within the tolerance on every
+  // face: the edges follow the mean of the adjacent surfaces (the model's faces miss each other by
+  // up to MaxEdgeGap) and the faces are refined for the stitched KaG spline itself.
+  EXPECT_LE(Field(fd, "MaxDeviation"), tolerance);
   for (unsigned int f = 0; f < c.Faces->GetNumberOfBlocks(); ++f)
   {
     const double dev = Field(c.Splines->GetBlock(f)->GetFieldData(), "MaxDeviation");
     const double gap = Field(c.Face(f)->GetFieldData(), "MaxGap") / Field(sf, "Diagonal");
-    std::printf("  face %2u: %5lld triangles, max deviation %.3g, measured edge gap %.3g (relative)\n", f,
+    std::printf("  face %2u: %5lld triangles, max deviation %.3g, distance of the surface from the "
+                "shared boundary nodes %.3g (relative)\n", f,
       static_cast<long long>(c.Face(f)->GetNumberOfCells()), dev, gap);
-    EXPECT_LE(dev, 1.5 * tolerance + gap) << "face " << f;
+    EXPECT_LE(dev, tolerance) << "face " << f;
   }
+}
+
+TEST(CADConversion, Component8)
+{
+  CheckRealModel("component8.step");
+}
+
+TEST(CADConversion, AS1TU203)
+{
+  CheckRealModel("as1-tu-203.stp");
+}
+
+TEST(CADConversion, IGESModel)
+{
+  CheckCylinderWithHole(TempIges("cylinder_hole", CylinderWithHole()), "IGES");
+}
+
+/// The planes meet at 0.05 degrees: tangent within the threshold. Without RestoreG1 the stitched
+/// spline keeps the kink; with it the faces share one tangent plane at every node and span
+/// midpoint, and since each side's cross-boundary derivatives then lie in that one plane along
+/// the whole straight edge, the interface is G1 to round-off, within the tolerance.
+TEST(CADConversion, RestoreG1AtAlmostTangentInterface)
+{
+  const std::string file = TempStep("kinked_planes", KinkedPlanes(0.05));
+  double angle[2];
+  for (const bool restore : { false, true })
+  {
+    Conversion c;
+    c.Run(file, 1e-4, 7, restore);
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    EXPECT_EQ(c.Faces->GetNumberOfBlocks(), 2u);
+    EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
+    EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4) << "RestoreG1 " << restore;
+    EXPECT_GT(CheckInterfacesBitIdentical(c), 0);
+    angle[restore] = Field(fd, "MaxG1AngleTangent");
+    std::printf("kinked planes, RestoreG1 %d: G1 angle max %.3g, mean %.3g degrees; %g macro-triangles, "
+                "deviation %.3g\n", restore, angle[restore], Field(fd, "MeanG1AngleTangent"),
+      Field(fd, "NumberOfMacroTriangles"), Field(fd, "MaxDeviation"));
+  }
+  EXPECT_NEAR(angle[0], 0.05, 1e-6);
+  EXPECT_LT(angle[1], 1e-9);
+}
+
+TEST(CADConversion, SphereSeamIsNearlyG1)
+{
+  // The seam is an interface of the face with itself: tangent; G1 exactly at the nodes and span
+  // midpoints with RestoreG1, nearly so between them.
+  Conversion c;
+  c.Run(TempStep("sphere_g1", Sphere()), 1e-4, 7, true);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
+  EXPECT_LT(Field(fd, "MaxG1AngleTangent"), 0.01);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}
+
+TEST(CADConversion, StitcherWarnsWhenFacesWereRefinedForAnotherSpline)
+{
+  vtkNew<vtkCADFaceSampler> sampler;
+  sampler->SetFileName(TempStep("sphere_warn", Sphere()).c_str());
+  sampler->SetConstruction(0); // CTo
+  vtkNew<vtkWatertightSplineStitcher> stitcher;
+  stitcher->SetInputConnection(sampler->GetOutputPort());
+  stitcher->SetConstruction(7); // KaG
+  MessageCapture warnings(stitcher, vtkCommand::WarningEvent);
+  stitcher->Update();
+  EXPECT_NE(warnings.Text.find("refined for another spline"), std::string::npos) << warnings.Text;
 }

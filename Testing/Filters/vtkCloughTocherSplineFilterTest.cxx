@@ -5,6 +5,8 @@
 
 #include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
+#include "CubicMacroElement.h"
+#include "MeshTopology.h"
 #include "RuleA.h"
 
 #include "vtkAppendFilter.h"
@@ -79,6 +81,68 @@ ctk::Vec3 VtkEvaluate(vtkUnstructuredGrid* grid, vtkIdType c, double r, double s
   double pcoords[3] = { r, s, 0.0 }, x[3], weights[64];
   cell->EvaluateLocation(subId, pcoords, x, weights);
   return ctk::Vec3(x[0], x[1], x[2]);
+}
+
+/// Largest C0 and C1 jumps (Rule A) over the edges shared by two cells of a Bézier-triangle grid
+/// (edges found by corner ids); withinMacroTriangles keeps only edges whose cells have the same
+/// MacroTriangleId (the micro-edges). Returns the number of edges measured.
+int MaxJumpsAcrossCellEdges(vtkUnstructuredGrid* out, int degree, bool withinMacroTriangles, double worst[2])
+{
+  const int count = ctk::BezierPointCount(degree);
+  EXPECT_EQ(out->GetCellSize(0), count);
+  vtkDataArray* uv = out->GetPointData()->GetArray("UV");
+  vtkDataArray* macro = out->GetCellData()->GetArray("MacroTriangleId");
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(degree);
+  auto net = [&](vtkIdType c, ctk::Vec3* P, ctk::Vec2* A, vtkIdType* corners) {
+    vtkNew<vtkIdList> ids;
+    out->GetCellPoints(c, ids);
+    for (int a = 0; a < count; ++a)
+    {
+      double x[3];
+      out->GetPoint(ids->GetId(a), x);
+      P[order[a]] = ctk::Vec3(x[0], x[1], x[2]);
+    }
+    for (int i = 0; i < 3; ++i)
+    {
+      corners[i] = ids->GetId(i);
+      A[i] = ctk::Vec2(uv->GetComponent(corners[i], 0), uv->GetComponent(corners[i], 1));
+    }
+  };
+  std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeCells;
+  for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
+  {
+    ctk::Vec3 P[ctk::MaxBezierPoints];
+    ctk::Vec2 A[3];
+    vtkIdType corners[3];
+    net(c, P, A, corners);
+    for (int l = 0; l < 3; ++l)
+    {
+      const vtkIdType a = corners[l], b = corners[(l + 1) % 3];
+      edgeCells[{ std::min(a, b), std::max(a, b) }].push_back(c);
+    }
+  }
+  int measured = 0;
+  worst[0] = worst[1] = 0;
+  for (const auto& [edge, cells] : edgeCells)
+  {
+    EXPECT_LE(cells.size(), 2u);
+    if (cells.size() != 2 ||
+      (withinMacroTriangles && macro->GetTuple1(cells[0]) != macro->GetTuple1(cells[1])))
+    {
+      continue;
+    }
+    ++measured;
+    ctk::Vec3 PA[ctk::MaxBezierPoints], PB[ctk::MaxBezierPoints];
+    ctk::Vec2 A[3], B[3];
+    vtkIdType ca[3], cb[3];
+    net(cells[0], PA, A, ca);
+    net(cells[1], PB, B, cb);
+    double j[2];
+    ctk::RuleAJumps(degree, PA, A, PB, B, 1, j);
+    worst[0] = std::max(worst[0], j[0]);
+    worst[1] = std::max(worst[1], j[1]);
+  }
+  return measured;
 }
 } // namespace
 
@@ -188,60 +252,9 @@ TEST(vtkCloughTocherSplineFilter, OutputIsC1AcrossEveryCellEdge)
     f->SetBoundaryModeToGradientToSplitPoint();
     f->SetIterations(2);
     f->Update();
-    vtkUnstructuredGrid* out = f->GetOutput();
     const int degree = construction == vtkCloughTocherSplineFilter::Quartic ? 4 : 3;
-    const int count = ctk::BezierPointCount(degree);
-    ASSERT_EQ(out->GetCellSize(0), count);
-    vtkDataArray* uv = out->GetPointData()->GetArray("UV");
-    const std::vector<int> order = ctk::VtkBezierTriangleOrder(degree);
-    auto net = [&](vtkIdType c, ctk::Vec3* P, ctk::Vec2* A, vtkIdType* corners) {
-      vtkNew<vtkIdList> ids;
-      out->GetCellPoints(c, ids);
-      for (int a = 0; a < count; ++a)
-      {
-        double x[3];
-        out->GetPoint(ids->GetId(a), x);
-        P[order[a]] = ctk::Vec3(x[0], x[1], x[2]);
-      }
-      for (int i = 0; i < 3; ++i)
-      {
-        corners[i] = ids->GetId(i);
-        A[i] = ctk::Vec2(uv->GetComponent(corners[i], 0), uv->GetComponent(corners[i], 1));
-      }
-    };
-    std::map<std::pair<vtkIdType, vtkIdType>, std::vector<vtkIdType>> edgeCells;
-    for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
-    {
-      ctk::Vec3 P[ctk::MaxBezierPoints];
-      ctk::Vec2 A[3];
-      vtkIdType corners[3];
-      net(c, P, A, corners);
-      for (int l = 0; l < 3; ++l)
-      {
-        const vtkIdType a = corners[l], b = corners[(l + 1) % 3];
-        edgeCells[{ std::min(a, b), std::max(a, b) }].push_back(c);
-      }
-    }
-    int interior = 0;
-    double worst[2] = { 0.0, 0.0 };
-    for (const auto& [edge, cells] : edgeCells)
-    {
-      ASSERT_LE(cells.size(), 2u);
-      if (cells.size() < 2)
-      {
-        continue;
-      }
-      ++interior;
-      ctk::Vec3 PA[ctk::MaxBezierPoints], PB[ctk::MaxBezierPoints];
-      ctk::Vec2 A[3], B[3];
-      vtkIdType ca[3], cb[3];
-      net(cells[0], PA, A, ca);
-      net(cells[1], PB, B, cb);
-      double j[2];
-      ctk::RuleAJumps(degree, PA, A, PB, B, 1, j);
-      worst[0] = std::max(worst[0], j[0]);
-      worst[1] = std::max(worst[1], j[1]);
-    }
+    double worst[2];
+    const int interior = MaxJumpsAcrossCellEdges(f->GetOutput(), degree, false, worst);
     const char* name = vtkCloughTocherSplineFilter::GetConstructionName(construction);
     EXPECT_GT(interior, 40) << name;
     EXPECT_LT(worst[0], 1e-14) << name;
@@ -656,4 +669,197 @@ TEST(vtkCloughTocherSplineFilter, AcceptsUnstructuredGridsOfTriangles)
   auto pipelineCapture = ErrorCapture::Attach(g->GetExecutive());
   g->Update();
   EXPECT_NE(capture->Message.find("cell 18 is a vtkQuad"), std::string::npos) << capture->Message;
+}
+
+namespace
+{
+/// Boundary-curve array for `input`: per boundary local edge, curve(t, l) gives the six values
+/// (near p_l, near p_{l+1}); interior edges NaN.
+template <typename Curve>
+vtkSmartPointer<vtkDoubleArray> BoundaryCurves(vtkPolyData* input, const ctk::MeshTopology& topo, Curve curve)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName("Curves");
+  a->SetNumberOfComponents(18);
+  a->SetNumberOfTuples(input->GetNumberOfCells());
+  a->Fill(std::nan(""));
+  for (vtkIdType t = 0; t < input->GetNumberOfCells(); ++t)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      if (topo.Neighbor(t, l) < 0)
+      {
+        double c[6];
+        curve(t, l, c);
+        for (int i = 0; i < 6; ++i)
+        {
+          a->SetComponent(t, 6 * l + i, c[i]);
+        }
+      }
+    }
+  }
+  return a;
+}
+
+std::vector<ctk::Id> Triangles(vtkPolyData* input)
+{
+  std::vector<ctk::Id> tri;
+  for (vtkIdType t = 0; t < input->GetNumberOfCells(); ++t)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      tri.push_back(input->GetCell(t)->GetPointId(i));
+    }
+  }
+  return tri;
+}
+} // namespace
+
+TEST(vtkCloughTocherSplineFilter, BoundaryCurvePointsAreFollowed)
+{
+  vtkSmartPointer<vtkPolyData> input = MakeSampledPolyData(
+    ctk::RefinedTriangleMesh(ctk::Vec2(0, 0), ctk::Vec2(1, 0), ctk::Vec2(0.3, 0.8), 2),
+    ctk::AnalyticSurface::SineWave);
+  const std::vector<ctk::Id> tri = Triangles(input);
+  ctk::MeshTopology topo;
+  ASSERT_TRUE(ctk::BuildMeshTopology(input->GetNumberOfPoints(), input->GetNumberOfCells(), tri.data(), topo).Ok);
+  const ctk::Id nV = input->GetNumberOfPoints();
+  auto row = [&](const char* name, ctk::Id v) {
+    vtkDataArray* a = input->GetPointData()->GetArray(name);
+    return ctk::Vec3(a->GetComponent(v, 0), a->GetComponent(v, 1), a->GetComponent(v, 2));
+  };
+  auto uvOf = [&](ctk::Id v) {
+    vtkDataArray* a = input->GetPointData()->GetArray("UV");
+    return ctk::Vec2(a->GetComponent(v, 0), a->GetComponent(v, 1));
+  };
+  auto position = [&](ctk::Id v) {
+    double x[3];
+    input->GetPoint(v, x);
+    return ctk::Vec3(x[0], x[1], x[2]);
+  };
+  // Eq. (11) from the vertex data: prescribing it changes nothing, bit for bit.
+  auto eq11 = [&](vtkIdType t, int l, double* c) {
+    const ctk::Id a = tri[3 * t + l], b = tri[3 * t + (l + 1) % 3];
+    const ctk::Vec3 ta = ctk::EdgeControlPoint(position(a), row("dFdu", a), row("dFdv", a), uvOf(a), uvOf(b));
+    const ctk::Vec3 tb = ctk::EdgeControlPoint(position(b), row("dFdu", b), row("dFdv", b), uvOf(b), uvOf(a));
+    std::copy_n(ta.data(), 3, c);
+    std::copy_n(tb.data(), 3, c + 3);
+  };
+  // Another curve: eq. (11) moved off the surface by a smooth field.
+  auto moved = [&](vtkIdType t, int l, double* c) {
+    eq11(t, l, c);
+    for (int i = 0; i < 6; ++i)
+    {
+      c[i] += 0.01 * std::sin(3 * c[i % 3] + i);
+    }
+  };
+  for (int construction = vtkCloughTocherSplineFilter::CTo; construction <= vtkCloughTocherSplineFilter::KaG;
+       ++construction)
+  {
+    const char* name = vtkCloughTocherSplineFilter::GetConstructionName(construction);
+    auto run = [&](vtkDataArray* curves) {
+      vtkNew<vtkPolyData> copy;
+      copy->DeepCopy(input);
+      if (curves)
+      {
+        copy->GetCellData()->AddArray(curves);
+      }
+      vtkNew<vtkCloughTocherSplineFilter> f;
+      f->SetInputData(copy);
+      f->SetConstruction(construction);
+      f->SetBoundaryModeToGradientToSplitPoint();
+      f->SetBoundaryCurvePointsArrayName(curves ? "Curves" : "");
+      f->Update();
+      auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+      out->ShallowCopy(f->GetOutput());
+      return out;
+    };
+    vtkSmartPointer<vtkUnstructuredGrid> plain = run(nullptr);
+    vtkSmartPointer<vtkUnstructuredGrid> same = run(BoundaryCurves(input, topo, eq11));
+    vtkSmartPointer<vtkUnstructuredGrid> other = run(BoundaryCurves(input, topo, moved));
+    ASSERT_EQ(plain->GetNumberOfPoints(), same->GetNumberOfPoints()) << name;
+    ASSERT_EQ(plain->GetNumberOfPoints(), other->GetNumberOfPoints()) << name;
+    for (vtkIdType p = 0; p < plain->GetNumberOfPoints(); ++p)
+    {
+      double x[3], y[3];
+      plain->GetPoint(p, x);
+      same->GetPoint(p, y);
+      ASSERT_TRUE(std::equal(x, x + 3, y)) << name << ": point " << p;
+    }
+    // The boundary macro-edge points of the output (kernel layout) are the prescribed doubles.
+    vtkSmartPointer<vtkDoubleArray> curves = BoundaryCurves(input, topo, moved);
+    int boundaryEdges = 0;
+    for (ctk::Id e = 0; e < static_cast<ctk::Id>(topo.Edges.size()); ++e)
+    {
+      if (!topo.IsBoundaryEdge(e))
+      {
+        continue;
+      }
+      ++boundaryEdges;
+      const ctk::Id t = topo.EdgeTriangles[e][0];
+      const int l = topo.EdgeLocalIndex[e][0];
+      for (int s = 0; s < 2; ++s)
+      {
+        const ctk::Id a = topo.Edges[e][s];
+        const int offset = a == tri[3 * t + l] ? 0 : 3;
+        double x[3];
+        other->GetPoint(nV + 2 * e + s, x);
+        for (int i = 0; i < 3; ++i)
+        {
+          EXPECT_EQ(x[i], curves->GetComponent(t, 6 * l + offset + i)) << name << ": edge " << e;
+        }
+      }
+    }
+    EXPECT_GT(boundaryEdges, 8);
+    // Every macro-patch stays C1 inside (its micro-edges).
+    double worst[2];
+    EXPECT_GT(MaxJumpsAcrossCellEdges(other, 3, true, worst), 40) << name;
+    EXPECT_LT(worst[0], 1e-14) << name;
+    EXPECT_LT(worst[1], 1e-12) << name;
+  }
+}
+
+TEST(vtkCloughTocherSplineFilter, RejectsBadBoundaryCurvePoints)
+{
+  auto failure = [](vtkPolyData* input, int construction, bool extraction) {
+    vtkNew<vtkCloughTocherSplineFilter> f;
+    f->SetInputData(input);
+    f->SetConstruction(construction);
+    f->SetBoundaryCurvePointsArrayName("Curves");
+    f->SetComputeBezierExtraction(extraction);
+    auto capture = ErrorCapture::Attach(f);
+    auto pipelineCapture = ErrorCapture::Attach(f->GetExecutive());
+    f->Update();
+    EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 0);
+    return capture->Message;
+  };
+  vtkSmartPointer<vtkPolyData> input = Franke(2);
+  std::string msg = failure(input, vtkCloughTocherSplineFilter::CTi, false);
+  EXPECT_NE(msg.find("'Curves' (boundary curve points) is missing"), std::string::npos) << msg;
+
+  vtkNew<vtkDoubleArray> curves;
+  curves->SetName("Curves");
+  curves->SetNumberOfComponents(6);
+  curves->SetNumberOfTuples(input->GetNumberOfCells());
+  curves->Fill(0.0);
+  input->GetCellData()->AddArray(curves);
+  msg = failure(input, vtkCloughTocherSplineFilter::CTi, false);
+  EXPECT_NE(msg.find("has 6 components, expected 18"), std::string::npos) << msg;
+
+  curves->SetNumberOfComponents(18);
+  curves->SetNumberOfTuples(input->GetNumberOfCells());
+  curves->Fill(std::nan(""));
+  curves->SetComponent(3, 7, 0.5); // one value of local edge 1 given, five NaN
+  msg = failure(input, vtkCloughTocherSplineFilter::CTi, false);
+  EXPECT_NE(msg.find("partly NaN group (components 6 to 11) at cell 3"), std::string::npos) << msg;
+
+  curves->SetComponent(3, 7, std::numeric_limits<double>::infinity());
+  msg = failure(input, vtkCloughTocherSplineFilter::CTi, false);
+  EXPECT_NE(msg.find("non-finite value (inf) at cell 3"), std::string::npos) << msg;
+
+  curves->Fill(std::nan(""));
+  msg = failure(input, vtkCloughTocherSplineFilter::Kashyap, false);
+  EXPECT_NE(msg.find("does not take prescribed boundary curves"), std::string::npos) << msg;
+  msg = failure(input, vtkCloughTocherSplineFilter::CTi, true);
+  EXPECT_NE(msg.find("Bezier extraction"), std::string::npos) << msg;
 }

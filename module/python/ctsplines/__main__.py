@@ -233,6 +233,7 @@ def _convert_cad(args):
         "split_point": args._choices[1].index(args.split_point),
         "boundary_mode": args._choices[2].index(args.boundary_mode),
         "iterations": args.iterations,
+        "g1": args.g1,
     }
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
@@ -252,6 +253,10 @@ def _convert_cad(args):
           f"{r['gap_before']:.3e} (relative {r['gap_before'] / d:.3e})")
     print(f"deviation from the CAD surfaces (relative to the diagonal): max "
           f"{r['max_deviation']:.3e}, RMS {r['rms_deviation']:.3e}")
+    print(f"G1 angle across interfaces: max {r['g1_angle']:.3g} degrees; over the "
+          f"{r['tangent_edges']} macro-edges where the CAD faces meet tangentially max "
+          f"{r['g1_angle_tangent']:.3g}, mean {r['g1_angle_tangent_mean']:.3g}"
+          + (f" (RestoreG1, {options['g1']:g} degrees)" if options["g1"] is not None else ""))
     print("time [s]: " + ", ".join(f"{name} {t:.3f}" for name, t in r["stages"])
           + f"; total {r['total']:.3f}")
     return 0
@@ -271,7 +276,8 @@ def _convert(args):
         return _convert_cad(args)
     if args.output is None:
         args._parser.error("the output spline is required for a mesh (OUTPUT or -o)")
-    for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio)):
+    for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio),
+                          ("--g1", args.g1)):
         if value is not None:
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
@@ -538,6 +544,11 @@ def build_parser():
     cad.add_argument("--aspect-ratio", type=_non_negative_float, metavar="RATIO",
                      help="bound on the 3D aspect ratio of the sampled triangles (1 is "
                      "equilateral); 0 for none (default 0)")
+    cad.add_argument("--g1", nargs="?", type=_non_negative_float, const=10.0, default=None,
+                     metavar="DEGREES",
+                     help="give interfaces where the CAD faces meet within DEGREES of tangency "
+                     "one tangent plane at every node and span midpoint (G1 there; default 10 "
+                     "when given without a value)")
     convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
                          help="auto: use the file's derivative arrays, estimate them when "
                          "missing; file: only the file's (missing ones are an error); "

@@ -39,7 +39,8 @@ def _update(algorithm, messages):
 def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
     it. options: tolerance, aspect_ratio, construction, split_point, boundary_mode, iterations
-    (ints for the enumerations). Returns the summary as a dict."""
+    (ints for the enumerations), g1 (None, or the RestoreG1 threshold in degrees). Returns the
+    summary as a dict."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
@@ -47,6 +48,13 @@ def convert(model, output, options, messages, progress):
     progress.watch(sampler, "sample faces")
     sampler.SetTolerance(options["tolerance"])
     sampler.SetAspectRatio(options["aspect_ratio"])
+    # Refine the faces for the spline the stitcher will make.
+    sampler.SetConstruction(options["construction"])
+    sampler.SetSplitPoint(options["split_point"])
+    sampler.SetBoundaryMode(options["boundary_mode"])
+    if options.get("g1") is not None:
+        sampler.SetRestoreG1(True)
+        sampler.SetG1Threshold(options["g1"])
     start = time.perf_counter()
     ok, errors = _update(sampler, messages)
     if not ok:
@@ -77,9 +85,9 @@ def convert(model, output, options, messages, progress):
 
     n = faces.GetNumberOfBlocks()
     stages = [(name, _field(faces, "StageTimes", i))
-              for i, name in enumerate(("read", "edges", "loops", "faces"))]
+              for i, name in enumerate(("read", "edges", "loops", "tangent planes", "faces"))]
     stages += [(name, _field(merged, "StageTimes", i))
-               for i, name in enumerate(("splines", "stitch", "merge"))]
+               for i, name in enumerate(("splines", "stitch", "merge", "deviation"))]
     return {
         "splines": splines_path,
         "merged": merged_path,
@@ -97,6 +105,10 @@ def convert(model, output, options, messages, progress):
         "max_deviation": _field(merged, "MaxDeviation"),
         "rms_deviation": _field(merged, "RMSDeviation"),
         "edge_gap": _field(faces, "MaxEdgeGap"),
+        "g1_angle": _field(merged, "MaxG1Angle"),
+        "g1_angle_tangent": _field(merged, "MaxG1AngleTangent"),
+        "g1_angle_tangent_mean": _field(merged, "MeanG1AngleTangent"),
+        "tangent_edges": int(_field(merged, "NumberOfTangentInterfaceEdges")),
         "stages": stages,
         "total": total,
     }
