@@ -125,6 +125,8 @@ def main():
     p.add_argument("--aspect-ratio", type=float, default=0.0, help="3D aspect bound, 0 = none")
     p.add_argument("--construction", default="KaG", choices=CUBIC)
     p.add_argument("--output", default=os.path.join("ctsplines-output", "cad_watertight"))
+    p.add_argument("--g1", action="store_true",
+                   help="G1 at the nodes and span midpoints of tangent interfaces (RestoreG1)")
     p.add_argument("--no-figures", action="store_true")
     args = p.parse_args()
     os.makedirs(args.output, exist_ok=True)
@@ -134,6 +136,8 @@ def main():
     sampler.SetFileName(args.model)
     sampler.SetTolerance(args.tolerance)
     sampler.SetAspectRatio(args.aspect_ratio)
+    sampler.SetConstruction(CUBIC.index(args.construction))  # refined for the stitched spline
+    sampler.SetRestoreG1(args.g1)
     sampler.Update()
     faces = sampler.GetOutput()
     if faces.GetNumberOfBlocks() == 0:
@@ -160,22 +164,26 @@ def main():
 
     diag = field(faces, "Diagonal")
     triangles = sum(faces.GetBlock(f).GetNumberOfCells() for f in range(faces.GetNumberOfBlocks()))
-    stages = [("read", field(faces, "StageTimes", 0)), ("edges", field(faces, "StageTimes", 1)),
-              ("loops", field(faces, "StageTimes", 2)), ("faces", field(faces, "StageTimes", 3)),
-              ("splines", field(merged, "StageTimes", 0)), ("stitch", field(merged, "StageTimes", 1)),
-              ("merge", field(merged, "StageTimes", 2))]
+    stages = [(name, field(faces, "StageTimes", i))
+              for i, name in enumerate(("read", "edges", "loops", "tangent planes", "faces"))]
+    stages += [(name, field(merged, "StageTimes", i))
+               for i, name in enumerate(("splines", "stitch", "merge", "deviation"))]
     print(f"{os.path.basename(args.model)}: tolerance {args.tolerance:g} of the diagonal {diag:.4g}, "
           f"construction {args.construction}")
     print(f"  faces {faces.GetNumberOfBlocks()}, B-rep edges {field(faces, 'NumberOfBRepEdges'):.0f}, "
           f"vertices {field(faces, 'NumberOfBRepVertices'):.0f}, triangles {triangles}, "
           f"Bezier patches {merged.GetNumberOfCells()}, control points {merged.GetNumberOfPoints()}")
-    print(f"  measured model gaps: vertex {field(faces, 'MaxVertexGap'):.3g}, "
-          f"edge curve to surface {field(faces, 'MaxEdgeGap'):.3g}")
+    print(f"  measured model gaps (absolute): vertices moved to their surfaces' mean "
+          f"{field(faces, 'MaxVertexGap'):.3g}, between faces along edges "
+          f"{field(faces, 'MaxEdgeGap'):.3g}")
     print(f"  free edges {field(merged, 'NumberOfFreeEdges'):.0f}, non-manifold edges "
           f"{field(merged, 'NumberOfNonManifoldEdges'):.0f}, max C0 gap {field(merged, 'MaxC0Gap'):g} "
           f"(before stitching {field(merged, 'MaxGapBeforeStitching'):.3g})")
     print(f"  deviation from the surfaces (relative): max {field(merged, 'MaxDeviation'):.3g}, "
           f"RMS {field(merged, 'RMSDeviation'):.3g}")
+    print(f"  G1 angle [degrees]: max {field(merged, 'MaxG1Angle'):.3g} over all interfaces, "
+          f"{field(merged, 'MaxG1AngleTangent'):.3g} over the "
+          f"{field(merged, 'NumberOfTangentInterfaceEdges'):.0f} tangent ones")
     print("  stages [s]: " + ", ".join(f"{n} {t:.3f}" for n, t in stages) + f"; end to end {total:.3f}")
 
     write(faces, os.path.join(args.output, "faces.vtm"), True)
