@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <list>
 #include <unordered_map>
 #include <unordered_set>
@@ -133,6 +134,65 @@ double Dist(const Point3& a, const Point3& b)
     (a[2] - b[2]) * (a[2] - b[2]));
 }
 
+/// Longest edge / (2 sqrt(3) inradius), 1 for an equilateral triangle, infinite if flat.
+double AspectRatio(double la, double lb, double lc)
+{
+  const double p = 0.5 * (la + lb + lc);
+  const double area = std::sqrt(std::max(0.0, p * (p - la) * (p - lb) * (p - lc)));
+  return area > 0 ? std::max({ la, lb, lc }) * p / (2 * std::sqrt(3.0) * area)
+                  : std::numeric_limits<double>::infinity();
+}
+
+/// A refinement point p to insert: where, and how far it must stay from the vertices it would
+/// join (0: anywhere); circumcentres (Encroach) must also not encroach a boundary segment.
+struct Steiner
+{
+  Point P;
+  double MinDistance = 0;
+  bool Encroach = false;
+};
+
+/// Whether a Steiner point may go into the domain: it lies in an in-domain face (not on a vertex
+/// or a constraint), no vertex it would connect to is closer than s.MinDistance, and, for
+/// circumcentres, it encroaches no boundary segment it would connect to (is not in its diametral
+/// circle), so the new triangles on segments have an angle below 90 degrees at p. If `face` is
+/// given, it must be in p's conflict zone: p sees it without crossing a constraint.
+bool CanInsert(const CDT& cdt, const Steiner& s, CDT::Face_handle face = CDT::Face_handle())
+{
+  CDT::Locate_type lt;
+  int li;
+  const CDT::Face_handle loc = cdt.locate(s.P, lt, li);
+  if (lt == CDT::VERTEX || lt == CDT::OUTSIDE_CONVEX_HULL || lt == CDT::OUTSIDE_AFFINE_HULL ||
+    !loc->info().InDomain() || (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(loc, li))))
+  {
+    return false;
+  }
+  if (s.MinDistance <= 0 && !s.Encroach && face == CDT::Face_handle())
+  {
+    return true;
+  }
+  std::vector<CDT::Face_handle> zone;
+  std::vector<CDT::Edge> boundary;
+  cdt.get_conflicts_and_boundary(s.P, std::back_inserter(zone), std::back_inserter(boundary), loc);
+  if (face != CDT::Face_handle() && std::find(zone.begin(), zone.end(), face) == zone.end())
+  {
+    return false;
+  }
+  const double min2 = s.MinDistance * s.MinDistance;
+  for (const CDT::Edge& e : boundary)
+  {
+    const Point& a = e.first->vertex(CDT::ccw(e.second))->point();
+    const Point& b = e.first->vertex(CDT::cw(e.second))->point();
+    const double ax = a.x() - s.P.x(), ay = a.y() - s.P.y(), bx = b.x() - s.P.x(), by = b.y() - s.P.y();
+    if (ax * ax + ay * ay < min2 || bx * bx + by * by < min2 ||
+      (s.Encroach && cdt.is_constrained(e) && ax * bx + ay * by <= 0))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
 /// Boundary segments by the (unordered) pair of point indices they join.
 struct SegmentRef
 {
@@ -163,7 +223,8 @@ const LoopSegment* FaceSegment(const CDT& cdt, const CDT::Face_handle f, int l,
 /// more than the tolerance goes into `inserts`.
 bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& faces,
   const FaceMesh& mesh, const SegmentMap& segments, const SurfaceFunction& surface,
-  const FaceMeshOptions& options, std::vector<Point>& inserts, double& maxError, std::string& error)
+  const FaceMeshOptions& options, const double scale[2], std::vector<Steiner>& inserts,
+  double& maxError, std::string& error)
 {
   const ctk::Id nT = static_cast<ctk::Id>(faces.size());
   const ctk::Id nV = static_cast<ctk::Id>(mesh.UV.size());
@@ -276,7 +337,15 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
     // A margin: five points per micro-triangle see most, not all, of the error.
     if (worst > 0.8 * options.Tolerance)
     {
-      inserts.emplace_back(worstX.x(), worstX.y());
+      // Not next to a vertex (a fifth of the shortest edge in the triangulation's plane).
+      const CDT::Face_handle f = faces[t];
+      double shortest = std::numeric_limits<double>::infinity();
+      for (int i = 0; i < 3; ++i)
+      {
+        shortest = std::min(shortest,
+          std::sqrt(CGAL::squared_distance(f->vertex(i)->point(), f->vertex((i + 1) % 3)->point())));
+      }
+      inserts.push_back({ Point(scale[0] * worstX.x(), scale[1] * worstX.y()), 0.2 * shortest, false });
     }
   }
   return true;
@@ -288,6 +357,32 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
 {
   mesh = FaceMesh();
   CDT cdt;
+  // With geometric bounds (aspect, edge length) the triangulation works in a plane scaled by
+  // the mean lengths of F_s and F_t over the boundary nodes (point (ks s, kt t)), so that shapes
+  // there are close to the 3D ones (a cylinder's (angle, height) plane becomes isometric) and
+  // Delaunay refinement in it can meet a 3D bound.
+  double scale[2] = { 1, 1 };
+  if (options.AspectRatio > 0 || options.MaxEdgeLength > 0)
+  {
+    double ss = 0, st = 0;
+    long n = 0;
+    for (const FaceLoop& loop : loops)
+    {
+      for (const LoopNode& node : loop.Nodes)
+      {
+        Point3 P, Ds, Dt;
+        surface(node.UV[0], node.UV[1], P.data(), Ds.data(), Dt.data());
+        ss += Ds[0] * Ds[0] + Ds[1] * Ds[1] + Ds[2] * Ds[2];
+        st += Dt[0] * Dt[0] + Dt[1] * Dt[1] + Dt[2] * Dt[2];
+        ++n;
+      }
+    }
+    if (n > 0 && ss > 0 && st > 0 && std::isfinite(ss) && std::isfinite(st))
+    {
+      scale[0] = std::sqrt(ss / n);
+      scale[1] = std::sqrt(st / n);
+    }
+  }
   auto addPoint = [&](double s, double t, const LoopNode* node) {
     Point3 P, Ds, Dt;
     surface(s, t, P.data(), Ds.data(), Dt.data());
@@ -311,7 +406,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     for (std::size_t k = 0; k < n; ++k)
     {
       const LoopNode& node = loop.Nodes[k];
-      handles[k] = cdt.insert(Point(node.UV[0], node.UV[1]));
+      handles[k] = cdt.insert(Point(scale[0] * node.UV[0], scale[1] * node.UV[1]));
       if (handles[k]->info().Index < 0)
       {
         handles[k]->info().Index = addPoint(node.UV[0], node.UV[1], &node);
@@ -355,28 +450,26 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
           if (f->vertex(i)->info().Index < 0) // made by intersecting constraints
           {
             const Point& p = f->vertex(i)->point();
-            f->vertex(i)->info().Index = addPoint(p.x(), p.y(), nullptr);
+            f->vertex(i)->info().Index = addPoint(p.x() / scale[0], p.y() / scale[1], nullptr);
           }
         }
         faces.push_back(f);
       }
     }
   };
-  // Interior points only: a point on a constraint would split a boundary segment.
-  auto insertPoints = [&](const std::vector<Point>& inserts) {
+  // Interior points only: a point on a constraint would split a boundary segment. Guarded
+  // points are checked again against this round's earlier insertions (neighbours often share
+  // one circumcircle).
+  auto insertPoints = [&](const std::vector<Steiner>& inserts) {
     std::size_t added = 0;
-    for (const Point& p : inserts)
+    for (const Steiner& q : inserts)
     {
-      CDT::Locate_type lt;
-      int li;
-      const CDT::Face_handle loc = cdt.locate(p, lt, li);
-      if (lt == CDT::VERTEX || lt == CDT::OUTSIDE_CONVEX_HULL || lt == CDT::OUTSIDE_AFFINE_HULL ||
-        !loc->info().InDomain() || (lt == CDT::EDGE && cdt.is_constrained(CDT::Edge(loc, li))))
+      if (!CanInsert(cdt, q))
       {
         continue;
       }
-      const CDT::Vertex_handle v = cdt.insert(p, lt, loc, li);
-      v->info().Index = addPoint(p.x(), p.y(), nullptr);
+      const CDT::Vertex_handle v = cdt.insert(q.P);
+      v->info().Index = addPoint(q.P.x() / scale[0], q.P.y() / scale[1], nullptr);
       ++added;
     }
     return added;
@@ -385,7 +478,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   {
     collectFaces();
     mesh.Rounds = round;
-    std::vector<Point> inserts;
+    std::vector<Steiner> inserts;
     // New triangles: one kernel CTo/Bary spline over all of them; its S point is the value at
     // the centroid.
     std::vector<ctk::Id> tri;
@@ -484,32 +577,46 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
           }
         }
         maxError = std::max(maxError, err);
-        bool bad = err > tol;
+        if (err > tol)
+        {
+          inserts.push_back({ Point(scale[0] * worstS, scale[1] * worstT), 0, false });
+          continue;
+        }
+        // Geometric bounds: refined by the triangle's circumcentre in the triangulation's plane
+        // (Chew, Ruppert), and only where that can help: the triangle is also bad in that plane
+        // (else the 3D defect comes from the surface's metric, which refinement in the plane
+        // cannot remove), and the circumcentre is a valid interior point (boundary segments are
+        // never split, so a triangle whose circumcentre is outside the domain or encroaches a
+        // segment keeps its shape). Centroids must not be used: inserted next to a segment they
+        // give a triangle on the same segment three times flatter, round after round, until the
+        // parameter triangles are flat.
+        bool bad = false;
         const Point3 &pa = mesh.F[a], &pb = mesh.F[b], &pc = mesh.F[c];
         const double la = Dist(pb, pc), lb = Dist(pc, pa), lc = Dist(pa, pb);
-        const double longest = std::max({ la, lb, lc });
-        if (options.MaxEdgeLength > 0 && longest > options.MaxEdgeLength)
+        const Point &qa = f->vertex(0)->point(), &qb = f->vertex(1)->point(), &qc = f->vertex(2)->point();
+        const double ma = std::sqrt(CGAL::squared_distance(qb, qc)),
+                     mb = std::sqrt(CGAL::squared_distance(qc, qa)),
+                     mc = std::sqrt(CGAL::squared_distance(qa, qb));
+        if (options.MaxEdgeLength > 0 && std::max({ la, lb, lc }) > options.MaxEdgeLength)
         {
           bad = true;
         }
-        if (options.AspectRatio > 0 && std::min({ la, lb, lc }) > 0)
+        if (options.AspectRatio > 0 && AspectRatio(la, lb, lc) > options.AspectRatio &&
+          AspectRatio(ma, mb, mc) > options.AspectRatio)
         {
-          // longest edge / (2 sqrt(3) inradius), 1 for an equilateral triangle.
-          const double p = 0.5 * (la + lb + lc);
-          const double area = std::sqrt(std::max(0.0, p * (p - la) * (p - lb) * (p - lc)));
-          if (area <= 0 || longest * p / (2 * std::sqrt(3.0) * area) > options.AspectRatio)
+          bad = true;
+        }
+        if (bad && !CGAL::collinear(qa, qb, qc))
+        {
+          const Point cc = CGAL::circumcenter(qa, qb, qc);
+          const Steiner q{ cc, 0.5 * std::sqrt(CGAL::squared_distance(cc, qa)), true };
+          if (CanInsert(cdt, q, f))
           {
-            bad = true;
+            inserts.push_back(q);
+            continue;
           }
         }
-        if (bad)
-        {
-          inserts.emplace_back(err > tol ? worstS : s, err > tol ? worstT : t);
-        }
-        else
-        {
-          passed.insert(MakeKey(a, b, c));
-        }
+        passed.insert(MakeKey(a, b, c));
       }
     }
     // Interior edges: the spline along a macro-edge is the Hermite cubic of its two ends.
@@ -544,7 +651,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         maxError = std::max(maxError, err);
         if (err > tol)
         {
-          inserts.emplace_back(s, t);
+          inserts.push_back({ Point(scale[0] * s, scale[1] * t), 0, false });
         }
         else
         {
@@ -571,9 +678,9 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   for (int check = 0; options.CheckConstruction && mesh.Converged; ++check)
   {
     collectFaces();
-    std::vector<Point> inserts;
+    std::vector<Steiner> inserts;
     double maxError = 0;
-    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, inserts, maxError, mesh.Error))
+    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, scale, inserts, maxError, mesh.Error))
     {
       return false;
     }
