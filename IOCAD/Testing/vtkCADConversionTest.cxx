@@ -145,6 +145,7 @@ struct Conversion
     this->Stitcher->SetInputConnection(this->Sampler->GetOutputPort());
     this->Stitcher->SetConstruction(construction);
     this->Stitcher->SetSurfaceSource(this->Sampler);
+    this->Stitcher->SetDeviationSamples(16); // 20 points per macro-triangle
     this->Stitcher->Update();
     this->Seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     this->Faces = this->Sampler->GetOutput();
