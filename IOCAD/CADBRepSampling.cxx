@@ -13,6 +13,8 @@
 #include <Geom2d_Curve.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <ShapeBuild_ReShape.hxx>
+#include <ShapeFix_Face.hxx>
 #include <STEPControl_Reader.hxx>
 #include <StepRepr_RepresentationItem.hxx>
 #include <TCollection_HAsciiString.hxx>
@@ -69,6 +71,70 @@ Point3 Bezier3(const Point3& a, const Point3& b, const Point3& c, const Point3& 
     p[i] = w0 * a[i] + w1 * b[i] + w2 * c[i] + w3 * d[i];
   }
   return p;
+}
+
+/// A face on a closed surface bounded by closed wires but without a seam edge (e.g. a
+/// cylinder's lateral face between two circles) has pcurves that are open curves in the
+/// parameter plane: ShapeFix_Face::FixMissingSeam joins the wires by a seam edge. OCCT's readers
+/// do so in their own healing (FixShape, on by default), which can be configured away or fail:
+/// this repeats that one fix on the faces that still need it. Returns the number fixed; shape
+/// and faceMap are replaced, names follow their faces.
+int FixMissingSeams(TopoDS_Shape& shape, TopTools_IndexedMapOfShape& faceMap,
+  std::vector<std::string>& names)
+{
+  const Handle(ShapeBuild_ReShape) context = new ShapeBuild_ReShape;
+  int fixed = 0;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Face& F = TopoDS::Face(faceMap(i));
+    const BRepAdaptor_Surface S(F, Standard_False);
+    int wires = 0;
+    bool seam = false;
+    for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
+    {
+      ++wires;
+    }
+    for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More() && !seam; ex.Next())
+    {
+      seam = BRep_Tool::IsClosed(TopoDS::Edge(ex.Current()), F);
+    }
+    if (seam || wires < 2 || (!S.IsUClosed() && !S.IsVClosed()))
+    {
+      continue;
+    }
+    const Handle(ShapeFix_Face) fix = new ShapeFix_Face(F);
+    fix->SetContext(context);
+    if (fix->FixMissingSeam())
+    {
+      if (!context->IsRecorded(F))
+      {
+        context->Replace(F, fix->Face());
+      }
+      ++fixed;
+    }
+  }
+  if (fixed == 0)
+  {
+    return 0;
+  }
+  shape = context->Apply(shape);
+  TopTools_IndexedMapOfShape newMap;
+  TopExp::MapShapes(shape, TopAbs_FACE, newMap);
+  std::vector<std::string> newNames(newMap.Extent());
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    for (TopExp_Explorer fx(context->Value(faceMap(i)), TopAbs_FACE); fx.More(); fx.Next())
+    {
+      const int j = newMap.FindIndex(fx.Current());
+      if (j > 0)
+      {
+        newNames[j - 1] = names[i - 1];
+      }
+    }
+  }
+  faceMap = newMap;
+  names = newNames;
+  return fixed;
 }
 
 std::string Lower(std::string s)
@@ -185,6 +251,7 @@ bool CADModel::Read(const std::string& fileName)
     this->ErrorMessage = "no faces in " + fileName;
     return false;
   }
+  FixMissingSeams(d.Shape, d.FaceMap, namesByFace);
   TopExp::MapShapes(d.Shape, TopAbs_EDGE, d.EdgeMap);
   TopExp::MapShapes(d.Shape, TopAbs_VERTEX, d.VertexMap);
   for (int i = 0; i < d.FaceMap.Extent(); ++i)
@@ -616,6 +683,20 @@ bool CADModel::Sample(const SamplingOptions& options)
         const double gap3 = Distance(surfaceAt(end.UV), surfaceAt(begin.UV));
         const bool merge = end.GlobalNode == begin.GlobalNode &&
           (uvGap == 0 || gap3 <= std::max(2 * nxt.Tolerance, tol));
+        // Same point in 3D, half a period or more apart in the plane: the wire goes round a
+        // closed surface, and without a seam edge the face's loops are open (its domain would
+        // come out empty).
+        const BRepAdaptor_Surface& S = d.Surfaces[f];
+        const double du = std::abs(end.UV[0] - begin.UV[0]), dv = std::abs(end.UV[1] - begin.UV[1]);
+        const double uRange = S.IsUPeriodic() ? S.UPeriod() : S.LastUParameter() - S.FirstUParameter();
+        const double vRange = S.IsVPeriodic() ? S.VPeriod() : S.LastVParameter() - S.FirstVParameter();
+        if (merge && uvGap > 0 &&
+          ((S.IsUClosed() && du >= 0.5 * uRange) || (S.IsVClosed() && dv >= 0.5 * vRange)))
+        {
+          this->ErrorMessage = "face " + std::to_string(f) + " (" + face.Name +
+            "): a wire closed in 3D is open in the parameter plane (a closed surface without a seam edge)";
+          return false;
+        }
         if (merge)
         {
           // Node shared with the next run: its first node becomes the mean.

@@ -15,7 +15,9 @@
  * until the CTo/Bary spline's error at triangle centroids and edge midpoints is below the
  * tolerance (the study's criterion), then until the stitched spline (see RefineStitchedSpline)
  * is. Seams (an edge twice in one wire), pole (degenerate) edges and pcurve ends within the
- * vertex tolerance are handled.
+ * vertex tolerance are handled; a face on a closed surface bounded by closed wires but without
+ * a seam edge gets one (OpenCASCADE's ShapeFix_Face::FixMissingSeam), else it is an error
+ * naming the face.
  *
  * Output: vtkMultiBlockDataSet, one vtkPolyData block per B-rep face (block name = the STEP face
  * name or "Face i"). Points (double) are the samples: boundary nodes are the edge samples, shared

@@ -20,19 +20,32 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
+#include <BRepLib.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRep_Builder.hxx>
+#include <Geom2d_Line.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <Geom_Circle.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <Interface_Static.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <TopoDS_Wire.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Ax3.hxx>
+#include <gp_Pln.hxx>
 
 #include <gtest/gtest.h>
 
@@ -118,6 +131,42 @@ TopoDS_Shape TrimmedBSplinePatch()
   const TopoDS_Shape drill =
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(1.1, 0.9, -2), gp_Dir(0, 0, 1)), 0.35, 4.0).Shape();
   return BRepAlgoAPI_Cut(face, drill).Shape();
+}
+
+/// A closed cylinder whose lateral face has no seam edge: it is bounded by the two circles
+/// only (pcurves v = 0 and v = H, u = t in [0, 2 pi]), two open curves in its parameter plane.
+TopoDS_Shape SeamlessCylinder()
+{
+  const double R = 0.5, H = 1.5, tol = 1e-7;
+  BRep_Builder B;
+  TopoDS_Face lateral;
+  B.MakeFace(lateral, new Geom_CylindricalSurface(gp_Ax3(gp::XOY()), R), tol);
+  TopoDS_Edge circles[2];
+  TopoDS_Wire lateralWires[2], capWires[2];
+  for (int k = 0; k < 2; ++k)
+  {
+    const double z = k * H;
+    circles[k] = BRepBuilderAPI_MakeEdge(
+      new Geom_Circle(gp_Ax2(gp_Pnt(0, 0, z), gp::DZ(), gp::DX()), R), 0.0, 2 * M_PI);
+    B.UpdateEdge(circles[k], new Geom2d_Line(gp_Pnt2d(0, z), gp_Dir2d(1, 0)), lateral, tol);
+    B.Range(circles[k], lateral, 0.0, 2 * M_PI);
+    B.MakeWire(lateralWires[k]);
+    B.Add(lateralWires[k], k == 0 ? circles[k] : TopoDS::Edge(circles[k].Reversed()));
+    B.MakeWire(capWires[k]);
+    B.Add(capWires[k], k == 0 ? TopoDS::Edge(circles[k].Reversed()) : circles[k]);
+    B.Add(lateral, lateralWires[k]);
+  }
+  TopoDS_Shell shell;
+  B.MakeShell(shell);
+  B.Add(shell, lateral);
+  B.Add(shell, BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), capWires[0], Standard_True).Face());
+  B.Add(shell, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, H), gp::DZ()), capWires[1], Standard_True).Face());
+  shell.Closed(Standard_True);
+  TopoDS_Solid solid;
+  B.MakeSolid(solid);
+  B.Add(solid, shell);
+  BRepLib::OrientClosedSolid(solid);
+  return solid;
 }
 
 double Field(vtkFieldData* fd, const char* name, int i = 0)
@@ -379,6 +428,31 @@ struct MessageCapture
     object->AddObserver(event, this->Command);
   }
 };
+
+TEST(CADConversion, PeriodicFaceWithoutSeam)
+{
+  const std::string file = TempStep("seamless_cylinder", SeamlessCylinder());
+  // With OpenCASCADE's healing (FixMissingSeam) on reading, as by default, and without it (the
+  // STEP resource's ToSTEP sequence has no FixShape): CADModel::Read adds the seam itself.
+  for (const char* sequence : { "FromSTEP", "ToSTEP" })
+  {
+    Interface_Static::SetCVal("read.step.sequence", sequence);
+    Conversion c;
+    c.Run(file, 1e-4);
+    Interface_Static::SetCVal("read.step.sequence", "FromSTEP");
+    ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 3u) << sequence;
+    for (unsigned int f = 0; f < 3; ++f)
+    {
+      EXPECT_GT(c.Face(f)->GetNumberOfCells(), 0) << sequence << ": face " << f;
+    }
+    CheckSharedNodes(c);
+    EXPECT_GT(CheckInterfacesBitIdentical(c), 0) << sequence;
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << sequence;
+    EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0) << sequence;
+    EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4) << sequence;
+  }
+}
 
 TEST(CADConversion, UnknownExtensionIsAnError)
 {
