@@ -27,6 +27,7 @@
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <BRepLib.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRep_Builder.hxx>
@@ -167,6 +168,26 @@ TopoDS_Shape SeamlessCylinder()
   B.Add(solid, shell);
   BRepLib::OrientClosedSolid(solid);
   return solid;
+}
+
+/// Planes, a seamed cylinder and faces with holes (as ctsplines_write_test_model writes).
+TopoDS_Shape BoxWithHole()
+{
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(-1.0, -0.6, 0.0), 2.0, 1.2, 0.8).Shape();
+  const TopoDS_Shape drill =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.2, 0.1, -0.5), gp_Dir(0, 0, 1)), 0.35, 2.0).Shape();
+  return BRepAlgoAPI_Cut(box, drill).Shape();
+}
+
+/// Longest edge / (2 sqrt(3) inradius) of a 3D triangle.
+double AspectRatio3D(const double* a, const double* b, const double* c)
+{
+  auto dist = [](const double* p, const double* q) {
+    return std::sqrt((p[0] - q[0]) * (p[0] - q[0]) + (p[1] - q[1]) * (p[1] - q[1]) + (p[2] - q[2]) * (p[2] - q[2]));
+  };
+  const double la = dist(b, c), lb = dist(c, a), lc = dist(a, b), p = 0.5 * (la + lb + lc);
+  const double area = std::sqrt(std::max(0.0, p * (p - la) * (p - lb) * (p - lc)));
+  return area > 0 ? std::max({ la, lb, lc }) * p / (2 * std::sqrt(3.0) * area) : HUGE_VAL;
 }
 
 double Field(vtkFieldData* fd, const char* name, int i = 0)
@@ -451,6 +472,74 @@ TEST(CADConversion, PeriodicFaceWithoutSeam)
     EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << sequence;
     EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0) << sequence;
     EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4) << sequence;
+  }
+}
+
+/// The aspect bound is met by circumcentres where they can go: boundary segments are never
+/// split, so triangles on them, and a few next to them, keep larger ratios. It used to refine
+/// one face of this model to ~6e5 triangles and end in a zero-area parameter triangle.
+TEST(CADConversion, AspectRatioBound)
+{
+  const std::string file = TempStep("box_with_hole", BoxWithHole());
+  vtkIdType unbounded = 0;
+  for (const double bound : { 0.0, 4.0, 2.0 })
+  {
+    Conversion c;
+    c.Sampler->SetAspectRatio(bound);
+    c.Run(file, 1e-4);
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    ASSERT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << bound;
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4) << bound;
+    vtkIdType triangles = 0, interior = 0, over = 0;
+    double worst = 0;
+    for (unsigned int f = 0; f < c.Faces->GetNumberOfBlocks(); ++f)
+    {
+      vtkPolyData* pd = c.Face(f);
+      vtkDataArray* edges = pd->GetCellData()->GetArray("BRepEdgeId");
+      std::set<vtkIdType> onBoundary;
+      for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+      {
+        for (int l = 0; l < 3; ++l)
+        {
+          if (edges->GetComponent(t, l) != -1)
+          {
+            onBoundary.insert(pd->GetCell(t)->GetPointId(l));
+            onBoundary.insert(pd->GetCell(t)->GetPointId((l + 1) % 3));
+          }
+        }
+      }
+      for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+      {
+        vtkIdType n;
+        const vtkIdType* ids;
+        pd->GetCellPoints(t, n, ids);
+        if (onBoundary.count(ids[0]) || onBoundary.count(ids[1]) || onBoundary.count(ids[2]))
+        {
+          continue;
+        }
+        double x[3][3];
+        for (int i = 0; i < 3; ++i)
+        {
+          pd->GetPoint(ids[i], x[i]);
+        }
+        const double ratio = AspectRatio3D(x[0], x[1], x[2]);
+        worst = std::max(worst, ratio);
+        ++interior;
+        over += bound > 0 && ratio > bound;
+      }
+      triangles += pd->GetNumberOfCells();
+    }
+    std::printf("box with hole, aspect bound %g: %lld triangles, %lld away from the boundary, %lld "
+                "of them over the bound (largest ratio %.3g)\n", bound, static_cast<long long>(triangles),
+      static_cast<long long>(interior), static_cast<long long>(over), worst);
+    if (bound == 0)
+    {
+      unbounded = triangles;
+      continue;
+    }
+    EXPECT_LT(triangles, 10 * unbounded) << bound;
+    EXPECT_GT(interior, 100) << bound;
+    EXPECT_LT(over, 0.05 * interior) << bound;
   }
 }
 
