@@ -296,6 +296,7 @@ bool CADModel::Sample(const SamplingOptions& options)
 {
   Impl& d = *this->Internal;
   const double tol = options.Tolerance * this->BoxDiagonal;
+  const double maxSpan = options.MaxSpanLength * this->BoxDiagonal;
   const int nF = d.FaceMap.Extent(), nE = d.EdgeMap.Extent(), nV = d.VertexMap.Extent();
   this->FaceList.assign(nF, CADFace());
   d.Surfaces.clear();
@@ -520,7 +521,11 @@ bool CADModel::Sample(const SamplingOptions& options)
       {
         const Sample& a = samples[k];
         const Sample& b = samples[k + 1];
-        if (std::abs(b.T - a.T) > minSpan && spanError(a, b) > edgeTol &&
+        // Long spans are split too under a length bound: boundary segments are never split by
+        // the face mesher, so a face's triangles can meet that bound (and an aspect bound near
+        // the boundary) only if the edge samples do.
+        const bool tooLong = maxSpan > 0 && Distance(a.P, b.P) > maxSpan;
+        if (std::abs(b.T - a.T) > minSpan && (tooLong || spanError(a, b) > edgeTol) &&
           static_cast<int>(samples.size() + next.size()) < 2 * options.MaxSamplesPerEdge)
         {
           next.push_back(makeSample(0.5 * (a.T + b.T)));

@@ -68,6 +68,7 @@ struct CADFace
 struct SamplingOptions
 {
   double Tolerance = 1e-4; // relative to the bounding-box diagonal
+  double MaxSpanLength = 0; // bound on edge span chords, relative to the diagonal; 0 = none
   int MaxSamplesPerEdge = 4096;
   bool RestoreG1 = false;   // see InterfaceTangentPlanes.h
   double G1Threshold = 10;  // degrees

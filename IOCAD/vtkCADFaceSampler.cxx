@@ -105,6 +105,7 @@ int vtkCADFaceSampler::RequestData(
   }
   ctcad::SamplingOptions sampling;
   sampling.Tolerance = this->Tolerance;
+  sampling.MaxSpanLength = this->MaxEdgeLength;
   sampling.RestoreG1 = this->RestoreG1;
   sampling.G1Threshold = this->G1Threshold;
   if (!model->Sample(sampling))

@@ -75,15 +75,17 @@ public:
 
   ///@{
   /// Optional bound on the 3D aspect ratio of the triangles (longest edge over 2 sqrt(3)
-  /// inradius: 1 for equilateral); 0 (default) for none. Met by inserting interior points, so
-  /// triangles at boundary segments may keep a larger ratio.
+  /// inradius: 1 for equilateral); 0 (default) for none. Met by inserting circumcentres where
+  /// they can go (in a plane scaled to the surface's mean metric), so triangles at long boundary
+  /// segments may keep a larger ratio (give a MaxEdgeLength to split those).
   vtkSetClampMacro(AspectRatio, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(AspectRatio, double);
   ///@}
 
   ///@{
   /// Optional bound on the 3D length of triangle edges, relative to the bounding-box diagonal;
-  /// 0 (default) for none.
+  /// 0 (default) for none. Edge spans are split to it as well (boundary segments are never split
+  /// by the face meshing), so that with it an aspect bound is met next to the boundary too.
   vtkSetClampMacro(MaxEdgeLength, double, 0.0, 1.0);
   vtkGetMacro(MaxEdgeLength, double);
   ///@}

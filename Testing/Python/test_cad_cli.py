@@ -82,7 +82,7 @@ class CADCommandLineTest(CommandLineCase):
         shutil.copy(self.box(), stp)
         text = self.convert_and_check(stp, 1e-3, "--construction", "CTi", "--split-point", "Inc2",
                                       "--boundary-mode", "Perpendicular", "--iterations", "1",
-                                      "--aspect-ratio", "20")
+                                      "--aspect-ratio", "20", "--max-edge-length", "0.2")
         self.assertIn("CTi, Inc2, Perpendicular, 1 iterations", text)
 
     def test_g1(self):
@@ -130,7 +130,8 @@ class CADCommandLineTest(CommandLineCase):
 
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
-        for text in ("--tolerance", "--aspect-ratio", "--g1", ".step", "OUT.vtu", "-o"):
+        for text in ("--tolerance", "--aspect-ratio", "--max-edge-length", "--g1", ".step",
+                     "OUT.vtu", "-o"):
             self.assertIn(text, out)
 
 

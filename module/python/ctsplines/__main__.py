@@ -229,6 +229,7 @@ def _convert_cad(args):
     options = {
         "tolerance": 1e-4 if args.tolerance is None else args.tolerance,
         "aspect_ratio": args.aspect_ratio or 0.0,
+        "max_edge_length": args.max_edge_length or 0.0,
         "construction": args._choices[0].index(args.construction),
         "split_point": args._choices[1].index(args.split_point),
         "boundary_mode": args._choices[2].index(args.boundary_mode),
@@ -277,7 +278,7 @@ def _convert(args):
     if args.output is None:
         args._parser.error("the output spline is required for a mesh (OUTPUT or -o)")
     for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio),
-                          ("--g1", args.g1)):
+                          ("--max-edge-length", args.max_edge_length), ("--g1", args.g1)):
         if value is not None:
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
@@ -544,6 +545,10 @@ def build_parser():
     cad.add_argument("--aspect-ratio", type=_non_negative_float, metavar="RATIO",
                      help="bound on the 3D aspect ratio of the sampled triangles (1 is "
                      "equilateral); 0 for none (default 0)")
+    cad.add_argument("--max-edge-length", type=_non_negative_float, metavar="REL",
+                     help="bound on the 3D length of triangle edges and edge spans, relative to "
+                     "the diagonal (with --aspect-ratio, meets the bound next to the boundary "
+                     "too); 0 for none (default 0)")
     cad.add_argument("--g1", nargs="?", type=_non_negative_float, const=10.0, default=None,
                      metavar="DEGREES",
                      help="give interfaces where the CAD faces meet within DEGREES of tangency "

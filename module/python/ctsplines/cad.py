@@ -38,9 +38,9 @@ def _update(algorithm, messages):
 
 def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
-    it. options: tolerance, aspect_ratio, construction, split_point, boundary_mode, iterations
-    (ints for the enumerations), g1 (None, or the RestoreG1 threshold in degrees). Returns the
-    summary as a dict."""
+    it. options: tolerance, aspect_ratio, max_edge_length, construction, split_point,
+    boundary_mode, iterations (ints for the enumerations), g1 (None, or the RestoreG1 threshold
+    in degrees). Returns the summary as a dict."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
@@ -48,6 +48,7 @@ def convert(model, output, options, messages, progress):
     progress.watch(sampler, "sample faces")
     sampler.SetTolerance(options["tolerance"])
     sampler.SetAspectRatio(options["aspect_ratio"])
+    sampler.SetMaxEdgeLength(options.get("max_edge_length", 0.0))
     # Refine the faces for the spline the stitcher will make.
     sampler.SetConstruction(options["construction"])
     sampler.SetSplitPoint(options["split_point"])
