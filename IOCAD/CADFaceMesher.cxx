@@ -153,7 +153,8 @@ struct Steiner
 };
 
 /// Whether a Steiner point may go into the domain: it lies in an in-domain face (not on a vertex
-/// or a constraint), no vertex it would connect to is closer than s.MinDistance, and, for
+/// or a constraint), no vertex it would connect to, nor boundary segment on its cavity's border,
+/// is closer than s.MinDistance, and, for
 /// circumcentres, it encroaches no boundary segment it would connect to (is not in its diametral
 /// circle), so the new triangles on segments have an angle below 90 degrees at p. If `face` is
 /// given, it must be in p's conflict zone: p sees it without crossing a constraint.
@@ -189,9 +190,34 @@ bool CanInsert(const CDT& cdt, const Steiner& s, CDT::Face_handle face = CDT::Fa
     {
       return false;
     }
+    if (min2 > 0 && cdt.is_constrained(e))
+    {
+      // Nor next to a boundary segment: the triangle on it would be flat (and, round after
+      // round, of zero area).
+      const double ex = bx - ax, ey = by - ay, len2 = ex * ex + ey * ey;
+      const double w = len2 > 0 ? std::clamp(-(ax * ex + ay * ey) / len2, 0.0, 1.0) : 0.0;
+      const double dx = ax + w * ex, dy = ay + w * ey;
+      if (dx * dx + dy * dy < min2)
+      {
+        return false;
+      }
+    }
   }
   return true;
 }
+
+/// The plane the triangulation works in: (scale[0] s, scale[1] t), and the area below which a
+/// triangle is not refined further (far above the spline filter's zero-area limit).
+struct TriangulationPlane
+{
+  double Scale[2] = { 1, 1 };
+  double MinArea = 0;
+  bool Refinable(const CDT::Face_handle f) const
+  {
+    return std::abs(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point())) >
+      this->MinArea;
+  }
+};
 
 /// Boundary segments by the (unordered) pair of point indices they join.
 struct SegmentRef
@@ -223,7 +249,7 @@ const LoopSegment* FaceSegment(const CDT& cdt, const CDT::Face_handle f, int l,
 /// more than the tolerance goes into `inserts`.
 bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& faces,
   const FaceMesh& mesh, const SegmentMap& segments, const SurfaceFunction& surface,
-  const FaceMeshOptions& options, const double scale[2], std::vector<Steiner>& inserts,
+  const FaceMeshOptions& options, const TriangulationPlane& plane, std::vector<Steiner>& inserts,
   double& maxError, std::string& error)
 {
   const ctk::Id nT = static_cast<ctk::Id>(faces.size());
@@ -335,7 +361,7 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
     }
     maxError = std::max(maxError, worst);
     // A margin: five points per micro-triangle see most, not all, of the error.
-    if (worst > 0.8 * options.Tolerance)
+    if (worst > 0.8 * options.Tolerance && plane.Refinable(faces[t]))
     {
       // Not next to a vertex (a fifth of the shortest edge in the triangulation's plane).
       const CDT::Face_handle f = faces[t];
@@ -345,7 +371,8 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
         shortest = std::min(shortest,
           std::sqrt(CGAL::squared_distance(f->vertex(i)->point(), f->vertex((i + 1) % 3)->point())));
       }
-      inserts.push_back({ Point(scale[0] * worstX.x(), scale[1] * worstX.y()), 0.2 * shortest, false });
+      inserts.push_back(
+        { Point(plane.Scale[0] * worstX.x(), plane.Scale[1] * worstX.y()), 0.2 * shortest, false });
     }
   }
   return true;
@@ -361,7 +388,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   // the mean lengths of F_s and F_t over the boundary nodes (point (ks s, kt t)), so that shapes
   // there are close to the 3D ones (a cylinder's (angle, height) plane becomes isometric) and
   // Delaunay refinement in it can meet a 3D bound.
-  double scale[2] = { 1, 1 };
+  TriangulationPlane plane;
+  double* scale = plane.Scale;
   if (options.AspectRatio > 0 || options.MaxEdgeLength > 0)
   {
     double ss = 0, st = 0;
@@ -428,6 +456,16 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     mesh.Error = "empty parameter domain";
     return false;
   }
+  {
+    CGAL::Bbox_2 box;
+    for (auto v : cdt.finite_vertex_handles())
+    {
+      box += v->point().bbox();
+    }
+    const double d2 = (box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
+      (box.ymax() - box.ymin()) * (box.ymax() - box.ymin());
+    plane.MinArea = 1e-10 * d2;
+  }
 
   // Refinement. CTo is local (a macro-patch depends on its own triangle only) and an edge's
   // cubic on its two end points only, so triangles and edges that passed once stay passed.
@@ -462,8 +500,10 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   // one circumcircle).
   auto insertPoints = [&](const std::vector<Steiner>& inserts) {
     std::size_t added = 0;
-    for (const Steiner& q : inserts)
+    for (Steiner q : inserts)
     {
+      // Never next to another point (two triangles can ask for the same point up to round-off).
+      q.MinDistance = std::max(q.MinDistance, std::sqrt(plane.MinArea));
       if (!CanInsert(cdt, q))
       {
         continue;
@@ -474,6 +514,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     }
     return added;
   };
+  bool unrefinable = false; // a triangle or edge over the tolerance is too small to split
   for (int round = 0;; ++round)
   {
     collectFaces();
@@ -579,7 +620,13 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         maxError = std::max(maxError, err);
         if (err > tol)
         {
-          inserts.push_back({ Point(scale[0] * worstS, scale[1] * worstT), 0, false });
+          if (plane.Refinable(f))
+          {
+            inserts.push_back({ Point(scale[0] * worstS, scale[1] * worstT), 0, false });
+            continue;
+          }
+          unrefinable = true; // too small to refine further
+          passed.insert(MakeKey(a, b, c));
           continue;
         }
         // Geometric bounds: refined by the triangle's circumcentre in the triangulation's plane
@@ -649,12 +696,14 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         surface(s, t, P.data(), Ds.data(), Dt.data());
         const double err = Dist(mid, P);
         maxError = std::max(maxError, err);
-        if (err > tol)
+        if (err > tol && CGAL::squared_distance(f->vertex(CDT::ccw(i))->point(),
+                           f->vertex(CDT::cw(i))->point()) > plane.MinArea)
         {
           inserts.push_back({ Point(scale[0] * s, scale[1] * t), 0, false });
         }
         else
         {
+          unrefinable = unrefinable || err > tol;
           passedEdges.insert(PairKey(a, b));
         }
       }
@@ -663,7 +712,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     const bool full = static_cast<long>(faces.size()) >= options.MaxTriangles;
     if (inserts.empty() || round >= options.MaxRounds || full)
     {
-      mesh.Converged = inserts.empty();
+      mesh.Converged = inserts.empty() && !unrefinable;
       break;
     }
     if (insertPoints(inserts) == 0)
@@ -675,12 +724,12 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   // Check rounds: the estimate above is CTo's without the shared boundary curves; the spline the
   // stitcher makes (the chosen construction, following the edge cubics) is checked on the whole
   // face and refined where it is off. Non-local constructions: every triangle, every round.
-  for (int check = 0; options.CheckConstruction && mesh.Converged; ++check)
+  for (int check = 0; options.CheckConstruction; ++check)
   {
     collectFaces();
     std::vector<Steiner> inserts;
     double maxError = 0;
-    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, scale, inserts, maxError, mesh.Error))
+    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, plane, inserts, maxError, mesh.Error))
     {
       return false;
     }
@@ -688,6 +737,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     mesh.CheckRounds = check + 1;
     if (inserts.empty())
     {
+      // Within 0.8 of the tolerance where refinable; the rest too small to split.
+      mesh.Converged = maxError <= options.Tolerance;
       break;
     }
     if (check >= options.MaxRounds || static_cast<long>(faces.size()) >= options.MaxTriangles ||

@@ -190,6 +190,21 @@ double AspectRatio3D(const double* a, const double* b, const double* c)
   return area > 0 ? std::max({ la, lb, lc }) * p / (2 * std::sqrt(3.0) * area) : HUGE_VAL;
 }
 
+/// Collects the messages of one event type (errors, warnings) of an object.
+struct MessageCapture
+{
+  std::string Text;
+  vtkNew<vtkCallbackCommand> Command;
+  MessageCapture(vtkObject* object, unsigned long event)
+  {
+    this->Command->SetClientData(&this->Text);
+    this->Command->SetCallback([](vtkObject*, unsigned long, void* clientData, void* message) {
+      *static_cast<std::string*>(clientData) += static_cast<const char*>(message);
+    });
+    object->AddObserver(event, this->Command);
+  }
+};
+
 double Field(vtkFieldData* fd, const char* name, int i = 0)
 {
   vtkDataArray* a = fd->GetArray(name);
@@ -435,21 +450,6 @@ TEST(CADConversion, TrimmedBSplinePatch)
   EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4);
 }
 
-/// Collects the messages of one event type (errors, warnings) of an object.
-struct MessageCapture
-{
-  std::string Text;
-  vtkNew<vtkCallbackCommand> Command;
-  MessageCapture(vtkObject* object, unsigned long event)
-  {
-    this->Command->SetClientData(&this->Text);
-    this->Command->SetCallback([](vtkObject*, unsigned long, void* clientData, void* message) {
-      *static_cast<std::string*>(clientData) += static_cast<const char*>(message);
-    });
-    object->AddObserver(event, this->Command);
-  }
-};
-
 TEST(CADConversion, PeriodicFaceWithoutSeam)
 {
   const std::string file = TempStep("seamless_cylinder", SeamlessCylinder());
@@ -660,6 +660,18 @@ TEST(CADConversion, RestoreG1AtAlmostTangentInterface)
   }
   EXPECT_NEAR(angle[0], 0.05, 1e-6);
   EXPECT_LT(angle[1], 1e-9);
+
+  // At 1 degree the projection moves the edge cubics beyond the tolerance: a warning says so,
+  // refinement stops at triangles too small to split (never at degenerate ones) and the
+  // conversion still ends, G1.
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  c.Run(TempStep("kinked_planes_1", KinkedPlanes(1.0)), 1e-4, 7, true);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_NE(warnings.Text.find("far from tangent"), std::string::npos) << warnings.Text;
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  EXPECT_LT(Field(fd, "MaxG1AngleTangent"), 1e-9);
+  EXPECT_LT(Field(fd, "MaxDeviation"), 0.01);
 }
 
 TEST(CADConversion, SphereSeamIsNearlyG1)
