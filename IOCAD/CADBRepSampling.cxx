@@ -251,7 +251,7 @@ bool CADModel::Read(const std::string& fileName)
     this->ErrorMessage = "no faces in " + fileName;
     return false;
   }
-  FixMissingSeams(d.Shape, d.FaceMap, namesByFace);
+  this->SeamsAdded = FixMissingSeams(d.Shape, d.FaceMap, namesByFace);
   TopExp::MapShapes(d.Shape, TopAbs_EDGE, d.EdgeMap);
   TopExp::MapShapes(d.Shape, TopAbs_VERTEX, d.VertexMap);
   for (int i = 0; i < d.FaceMap.Extent(); ++i)
@@ -314,10 +314,9 @@ bool CADModel::Sample(const SamplingOptions& options)
     this->NodePoints.push_back(ToPoint(BRep_Tool::Pnt(TopoDS::Vertex(d.VertexMap(v))).XYZ()));
   }
 
-  // 1. Edges, each once: adaptive cubic Hermite samples of the 3D curve. A span is split while
-  // the Hermite cubic is off the curve, or while the surface over the pcurve chord of any
-  // adjacent face is off the cubic by more than the tolerance (beyond the gap measured there):
-  // the stitched spline's boundary is that cubic over that chord.
+  // 1. Edges, each once: adaptive cubic Hermite samples of the mean of the adjacent surfaces
+  // over their pcurves (the stitched spline's boundary is that cubic over each face's pcurve
+  // chord), split as described at spanError below.
   auto start = Clock::now();
   TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
   TopExp::MapShapesAndAncestors(d.Shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);

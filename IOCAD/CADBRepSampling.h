@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Edge-first sampling of a B-rep model (study section 4): every B-rep edge is sampled once,
-// adaptively, into a C1 cubic Hermite spline of its 3D curve; the samples are mapped into every
-// adjacent face through the face's pcurve, so that neighbouring faces share the same boundary
-// nodes. This header is free of OpenCASCADE types (and CGAL must never meet them): the shape
+// adaptively, into a C1 cubic Hermite spline of the mean of its adjacent surfaces over their
+// pcurves (the model's faces miss each other; the 3D curves can be farther off); the samples are
+// mapped into every adjacent face through the face's pcurve, so that neighbouring faces share
+// the same boundary nodes. This header is free of OpenCASCADE types (and CGAL must never meet them): the shape
 // stays behind an opaque implementation.
 #ifndef CTSplines_IOCAD_CADBRepSampling_h
 #define CTSplines_IOCAD_CADBRepSampling_h
@@ -116,11 +117,14 @@ public:
   const double* Bounds() const { return this->Box; }
   int NumberOfEdges() const;
   int NumberOfVertices() const;
-  /// Largest measured gaps: vertex point vs edge curve ends, edge curve vs surface along the
-  /// pcurve (OCCT's stored tolerances understate them).
+  /// Measured gaps: the largest move of a B-rep vertex to the mean of its surfaces, and the
+  /// largest distance between the adjacent surfaces along an edge (the model's own gaps; OCCT's
+  /// stored tolerances understate them).
   double MaxVertexGap() const { return this->VertexGap; }
   double MaxEdgeGap() const { return this->EdgeGap; }
   Id NumberOfEdgeSamples() const { return this->EdgeSamples; }
+  /// Faces on closed surfaces that were given their missing seam edge when read.
+  int NumberOfSeamsAdded() const { return this->SeamsAdded; }
   const StageTimes& Times() const { return this->Time; }
   const BoundaryChanges& Changes() const { return this->Changed; }
   const std::string& Error() const { return this->ErrorMessage; }
@@ -134,6 +138,7 @@ private:
   double Box[6] = { 0, 0, 0, 0, 0, 0 };
   double VertexGap = 0, EdgeGap = 0;
   Id EdgeSamples = 0;
+  int SeamsAdded = 0;
   StageTimes Time;
   BoundaryChanges Changed;
   std::string ErrorMessage;

@@ -352,6 +352,12 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
         Point3 S, Ds, Dt;
         surface(X.x(), X.y(), S.data(), Ds.data(), Dt.data());
         const double e = (value - ctk::Vec3(S[0], S[1], S[2])).norm();
+        if (!std::isfinite(e))
+        {
+          error = "non-finite surface or spline value at (" + std::to_string(X.x()) + ", " +
+            std::to_string(X.y()) + ") of the face's parameter plane";
+          return false;
+        }
         if (e > worst)
         {
           worst = e;
@@ -610,6 +616,12 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
           Point3 P, Ds, Dt;
           surface(ps, pt, P.data(), Ds.data(), Dt.data());
           const double e = Dist(Point3{ value.x(), value.y(), value.z() }, P);
+          if (!std::isfinite(e))
+          {
+            mesh.Error = "non-finite surface or spline value at (" + std::to_string(ps) + ", " +
+              std::to_string(pt) + ") of the face's parameter plane";
+            return false;
+          }
           if (e > err)
           {
             err = e;

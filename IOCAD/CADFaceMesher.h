@@ -48,9 +48,11 @@ struct FaceMesh
   std::vector<std::array<const LoopSegment*, 3>> Segments;
   std::vector<std::array<bool, 3>> SegmentFlipped;
   int Rounds = 0;
-  int CheckRounds = 0; // rounds that checked the stitched spline (the last found it within)
+  int CheckRounds = 0; // rounds that checked the stitched spline
   bool Converged = false;
-  double MaxEstimatedError = 0; // at centroids and interior edge midpoints, last round
+  /// Last round's largest error: of the stitched spline at its check points when checked, else
+  /// the CTo estimate at centroids, micro-triangle centres and interior edge midpoints.
+  double MaxEstimatedError = 0;
   std::string Error;
 };
 

@@ -172,11 +172,13 @@ TangentPlaneReport SetInterfaceTangentPlanes(std::vector<CADFace>& faces,
     {
       Vector3 sum = Vector3::Zero();
       int members = 0;
+      bool twoFaces = false; // not just the two copies of a seam node
       for (int a = 0; a < nv; ++a)
       {
         if (find(a) == root)
         {
           sum += vertices[vs[a]].Normal;
+          twoFaces = twoFaces || (members > 0 && vertices[vs[a]].Face != vertices[vs[root]].Face);
           ++members;
         }
       }
@@ -184,7 +186,7 @@ TangentPlaneReport SetInterfaceTangentPlanes(std::vector<CADFace>& faces,
       {
         continue;
       }
-      smooth = true;
+      smooth = smooth || twoFaces;
       const Vector3 n = sum.normalized();
       const int g = static_cast<int>(groupNormal.size());
       groupNormal.push_back(n);

@@ -36,7 +36,7 @@ struct TangentPlaneReport
 {
   double MaxCurveChange = 0;      // largest move of an edge-cubic inner point
   double MaxDerivativeChange = 0; // largest |J - J0| d / 3 over a node's chords
-  Id SmoothNodes = 0;             // nodes given a shared tangent plane
+  Id SmoothNodes = 0;             // nodes where several faces were given a shared tangent plane
   Id SmoothSpans = 0;             // span occurrences given a MidNormal
 };
 

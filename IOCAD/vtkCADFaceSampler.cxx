@@ -144,7 +144,12 @@ int vtkCADFaceSampler::RequestData(
     {
       const ctcad::SurfaceFunction surface = [&, f](double s, double t, double* P, double* Ds,
                                                double* Dt) { model->Evaluate(f, s, t, P, Ds, Dt); };
-      ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, meshOptions, meshes[f]);
+      // A face whose surface lies farther from the shared boundary than the tolerance (the
+      // model's faces miss each other by more) cannot get within it next to the boundary:
+      // refined to twice that distance instead (and said below), not without end.
+      ctcad::FaceMeshOptions options = meshOptions;
+      options.Tolerance = std::max(meshOptions.Tolerance, 2 * faces[f].MaxGap);
+      ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, options, meshes[f]);
     }
   };
   const int nThreads =
@@ -172,10 +177,19 @@ int vtkCADFaceSampler::RequestData(
       return 0;
     }
     const ctcad::FaceMesh& mesh = meshes[f];
+    if (2 * faces[f].MaxGap > meshOptions.Tolerance)
+    {
+      vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << "): its surface lies up to "
+                      << faces[f].MaxGap / model->Diagonal()
+                      << " of the diagonal from the boundary it shares with its neighbours (the model's"
+                      << " own gap), more than half the tolerance: refined to "
+                      << 2 * faces[f].MaxGap / model->Diagonal() << " instead");
+    }
     if (!mesh.Converged)
     {
       vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << ") stopped refining at estimated error "
-                      << mesh.MaxEstimatedError << " after " << mesh.Rounds << " rounds");
+                      << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal after "
+                      << mesh.Rounds + mesh.CheckRounds << " rounds");
     }
     const vtkIdType nP = static_cast<vtkIdType>(mesh.UV.size());
     const vtkIdType nT = static_cast<vtkIdType>(mesh.Triangles.size());
@@ -280,6 +294,7 @@ int vtkCADFaceSampler::RequestData(
   AddIntField(fd, "NumberOfBRepVertices", model->NumberOfVertices());
   AddField(fd, "MaxVertexGap", model->MaxVertexGap());
   AddField(fd, "MaxEdgeGap", model->MaxEdgeGap());
+  AddIntField(fd, "NumberOfSeamsAdded", model->NumberOfSeamsAdded());
   const ctcad::BoundaryChanges& changes = model->Changes();
   AddField(fd, "MaxBoundaryCurveChange", changes.MaxCurveChange);
   AddField(fd, "MaxBoundaryDerivativeChange", changes.MaxDerivativeChange);

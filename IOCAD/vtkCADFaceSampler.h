@@ -38,8 +38,11 @@
  * `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
  * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
- * the adjacent surfaces along an edge: the model's own gaps), `RestoreG1`, `NumberOfG1Nodes`,
- * `NumberOfG1Spans`, `MaxBoundaryCurveChange`, `MaxBoundaryDerivativeChange` (what RestoreG1
+ * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
+ * than half the tolerance from its shared boundary is refined to twice that distance, with a
+ * warning), `NumberOfSeamsAdded`, `RestoreG1`, `NumberOfG1Nodes`,
+ * `NumberOfG1Spans` (nodes where
+ * several faces, and spans, got one tangent plane), `MaxBoundaryCurveChange`, `MaxBoundaryDerivativeChange` (what RestoreG1
  * changed), `RefinedConstruction` (-1 without RefineStitchedSpline), `RefinedSplitPoint`,
  * `RefinedBoundaryMode`, `StageTimes` (read, edges, loops, tangent planes, faces in seconds).
  */

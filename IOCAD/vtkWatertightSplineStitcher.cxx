@@ -169,22 +169,34 @@ int vtkWatertightSplineStitcher::RequestData(
   options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
 
-  // The sampler refines the faces for one spline; another one may exceed its tolerance.
-  vtkDataArray* refined = input->GetFieldData()->GetArray("RefinedConstruction");
+  // The sampler refines the faces for one spline (without IM steps); another one may exceed its
+  // tolerance.
+  vtkFieldData* sampled = input->GetFieldData();
+  vtkDataArray* refined = sampled->GetArray("RefinedConstruction");
   if (refined && refined->GetTuple1(0) >= 0)
   {
-    const int wanted[3] = { this->Construction, this->SplitPoint, this->BoundaryMode };
-    const char* names[3] = { "RefinedConstruction", "RefinedSplitPoint", "RefinedBoundaryMode" };
-    for (int k = 0; k < 3; ++k)
+    auto value = [&](const char* name, int fallback) {
+      vtkDataArray* a = sampled->GetArray(name);
+      return a ? static_cast<int>(a->GetTuple1(0)) : fallback;
+    };
+    ctk::SplineOptions theirs;
+    theirs.Method = static_cast<ctk::Construction>(refined->GetTuple1(0));
+    theirs.SplitPoint = static_cast<ctk::SplitPointRule>(value("RefinedSplitPoint", this->SplitPoint));
+    theirs.Boundary = static_cast<ctk::BoundaryMode>(value("RefinedBoundaryMode", this->BoundaryMode));
+    if (theirs.Method != options.Method || theirs.SplitPoint != options.SplitPoint ||
+      ctk::EffectiveBoundaryMode(theirs) != ctk::EffectiveBoundaryMode(options))
     {
-      vtkDataArray* a = input->GetFieldData()->GetArray(names[k]);
-      if (a && static_cast<int>(a->GetTuple1(0)) != wanted[k])
-      {
-        vtkWarningMacro(<< "the faces were refined for another spline (" << names[k] << " "
-                        << a->GetTuple1(0) << ", here " << wanted[k]
-                        << "): the deviation may exceed the sampler's tolerance");
-        break;
-      }
+      vtkWarningMacro(<< "the faces were refined for another spline (" << ctk::ToString(theirs.Method)
+                      << ", split point " << static_cast<int>(theirs.SplitPoint) << ", boundary "
+                      << ctk::ToString(ctk::EffectiveBoundaryMode(theirs)) << "; here "
+                      << ctk::ToString(options.Method) << ", " << static_cast<int>(options.SplitPoint)
+                      << ", " << ctk::ToString(ctk::EffectiveBoundaryMode(options))
+                      << "): the deviation may exceed the sampler's tolerance");
+    }
+    else if (this->Iterations > 0)
+    {
+      vtkWarningMacro(<< "the faces were refined for the spline without IM steps; with "
+                      << this->Iterations << " the deviation may exceed the sampler's tolerance");
     }
   }
   double splineTime = 0, stitchTime = 0;

@@ -85,14 +85,21 @@ class CADCommandLineTest(CommandLineCase):
                                       "--aspect-ratio", "20", "--max-edge-length", "0.2")
         self.assertIn("CTi, Inc2, Perpendicular, 1 iterations", text)
 
-    def test_g1(self):
-        text = self.convert_and_check(self.box(), 1e-3, "--g1", "5")
-        self.assertIn("(RestoreG1, 5 degrees)", text)
-        # The hole's seam is a tangent interface: G1 to well under a degree.
+    def test_g1_options(self):
+        # The options reach the sampler and the report; whether RestoreG1 restores G1 is tested
+        # in C++ (CAD.CADConversion.RestoreG1AtAlmostTangentInterface, a kinked model).
+        text = self.convert_and_check(self.box(), 1e-3, "--g1", "--g1-threshold", "5")
+        self.assertIn("(tangent within 5 degrees, RestoreG1)", text)
+        # The hole's seam is a tangent interface.
         tangent = re.search(r"(\d+) macro-edges where the CAD faces meet tangentially max (\S+),",
                             text)
         self.assertGreater(int(tangent.group(1)), 0, text)
         self.assertLess(float(tangent.group(2)), 0.1, text)
+        # --g1 takes no value (the option after it is not mistaken for one); angles are checked.
+        self.cli("convert", self.box(), "--g1", "-o", self.path("o.vtm"), "--tolerance", "1e-2")
+        p = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--g1-threshold", "200",
+                     code=2)
+        self.assertIn("not an angle in [0, 90]", p.stderr)
 
     def test_default_output_is_named_after_the_model(self):
         self.cli("convert", self.box(), "--tolerance", "1e-2")
@@ -130,8 +137,8 @@ class CADCommandLineTest(CommandLineCase):
 
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
-        for text in ("--tolerance", "--aspect-ratio", "--max-edge-length", "--g1", ".step",
-                     "OUT.vtu", "-o"):
+        for text in ("--tolerance", "--aspect-ratio", "--max-edge-length", "--g1",
+                     "--g1-threshold", ".step", "OUT.vtu", "-o"):
             self.assertIn(text, out)
 
 

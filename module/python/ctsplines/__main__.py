@@ -235,6 +235,7 @@ def _convert_cad(args):
         "boundary_mode": args._choices[2].index(args.boundary_mode),
         "iterations": args.iterations,
         "g1": args.g1,
+        "g1_threshold": 10.0 if args.g1_threshold is None else args.g1_threshold,
     }
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
@@ -257,7 +258,8 @@ def _convert_cad(args):
     print(f"G1 angle across interfaces: max {r['g1_angle']:.3g} degrees; over the "
           f"{r['tangent_edges']} macro-edges where the CAD faces meet tangentially max "
           f"{r['g1_angle_tangent']:.3g}, mean {r['g1_angle_tangent_mean']:.3g}"
-          + (f" (RestoreG1, {options['g1']:g} degrees)" if options["g1"] is not None else ""))
+          + f" (tangent within {options['g1_threshold']:g} degrees"
+          + (", RestoreG1)" if options["g1"] else ")"))
     print("time [s]: " + ", ".join(f"{name} {t:.3f}" for name, t in r["stages"])
           + f"; total {r['total']:.3f}")
     return 0
@@ -278,7 +280,8 @@ def _convert(args):
     if args.output is None:
         args._parser.error("the output spline is required for a mesh (OUTPUT or -o)")
     for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio),
-                          ("--max-edge-length", args.max_edge_length), ("--g1", args.g1)):
+                          ("--max-edge-length", args.max_edge_length),
+                          ("--g1", args.g1 or None), ("--g1-threshold", args.g1_threshold)):
         if value is not None:
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
@@ -470,6 +473,13 @@ def _tolerance(text):
     return value
 
 
+def _angle(text):
+    value = float(text)
+    if not 0 <= value <= 90:
+        raise argparse.ArgumentTypeError(f"{text} is not an angle in [0, 90] degrees")
+    return value
+
+
 def _non_negative_float(text):
     value = float(text)
     if not value >= 0:
@@ -549,11 +559,12 @@ def build_parser():
                      help="bound on the 3D length of triangle edges and edge spans, relative to "
                      "the diagonal (with --aspect-ratio, meets the bound next to the boundary "
                      "too); 0 for none (default 0)")
-    cad.add_argument("--g1", nargs="?", type=_non_negative_float, const=10.0, default=None,
-                     metavar="DEGREES",
-                     help="give interfaces where the CAD faces meet within DEGREES of tangency "
-                     "one tangent plane at every node and span midpoint (G1 there; default 10 "
-                     "when given without a value)")
+    cad.add_argument("--g1", action="store_true",
+                     help="give interfaces where the CAD faces meet tangentially one tangent plane "
+                     "at every boundary node and span midpoint (G1 there)")
+    cad.add_argument("--g1-threshold", type=_angle, metavar="DEGREES",
+                     help="largest angle between the faces' normals for an interface to count as "
+                     "tangent (default 10)")
     convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
                          help="auto: use the file's derivative arrays, estimate them when "
                          "missing; file: only the file's (missing ones are an error); "
