@@ -243,6 +243,50 @@ const LoopSegment* FaceSegment(const CDT& cdt, const CDT::Face_handle f, int l,
   return it->second.Segment;
 }
 
+/// Row-major input of a kernel spline over points of the face mesh (kernel point k is the k-th
+/// point added) and its build, topology included.
+struct FaceSplineInput
+{
+  std::vector<ctk::Id> Triangles;
+  std::vector<double> UV, F, Fu, Fv;
+  std::vector<double> EdgeGradients, Curves; // optional, #T by 18
+  ctk::Id NumberOfPoints = 0;
+
+  ctk::Id AddPoint(const FaceMesh& mesh, Id p)
+  {
+    this->UV.insert(this->UV.end(), mesh.UV[p].begin(), mesh.UV[p].end());
+    this->F.insert(this->F.end(), mesh.F[p].begin(), mesh.F[p].end());
+    this->Fu.insert(this->Fu.end(), mesh.Fs[p].begin(), mesh.Fs[p].end());
+    this->Fv.insert(this->Fv.end(), mesh.Ft[p].begin(), mesh.Ft[p].end());
+    return this->NumberOfPoints++;
+  }
+  ctk::Vec2 PointUV(ctk::Id k) const { return ctk::Vec2(this->UV[2 * k], this->UV[2 * k + 1]); }
+
+  bool Build(const ctk::SplineOptions& options, ctk::MeshTopology& topo, ctk::CubicSpline& spline,
+    std::string& error) const
+  {
+    ctk::SplineData data;
+    data.NumberOfVertices = this->NumberOfPoints;
+    data.NumberOfTriangles = static_cast<ctk::Id>(this->Triangles.size() / 3);
+    data.Triangles = this->Triangles.data();
+    data.UV = this->UV.data();
+    data.F = this->F.data();
+    data.Fu = this->Fu.data();
+    data.Fv = this->Fv.data();
+    data.EdgeGradients = this->EdgeGradients.empty() ? nullptr : this->EdgeGradients.data();
+    data.BoundaryCurvePoints = this->Curves.empty() ? nullptr : this->Curves.data();
+    const ctk::TopologyStatus ts =
+      ctk::BuildMeshTopology(data.NumberOfVertices, data.NumberOfTriangles, data.Triangles, topo);
+    const ctk::BuildStatus bs =
+      ts.Ok ? ctk::BuildCubicCloughTocher(data, topo, options, spline) : ctk::BuildStatus{ false, ts.Message };
+    if (!bs.Ok)
+    {
+      error = std::string(ctk::ToString(options.Method)) + " spline of the face mesh: " + bs.Message;
+    }
+    return bs.Ok;
+  }
+};
+
 /// Builds the stitched spline of the current face mesh (options.Spline, boundary edges following
 /// the loop segments' cubics, exact mid-edge gradients) and measures it against the surface at
 /// the check points of every micro-triangle; the worst point of every triangle that is off by
@@ -253,69 +297,47 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
   double& maxError, std::string& error)
 {
   const ctk::Id nT = static_cast<ctk::Id>(faces.size());
-  const ctk::Id nV = static_cast<ctk::Id>(mesh.UV.size());
-  std::vector<ctk::Id> tri(3 * nT);
-  std::vector<double> uv(2 * nV), F(3 * nV), Fu(3 * nV), Fv(3 * nV);
-  for (ctk::Id v = 0; v < nV; ++v)
+  FaceSplineInput in;
+  for (Id v = 0; v < static_cast<Id>(mesh.UV.size()); ++v)
   {
-    for (int i = 0; i < 3; ++i)
-    {
-      F[3 * v + i] = mesh.F[v][i];
-      Fu[3 * v + i] = mesh.Fs[v][i];
-      Fv[3 * v + i] = mesh.Ft[v][i];
-    }
-    uv[2 * v] = mesh.UV[v][0];
-    uv[2 * v + 1] = mesh.UV[v][1];
+    in.AddPoint(mesh, v);
   }
-  std::vector<double> gradients(18 * nT), curves(18 * nT, std::nan(""));
+  in.Triangles.resize(3 * nT);
+  in.EdgeGradients.resize(18 * nT);
+  in.Curves.assign(18 * nT, std::nan(""));
   std::vector<std::array<bool, 3>> onBoundary(nT);
   for (ctk::Id t = 0; t < nT; ++t)
   {
     const CDT::Face_handle f = faces[t];
     for (int l = 0; l < 3; ++l)
     {
-      tri[3 * t + l] = f->vertex(l)->info().Index;
+      in.Triangles[3 * t + l] = f->vertex(l)->info().Index;
     }
     for (int l = 0; l < 3; ++l)
     {
-      const auto& a = mesh.UV[tri[3 * t + l]];
-      const auto& b = mesh.UV[tri[3 * t + (l + 1) % 3]];
+      const auto& a = mesh.UV[in.Triangles[3 * t + l]];
+      const auto& b = mesh.UV[in.Triangles[3 * t + (l + 1) % 3]];
       double P[3];
-      surface(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, &gradients[18 * t + 6 * l],
-        &gradients[18 * t + 6 * l + 3]);
+      double* g = &in.EdgeGradients[18 * t + 6 * l];
+      surface(0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, g, g + 3);
       bool flipped = false;
       const LoopSegment* seg = FaceSegment(cdt, f, l, segments, flipped);
       onBoundary[t][l] = seg != nullptr;
       if (seg)
       {
-        StitchEdgeGradient(*seg, &gradients[18 * t + 6 * l]);
+        StitchEdgeGradient(*seg, g);
       }
       for (int i = 0; seg && i < 3; ++i)
       {
-        curves[18 * t + 6 * l + i] = (flipped ? seg->Near1 : seg->Near0)[i];
-        curves[18 * t + 6 * l + 3 + i] = (flipped ? seg->Near0 : seg->Near1)[i];
+        in.Curves[18 * t + 6 * l + i] = (flipped ? seg->Near1 : seg->Near0)[i];
+        in.Curves[18 * t + 6 * l + 3 + i] = (flipped ? seg->Near0 : seg->Near1)[i];
       }
     }
   }
-  ctk::SplineData data;
-  data.NumberOfVertices = nV;
-  data.NumberOfTriangles = nT;
-  data.Triangles = tri.data();
-  data.UV = uv.data();
-  data.F = F.data();
-  data.Fu = Fu.data();
-  data.Fv = Fv.data();
-  data.EdgeGradients = gradients.data();
-  data.BoundaryCurvePoints = curves.data();
   ctk::MeshTopology topo;
-  const ctk::TopologyStatus ts = ctk::BuildMeshTopology(nV, nT, tri.data(), topo);
   ctk::CubicSpline spline;
-  const ctk::BuildStatus bs = ts.Ok
-    ? ctk::BuildCubicCloughTocher(data, topo, options.Spline, spline)
-    : ctk::BuildStatus{ false, ts.Message };
-  if (!bs.Ok)
+  if (!in.Build(options.Spline, topo, spline, error))
   {
-    error = std::string(ctk::ToString(options.Spline.Method)) + " spline of the face mesh: " + bs.Message;
     return false;
   }
   // Barycentric check points of a micro-triangle (U_{k+1}, U_{k+2}, Z); the last is the
@@ -324,11 +346,11 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
     ctk::Vec3(1, 4, 1) / 6, ctk::Vec3(1, 1, 4) / 6, ctk::Vec3(0.5, 0.5, 0) };
   for (ctk::Id t = 0; t < nT; ++t)
   {
-    const ctk::MacroElementIds ids = ctk::GetMacroElementIds(spline.Layout, topo, tri.data(), t);
+    const ctk::MacroElementIds ids = ctk::GetMacroElementIds(spline.Layout, topo, in.Triangles.data(), t);
     ctk::Vec2 U[3];
     for (int i = 0; i < 3; ++i)
     {
-      U[i] = ctk::Vec2(uv[2 * tri[3 * t + i]], uv[2 * tri[3 * t + i] + 1]);
+      U[i] = in.PointUV(in.Triangles[3 * t + i]);
     }
     const ctk::Vec3& tau = spline.SplitTau[t];
     const ctk::Vec2 Z = tau[0] * U[0] + tau[1] * U[1] + tau[2] * U[2];
@@ -528,18 +550,14 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     std::vector<Steiner> inserts;
     // New triangles: one kernel CTo/Bary spline over all of them; its S point is the value at
     // the centroid.
-    std::vector<ctk::Id> tri;
+    FaceSplineInput in;
     std::vector<std::size_t> triFace;
     std::unordered_map<Id, ctk::Id> local;
-    std::vector<double> uv, F, Fu, Fv;
     auto localIndex = [&](Id p) {
-      auto it = local.emplace(p, static_cast<ctk::Id>(local.size()));
+      auto it = local.emplace(p, in.NumberOfPoints);
       if (it.second)
       {
-        uv.insert(uv.end(), mesh.UV[p].begin(), mesh.UV[p].end());
-        F.insert(F.end(), mesh.F[p].begin(), mesh.F[p].end());
-        Fu.insert(Fu.end(), mesh.Fs[p].begin(), mesh.Fs[p].end());
-        Fv.insert(Fv.end(), mesh.Ft[p].begin(), mesh.Ft[p].end());
+        in.AddPoint(mesh, p);
       }
       return it.first->second;
     };
@@ -555,29 +573,16 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       }
       for (const Id p : { a, b, c })
       {
-        tri.push_back(localIndex(p));
+        in.Triangles.push_back(localIndex(p));
       }
       triFace.push_back(i);
     }
     if (!triFace.empty())
     {
-      ctk::SplineData data;
-      data.NumberOfVertices = static_cast<ctk::Id>(local.size());
-      data.NumberOfTriangles = static_cast<ctk::Id>(triFace.size());
-      data.Triangles = tri.data();
-      data.UV = uv.data();
-      data.F = F.data();
-      data.Fu = Fu.data();
-      data.Fv = Fv.data();
       ctk::MeshTopology topo;
-      const ctk::TopologyStatus ts =
-        ctk::BuildMeshTopology(data.NumberOfVertices, data.NumberOfTriangles, tri.data(), topo);
       ctk::CubicSpline spline;
-      const ctk::BuildStatus bs =
-        ts.Ok ? ctk::BuildCubicCloughTocher(data, topo, ctOptions, spline) : ctk::BuildStatus{ false, ts.Message };
-      if (!bs.Ok)
+      if (!in.Build(ctOptions, topo, spline, mesh.Error))
       {
-        mesh.Error = "CTo spline of the face mesh: " + bs.Message;
         return false;
       }
       for (std::size_t j = 0; j < triFace.size(); ++j)
@@ -590,7 +595,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         // The centroid (the split point: S) and the centres of the three micro-triangles,
         // which lie next to the macro-edges where the error of CT patches concentrates.
         const ctk::MacroElementIds ids =
-          ctk::GetMacroElementIds(spline.Layout, topo, tri.data(), static_cast<ctk::Id>(j));
+          ctk::GetMacroElementIds(spline.Layout, topo, in.Triangles.data(), static_cast<ctk::Id>(j));
         double err = 0, worstS = s, worstT = t;
         for (int k = -1; k < 3; ++k)
         {
