@@ -66,6 +66,15 @@ def tessellate(spl, level):
     return t
 
 
+def curvature(spl, level):
+    """Exact curvatures of a spline (vtkBezierCurvatureFilter) on its tessellation at LEVEL."""
+    f = ctsplines.vtkBezierCurvatureFilter()
+    f.SetInputConnection(spl.GetOutputPort())
+    f.SetSubdivisionLevel(level)
+    f.Update()
+    return f.GetOutput()
+
+
 def approximation_error(spl, reference, mode="Parametric", level=8, reference_level=1):
     """Runs vtkApproximationErrorFilter; returns (output, dict of its field data values)."""
     f = ctsplines.vtkApproximationErrorFilter()

@@ -53,13 +53,7 @@ def main():
                 checks.check(want / 2 < got < 2 * want,
                              f"{name} ({diagonal}): {what} {got:.4f} within a factor 2 of {want}")
             if not args.no_render:
-                import ctsplines
-
-                curv = ctsplines.vtkBezierCurvatureFilter()
-                curv.SetInputConnection(spl.GetOutputPort())
-                curv.SetSubdivisionLevel(10)
-                curv.Update()
-                ex.render(curv.GetOutput(),
+                ex.render(ex.curvature(spl, 10),
                           os.path.join(args.output, f"gauss_{construction}_{diagonal}.png"),
                           "Gauss_Curvature", (-100.0, 100.0),
                           title=f"{name}, {diagonal} diagonals: Gaussian curvature")

@@ -116,16 +116,6 @@ def exact_surface(resolution):
     return data
 
 
-def curvature(spl, level):
-    import ctsplines
-
-    f = ctsplines.vtkBezierCurvatureFilter()
-    f.SetInputConnection(spl.GetOutputPort())
-    f.SetSubdivisionLevel(level)
-    f.Update()
-    return f.GetOutput()
-
-
 def contact_sheet(filename, title, columns, mesh, ranges):
     """columns: (label, reflection-line PNG, curvature vtkPolyData with UV). Three rows:
     reflection lines (the rendered PNGs, cropped), Gaussian and mean curvature over the parameter
@@ -216,7 +206,7 @@ def main():
             table[label] += list(err[label])
             print(f"  {label:20s} max {err[label][0]:.3e}  interior {err[label][1]:.3e}")
             if (not args.no_render and i < SHOWN) or label in CUBIC:
-                curv[label] = (spl, curvature(spl, curvature_level))
+                curv[label] = (spl, ex.curvature(spl, curvature_level))
 
         for c in QUADRATIC:
             checks.check(err[c][0] > 1e-6, f"{dname}: {c} does not reproduce the cubic ({err[c][0]:.2e})")

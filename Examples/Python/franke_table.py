@@ -79,16 +79,10 @@ def main():
     print(text)
 
     if not args.no_render:
-        import ctsplines
-
         src = ex.source("Franke", "RandomDelaunay", random_points)
         for c in ("CTo", "FO", "Ka", "Quartic"):
             spl = ex.spline(src, c, "Bary", iterations(c))
-            curv = ctsplines.vtkBezierCurvatureFilter()
-            curv.SetInputConnection(spl.GetOutputPort())
-            curv.SetSubdivisionLevel(8)
-            curv.Update()
-            surface = curv.GetOutput()
+            surface = ex.curvature(spl, 8)
             ex.render(surface, os.path.join(args.output, f"franke_{c}_shaded.png"), title=f"{c}")
             ex.render(surface, os.path.join(args.output, f"franke_{c}_mean_curvature.png"),
                       "Mean_Curvature", (-20.0, 20.0), title=f"{c}: mean curvature")
