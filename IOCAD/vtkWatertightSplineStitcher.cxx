@@ -211,21 +211,36 @@ int vtkWatertightSplineStitcher::RequestData(
       vtkErrorMacro(<< "block " << f << " is not a vtkPolyData");
       return 0;
     }
+    // vtkCADFaceSampler's arrays (the spline filter checks the sizes of those it reads).
+    for (const char* name : { "GlobalNodeId", "UV", "dFdu", "dFdv", "StitchDFdu", "StitchDFdv" })
+    {
+      if (!block->GetPointData()->GetArray(name))
+      {
+        vtkErrorMacro(<< "block " << f << " has no point data array '" << name
+                      << "' (the input must come from vtkCADFaceSampler)");
+        return 0;
+      }
+    }
+    for (const char* name : { "EdgeCurvePoints", "StitchEdgeGradients" })
+    {
+      if (!block->GetCellData()->GetArray(name))
+      {
+        vtkErrorMacro(<< "block " << f << " has no cell data array '" << name
+                      << "' (the input must come from vtkCADFaceSampler)");
+        return 0;
+      }
+    }
     fs.Gid = vtkIdTypeArray::SafeDownCast(block->GetPointData()->GetArray("GlobalNodeId"));
+    if (!fs.Gid)
+    {
+      vtkErrorMacro(<< "block " << f << ": point data array 'GlobalNodeId' is not a vtkIdTypeArray");
+      return 0;
+    }
     vtkDataArray* curve = block->GetCellData()->GetArray("EdgeCurvePoints");
-    vtkDataArray* grads = block->GetCellData()->GetArray("StitchEdgeGradients");
     vtkDataArray* du = block->GetPointData()->GetArray("dFdu");
     vtkDataArray* dv = block->GetPointData()->GetArray("dFdv");
     fs.UV = block->GetPointData()->GetArray("UV");
     fs.Tangent = block->GetCellData()->GetArray("TangentInterface");
-    if (!fs.Gid || !curve || !grads || !fs.UV || !du || !dv ||
-      !block->GetPointData()->GetArray("StitchDFdu") || !block->GetPointData()->GetArray("StitchDFdv") ||
-      curve->GetNumberOfComponents() != 18)
-    {
-      vtkErrorMacro(<< "block " << f << " lacks one of GlobalNodeId, UV, dFdu, dFdv, StitchDFdu, "
-                    << "StitchDFdv, StitchEdgeGradients, EdgeCurvePoints (vtkCADFaceSampler's arrays)");
-      return 0;
-    }
     auto start = Clock::now();
     vtkNew<vtkCloughTocherSplineFilter> ct;
     ct->SetInputData(block);

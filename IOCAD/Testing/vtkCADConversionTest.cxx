@@ -724,6 +724,24 @@ TEST(CADConversion, SphereSeamIsATangentInterface)
   }
 }
 
+TEST(CADConversion, StitcherNamesAMissingArray)
+{
+  vtkNew<vtkCADFaceSampler> sampler;
+  sampler->SetFileName(TempStep("sphere_missing", Sphere()).c_str());
+  sampler->Update();
+  vtkNew<vtkMultiBlockDataSet> faces;
+  faces->DeepCopy(sampler->GetOutput());
+  vtkPolyData::SafeDownCast(faces->GetBlock(0))->GetPointData()->RemoveArray("StitchDFdu");
+  vtkNew<vtkWatertightSplineStitcher> stitcher;
+  stitcher->SetInputData(faces);
+  MessageCapture errors(stitcher, vtkCommand::ErrorEvent);
+  MessageCapture pipeline(stitcher->GetExecutive(), vtkCommand::ErrorEvent);
+  stitcher->Update();
+  EXPECT_NE(errors.Text.find("block 0 has no point data array 'StitchDFdu'"), std::string::npos)
+    << errors.Text;
+  EXPECT_EQ(vtkUnstructuredGrid::SafeDownCast(stitcher->GetOutputDataObject(1))->GetNumberOfCells(), 0);
+}
+
 TEST(CADConversion, StitcherWarnsWhenFacesWereRefinedForAnotherSpline)
 {
   vtkNew<vtkCADFaceSampler> sampler;
