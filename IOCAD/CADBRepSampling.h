@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -75,6 +76,15 @@ struct SamplingOptions
   double G1Threshold = 10;  // degrees
 };
 
+/// Seconds a file's translation and healing by OpenCASCADE may take (CADModel::Read).
+constexpr double DefaultReadTimeout = 120;
+
+/// Runs `body`, which calls into OpenCASCADE, with OCCT's signal handling (OSD::SetSignal, once
+/// per process, for the signals nothing else handles; OCC_CATCH_SIGNALS here): a segmentation
+/// fault or another signal inside OCCT becomes its Standard_Failure. Returns false with
+/// `failure` = "<exception type>: <message>" for a Standard_Failure or an std::exception.
+bool RunGuarded(const std::function<void()>& body, std::string& failure);
+
 /// Wall-clock seconds of the stages.
 struct StageTimes
 {
@@ -96,8 +106,14 @@ public:
   CADModel(const CADModel&) = delete;
   CADModel& operator=(const CADModel&) = delete;
 
-  /// Reads a STEP (.step, .stp) or IGES (.iges, .igs) file. Returns false with Error set.
-  bool Read(const std::string& fileName);
+  /// Reads a STEP (.step, .stp) or IGES (.iges, .igs) file. Returns false with Error set,
+  /// naming the file and the stage (and the face) that failed. The file's numbers are checked
+  /// first (overflowing reals are an error naming the line and entity). With timeoutSeconds > 0
+  /// the translation and healing run in a child process (fork) that is killed after that
+  /// time: a file on which OpenCASCADE loops or crashes is an error, never a hang or a crash
+  /// of this process; the shape comes back through a pipe (BinTools), with the same faces in
+  /// the same order and the same names. 0 translates in this process without a time limit.
+  bool Read(const std::string& fileName, double timeoutSeconds = DefaultReadTimeout);
   /// Samples edges and builds every face's loops (absolute tolerance = relative x diagonal).
   bool Sample(const SamplingOptions& options);
 
@@ -128,9 +144,12 @@ public:
   const StageTimes& Times() const { return this->Time; }
   const BoundaryChanges& Changes() const { return this->Changed; }
   const std::string& Error() const { return this->ErrorMessage; }
+  /// What Read could not translate (OCCT skipped entities it failed on: faces may be missing).
+  const std::vector<std::string>& Warnings() const { return this->WarningMessages; }
 
 private:
   struct Impl;
+  struct Stages; // the OpenCASCADE side of Read and Sample, stage by stage
   std::unique_ptr<Impl> Internal;
   std::vector<CADFace> FaceList;
   std::vector<Point3> NodePoints;
@@ -142,6 +161,7 @@ private:
   StageTimes Time;
   BoundaryChanges Changed;
   std::string ErrorMessage;
+  std::vector<std::string> WarningMessages;
 };
 
 } // namespace ctcad

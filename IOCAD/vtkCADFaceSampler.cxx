@@ -31,7 +31,11 @@
 class vtkCADFaceSamplerInternals
 {
 public:
-  std::unique_ptr<ctcad::CADModel> Model;
+  std::unique_ptr<ctcad::CADModel> Model;   // of the last update that succeeded
+  std::unique_ptr<ctcad::CADModel> Current; // during RequestData
+  std::vector<ctcad::FaceMesh> Meshes;
+  ctcad::FaceMeshOptions MeshOptions;
+  std::string EvaluationError;
 };
 
 vtkStandardNewMacro(vtkCADFaceSampler);
@@ -77,10 +81,22 @@ bool vtkCADFaceSampler::EvaluateSurface(int face, double s, double t, double p[3
   const ctcad::CADModel* model = this->Internals->Model.get();
   if (!model || face < 0 || face >= static_cast<int>(model->Faces().size()))
   {
+    this->Internals->EvaluationError = "no face " + std::to_string(face) + " in the sampled model";
     return false;
   }
-  model->Evaluate(face, s, t, p);
+  std::string failure;
+  if (!ctcad::RunGuarded([&] { model->Evaluate(face, s, t, p); }, failure))
+  {
+    this->Internals->EvaluationError = "face " + std::to_string(face) + " (" + model->Faces()[face].Name +
+      "): OpenCASCADE's evaluation at (" + std::to_string(s) + ", " + std::to_string(t) + ") failed: " + failure;
+    return false;
+  }
   return true;
+}
+
+const char* vtkCADFaceSampler::GetEvaluationError()
+{
+  return this->Internals->EvaluationError.c_str();
 }
 
 double vtkCADFaceSampler::GetDiagonal()
@@ -97,11 +113,45 @@ int vtkCADFaceSampler::RequestData(
     vtkErrorMacro(<< "no FileName");
     return 0;
   }
-  auto model = std::make_unique<ctcad::CADModel>();
-  if (!model->Read(this->FileName))
+  if (!this->ReadModel())
+  {
+    return 0;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  if (!this->MeshFaces())
+  {
+    return 0;
+  }
+  const double faceTime =
+    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const int nF = static_cast<int>(this->Internals->Current->Faces().size());
+  output->SetNumberOfBlocks(nF);
+  for (int f = 0; f < nF; ++f)
+  {
+    if (!this->MakeFaceBlock(f, output))
+    {
+      return 0;
+    }
+  }
+  this->AddModelFields(output, faceTime);
+  this->Internals->Model = std::move(this->Internals->Current);
+  this->Internals->Meshes.clear();
+  return 1;
+}
+
+bool vtkCADFaceSampler::ReadModel()
+{
+  auto& model = this->Internals->Current;
+  model = std::make_unique<ctcad::CADModel>();
+  const bool read = model->Read(this->FileName, this->ReadTimeout);
+  for (const std::string& w : model->Warnings())
+  {
+    vtkWarningMacro(<< this->FileName << ": " << w);
+  }
+  if (!read)
   {
     vtkErrorMacro(<< model->Error());
-    return 0;
+    return false;
   }
   ctcad::SamplingOptions sampling;
   sampling.Tolerance = this->Tolerance;
@@ -110,10 +160,9 @@ int vtkCADFaceSampler::RequestData(
   sampling.G1Threshold = this->G1Threshold;
   if (!model->Sample(sampling))
   {
-    vtkErrorMacro(<< model->Error());
-    return 0;
+    vtkErrorMacro(<< this->FileName << ": " << model->Error());
+    return false;
   }
-
   if (this->RestoreG1 && model->Changes().MaxCurveChange > 0.5 * this->Tolerance * model->Diagonal())
   {
     vtkWarningMacro(<< "RestoreG1 moved edge-cubic points by " << model->Changes().MaxCurveChange
@@ -121,14 +170,20 @@ int vtkCADFaceSampler::RequestData(
                     << " of the diagonal): interfaces within G1Threshold = " << this->G1Threshold
                     << " degrees are far from tangent; the deviation may exceed the tolerance");
   }
+  return true;
+}
+
+bool vtkCADFaceSampler::MeshFaces()
+{
   // Faces are independent once their loops exist: mesh them concurrently (each face evaluates
   // only its own surface adaptor, so no OCCT object is shared between threads).
-  const auto start = std::chrono::steady_clock::now();
+  ctcad::CADModel* model = this->Internals->Current.get();
   const std::vector<ctcad::CADFace>& faces = model->Faces();
   const int nF = static_cast<int>(faces.size());
-  std::vector<ctcad::FaceMesh> meshes(nF);
+  std::vector<ctcad::FaceMesh>& meshes = this->Internals->Meshes;
+  meshes.assign(nF, ctcad::FaceMesh());
   std::vector<char> ok(nF, 0);
-  ctcad::FaceMeshOptions meshOptions;
+  ctcad::FaceMeshOptions& meshOptions = this->Internals->MeshOptions;
   meshOptions.Tolerance = this->Tolerance * model->Diagonal();
   meshOptions.AspectRatio = this->AspectRatio;
   meshOptions.MaxEdgeLength = this->MaxEdgeLength * model->Diagonal();
@@ -149,7 +204,15 @@ int vtkCADFaceSampler::RequestData(
       // refined to twice that distance instead (and said below), not without end.
       ctcad::FaceMeshOptions options = meshOptions;
       options.Tolerance = std::max(meshOptions.Tolerance, 2 * faces[f].MaxGap);
-      ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, options, meshes[f]);
+      // Nothing may escape a thread: OCCT's exceptions (and signals) and CGAL's end here.
+      std::string failure;
+      if (!ctcad::RunGuarded(
+            [&] { ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, options, meshes[f]); },
+            failure))
+      {
+        ok[f] = 0;
+        meshes[f].Error = "evaluating its surface or triangulating failed: " + failure;
+      }
     }
   };
   const int nThreads =
@@ -164,128 +227,150 @@ int vtkCADFaceSampler::RequestData(
   {
     t.join();
   }
-  const double faceTime =
-    std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-
-  output->SetNumberOfBlocks(nF);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   for (int f = 0; f < nF; ++f)
   {
     if (!ok[f])
     {
-      vtkErrorMacro(<< "face " << f << " (" << faces[f].Name << "): " << meshes[f].Error);
-      return 0;
+      vtkErrorMacro(<< this->FileName << ": meshing face " << f << " (" << faces[f].Name
+                    << "): " << meshes[f].Error);
+      return false;
     }
-    const ctcad::FaceMesh& mesh = meshes[f];
-    if (2 * faces[f].MaxGap > meshOptions.Tolerance)
-    {
-      vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << "): its surface lies up to "
-                      << faces[f].MaxGap / model->Diagonal()
-                      << " of the diagonal from the boundary it shares with its neighbours (the model's"
-                      << " own gap), more than half the tolerance: refined to "
-                      << 2 * faces[f].MaxGap / model->Diagonal() << " instead");
-    }
-    if (!mesh.Converged)
-    {
-      vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << ") stopped refining at estimated error "
-                      << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal after "
-                      << mesh.Rounds + mesh.CheckRounds << " rounds");
-    }
-    const vtkIdType nP = static_cast<vtkIdType>(mesh.UV.size());
-    const vtkIdType nT = static_cast<vtkIdType>(mesh.Triangles.size());
-    vtkNew<vtkPolyData> pd;
-    vtkNew<vtkPoints> points;
-    points->SetDataTypeToDouble();
-    points->SetNumberOfPoints(nP);
-    auto uv = NewArray("UV", 2, nP);
-    auto du = NewArray("dFdu", 3, nP);
-    auto dv = NewArray("dFdv", 3, nP);
-    auto stitchDu = NewArray("StitchDFdu", 3, nP);
-    auto stitchDv = NewArray("StitchDFdv", 3, nP);
-    vtkNew<vtkIdTypeArray> gid;
-    gid->SetName("GlobalNodeId");
-    gid->SetNumberOfTuples(nP);
-    for (vtkIdType p = 0; p < nP; ++p)
-    {
-      points->SetPoint(p, mesh.F[p].data());
-      uv->SetTuple(p, mesh.UV[p].data());
-      du->SetTuple(p, mesh.SurfaceFs[p].data());
-      dv->SetTuple(p, mesh.SurfaceFt[p].data());
-      stitchDu->SetTuple(p, mesh.Fs[p].data());
-      stitchDv->SetTuple(p, mesh.Ft[p].data());
-      // Interior points become model nodes of their own (one face each).
-      gid->SetValue(p, mesh.GlobalNode[p] >= 0 ? mesh.GlobalNode[p] : model->AddNode(mesh.F[p]));
-    }
-    vtkNew<vtkCellArray> polys;
-    auto edgeGradients = NewArray("EdgeGradients", 18, nT);
-    auto stitchGradients = NewArray("StitchEdgeGradients", 18, nT);
-    vtkNew<vtkSignedCharArray> tangent;
-    tangent->SetName("TangentInterface");
-    tangent->SetNumberOfComponents(3);
-    tangent->SetNumberOfTuples(nT);
-    auto curvePoints = NewArray("EdgeCurvePoints", 18, nT);
-    vtkNew<vtkIdTypeArray> edgeIds;
-    edgeIds->SetName("BRepEdgeId");
-    edgeIds->SetNumberOfComponents(3);
-    edgeIds->SetNumberOfTuples(nT);
-    for (vtkIdType t = 0; t < nT; ++t)
-    {
-      const std::array<ctcad::Id, 3>& tri = mesh.Triangles[t];
-      const vtkIdType ids[3] = { tri[0], tri[1], tri[2] };
-      polys->InsertNextCell(3, ids);
-      double g[18], sg[18], c[18];
-      for (int l = 0; l < 3; ++l)
-      {
-        const auto& a = mesh.UV[tri[l]];
-        const auto& b = mesh.UV[tri[(l + 1) % 3]];
-        double P[3];
-        model->Evaluate(f, 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, g + 6 * l, g + 6 * l + 3);
-        const ctcad::LoopSegment* seg = mesh.Segments[t][l];
-        edgeIds->SetTypedComponent(t, l, seg ? (seg->Edge >= 0 ? seg->Edge : -2) : -1);
-        tangent->SetTypedComponent(t, l, seg ? (seg->Tangent ? 1 : 0) : -1);
-        std::copy_n(g + 6 * l, 6, sg + 6 * l);
-        if (seg)
-        {
-          ctcad::StitchEdgeGradient(*seg, sg + 6 * l);
-        }
-        for (int i = 0; i < 3; ++i)
-        {
-          const bool flip = mesh.SegmentFlipped[t][l];
-          c[6 * l + i] = seg ? (flip ? seg->Near1 : seg->Near0)[i] : nan;
-          c[6 * l + 3 + i] = seg ? (flip ? seg->Near0 : seg->Near1)[i] : nan;
-        }
-      }
-      edgeGradients->SetTuple(t, g);
-      stitchGradients->SetTuple(t, sg);
-      curvePoints->SetTuple(t, c);
-    }
-    pd->SetPoints(points);
-    pd->SetPolys(polys);
-    pd->GetPointData()->AddArray(uv);
-    pd->GetPointData()->AddArray(du);
-    pd->GetPointData()->AddArray(dv);
-    pd->GetPointData()->AddArray(stitchDu);
-    pd->GetPointData()->AddArray(stitchDv);
-    pd->GetPointData()->AddArray(gid);
-    pd->GetCellData()->AddArray(edgeGradients);
-    pd->GetCellData()->AddArray(stitchGradients);
-    pd->GetCellData()->AddArray(tangent);
-    pd->GetCellData()->AddArray(curvePoints);
-    pd->GetCellData()->AddArray(edgeIds);
-    vtkFieldData* fd = pd->GetFieldData();
-    AddIntField(fd, "FaceId", faces[f].Index);
-    vtkNew<vtkStringArray> name;
-    name->SetName("FaceName");
-    name->InsertNextValue(faces[f].Name);
-    fd->AddArray(name);
-    AddIntField(fd, "Reversed", faces[f].Reversed ? 1 : 0);
-    AddField(fd, "MaxGap", faces[f].MaxGap);
-    AddIntField(fd, "Converged", mesh.Converged ? 1 : 0);
-    AddField(fd, "MaxEstimatedError", mesh.MaxEstimatedError);
-    AddIntField(fd, "RefinementRounds", mesh.Rounds + mesh.CheckRounds);
-    output->SetBlock(f, pd);
-    output->GetMetaData(static_cast<unsigned int>(f))->Set(vtkCompositeDataSet::NAME(), faces[f].Name.c_str());
   }
+  return true;
+}
+
+bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
+{
+  ctcad::CADModel* model = this->Internals->Current.get();
+  const std::vector<ctcad::CADFace>& faces = model->Faces();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const ctcad::FaceMesh& mesh = this->Internals->Meshes[f];
+  if (2 * faces[f].MaxGap > this->Internals->MeshOptions.Tolerance)
+  {
+    vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << "): its surface lies up to "
+                    << faces[f].MaxGap / model->Diagonal()
+                    << " of the diagonal from the boundary it shares with its neighbours (the model's"
+                    << " own gap), more than half the tolerance: refined to "
+                    << 2 * faces[f].MaxGap / model->Diagonal() << " instead");
+  }
+  if (!mesh.Converged)
+  {
+    vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << ") stopped refining at estimated error "
+                    << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal after "
+                    << mesh.Rounds + mesh.CheckRounds << " rounds");
+  }
+  const vtkIdType nP = static_cast<vtkIdType>(mesh.UV.size());
+  const vtkIdType nT = static_cast<vtkIdType>(mesh.Triangles.size());
+  vtkNew<vtkPolyData> pd;
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(nP);
+  auto uv = NewArray("UV", 2, nP);
+  auto du = NewArray("dFdu", 3, nP);
+  auto dv = NewArray("dFdv", 3, nP);
+  auto stitchDu = NewArray("StitchDFdu", 3, nP);
+  auto stitchDv = NewArray("StitchDFdv", 3, nP);
+  vtkNew<vtkIdTypeArray> gid;
+  gid->SetName("GlobalNodeId");
+  gid->SetNumberOfTuples(nP);
+  for (vtkIdType p = 0; p < nP; ++p)
+  {
+    points->SetPoint(p, mesh.F[p].data());
+    uv->SetTuple(p, mesh.UV[p].data());
+    du->SetTuple(p, mesh.SurfaceFs[p].data());
+    dv->SetTuple(p, mesh.SurfaceFt[p].data());
+    stitchDu->SetTuple(p, mesh.Fs[p].data());
+    stitchDv->SetTuple(p, mesh.Ft[p].data());
+    // Interior points become model nodes of their own (one face each).
+    gid->SetValue(p, mesh.GlobalNode[p] >= 0 ? mesh.GlobalNode[p] : model->AddNode(mesh.F[p]));
+  }
+  vtkNew<vtkCellArray> polys;
+  auto edgeGradients = NewArray("EdgeGradients", 18, nT);
+  auto stitchGradients = NewArray("StitchEdgeGradients", 18, nT);
+  vtkNew<vtkSignedCharArray> tangent;
+  tangent->SetName("TangentInterface");
+  tangent->SetNumberOfComponents(3);
+  tangent->SetNumberOfTuples(nT);
+  auto curvePoints = NewArray("EdgeCurvePoints", 18, nT);
+  vtkNew<vtkIdTypeArray> edgeIds;
+  edgeIds->SetName("BRepEdgeId");
+  edgeIds->SetNumberOfComponents(3);
+  edgeIds->SetNumberOfTuples(nT);
+  // The exact mid-edge gradients: the only calls into OpenCASCADE here.
+  std::string failure;
+  const bool evaluated = ctcad::RunGuarded(
+    [&] {
+      for (vtkIdType t = 0; t < nT; ++t)
+      {
+        const std::array<ctcad::Id, 3>& tri = mesh.Triangles[t];
+        const vtkIdType ids[3] = { tri[0], tri[1], tri[2] };
+        polys->InsertNextCell(3, ids);
+        double g[18], sg[18], c[18];
+        for (int l = 0; l < 3; ++l)
+        {
+          const auto& a = mesh.UV[tri[l]];
+          const auto& b = mesh.UV[tri[(l + 1) % 3]];
+          double P[3];
+          model->Evaluate(f, 0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1]), P, g + 6 * l, g + 6 * l + 3);
+          const ctcad::LoopSegment* seg = mesh.Segments[t][l];
+          edgeIds->SetTypedComponent(t, l, seg ? (seg->Edge >= 0 ? seg->Edge : -2) : -1);
+          tangent->SetTypedComponent(t, l, seg ? (seg->Tangent ? 1 : 0) : -1);
+          std::copy_n(g + 6 * l, 6, sg + 6 * l);
+          if (seg)
+          {
+            ctcad::StitchEdgeGradient(*seg, sg + 6 * l);
+          }
+          for (int i = 0; i < 3; ++i)
+          {
+            const bool flip = mesh.SegmentFlipped[t][l];
+            c[6 * l + i] = seg ? (flip ? seg->Near1 : seg->Near0)[i] : nan;
+            c[6 * l + 3 + i] = seg ? (flip ? seg->Near0 : seg->Near1)[i] : nan;
+          }
+        }
+        edgeGradients->SetTuple(t, g);
+        stitchGradients->SetTuple(t, sg);
+        curvePoints->SetTuple(t, c);
+      }
+    },
+    failure);
+  if (!evaluated)
+  {
+    vtkErrorMacro(<< "face " << f << " (" << faces[f].Name
+                  << "): evaluating the surface derivatives at the triangle edges failed: " << failure);
+    return false;
+  }
+  pd->SetPoints(points);
+  pd->SetPolys(polys);
+  pd->GetPointData()->AddArray(uv);
+  pd->GetPointData()->AddArray(du);
+  pd->GetPointData()->AddArray(dv);
+  pd->GetPointData()->AddArray(stitchDu);
+  pd->GetPointData()->AddArray(stitchDv);
+  pd->GetPointData()->AddArray(gid);
+  pd->GetCellData()->AddArray(edgeGradients);
+  pd->GetCellData()->AddArray(stitchGradients);
+  pd->GetCellData()->AddArray(tangent);
+  pd->GetCellData()->AddArray(curvePoints);
+  pd->GetCellData()->AddArray(edgeIds);
+  vtkFieldData* fd = pd->GetFieldData();
+  AddIntField(fd, "FaceId", faces[f].Index);
+  vtkNew<vtkStringArray> name;
+  name->SetName("FaceName");
+  name->InsertNextValue(faces[f].Name);
+  fd->AddArray(name);
+  AddIntField(fd, "Reversed", faces[f].Reversed ? 1 : 0);
+  AddField(fd, "MaxGap", faces[f].MaxGap);
+  AddIntField(fd, "Converged", mesh.Converged ? 1 : 0);
+  AddField(fd, "MaxEstimatedError", mesh.MaxEstimatedError);
+  AddIntField(fd, "RefinementRounds", mesh.Rounds + mesh.CheckRounds);
+  output->SetBlock(f, pd);
+  output->GetMetaData(static_cast<unsigned int>(f))->Set(vtkCompositeDataSet::NAME(), faces[f].Name.c_str());
+  return true;
+}
+
+void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double faceTime)
+{
+  const ctcad::CADModel* model = this->Internals->Current.get();
   vtkFieldData* fd = output->GetFieldData();
   AddField(fd, "Diagonal", model->Diagonal());
   AddField(fd, "AbsoluteTolerance", this->Tolerance * model->Diagonal());
@@ -313,14 +398,13 @@ int vtkCADFaceSampler::RequestData(
     times->InsertNextValue(v);
   }
   fd->AddArray(times);
-  this->Internals->Model = std::move(model);
-  return 1;
 }
 
 void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";
+  os << indent << "ReadTimeout: " << this->ReadTimeout << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "AspectRatio: " << this->AspectRatio << "\n";
   os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";

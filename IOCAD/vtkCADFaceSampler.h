@@ -19,6 +19,14 @@
  * a seam edge gets one (OpenCASCADE's ShapeFix_Face::FixMissingSeam), else it is an error
  * naming the face.
  *
+ * Malformed files: the file's numbers are checked first, then OpenCASCADE's translation runs in a
+ * child process bounded by ReadTimeout (see ctcad::CADModel::Read), so a file on which OCCT
+ * crashes or loops is an error naming the file, not a crash or a hang. Every later call into
+ * OCCT runs with OCCT's signal handling; an OCCT exception (or a signal OCCT converts) is an
+ * error naming the stage and the face or edge, with the exception's type and message. Entities
+ * OCCT failed to translate (and skipped) are a warning. Errors are reported with vtkErrorMacro
+ * and RequestData returns 0.
+ *
  * Output: vtkMultiBlockDataSet, one vtkPolyData block per B-rep face (block name = the STEP face
  * name or "Face i"). Points (double) are the samples: boundary nodes are the edge samples, shared
  * bit for bit by the faces at an edge. Point data: `UV` (the face's oriented parameters (s, t):
@@ -68,6 +76,15 @@ public:
   /// The model: .step/.stp or .iges/.igs.
   vtkSetStdStringFromCharMacro(FileName);
   vtkGetCharFromStdStringMacro(FileName);
+  ///@}
+
+  ///@{
+  /// Seconds OpenCASCADE's translation and healing of the file may take; they run in a child
+  /// process that is killed after that (an error naming the file). 0 translates in this process
+  /// without a time limit (and without protection from crashes that OCCT cannot convert).
+  /// Default 120.
+  vtkSetClampMacro(ReadTimeout, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(ReadTimeout, double);
   ///@}
 
   ///@{
@@ -133,8 +150,11 @@ public:
   ///@}
 
   /// After an update: the surface point of face `face` (block index) at its oriented
-  /// parameters (s, t). Returns false when there is no such face.
+  /// parameters (s, t). Returns false when there is no such face or OpenCASCADE's evaluation
+  /// failed (GetEvaluationError says why).
   bool EvaluateSurface(int face, double s, double t, double p[3]);
+  /// Why the last EvaluateSurface returned false.
+  const char* GetEvaluationError();
   /// After an update: the bounding-box diagonal of the model (0 before).
   double GetDiagonal();
 
@@ -145,6 +165,7 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string FileName;
+  double ReadTimeout = 120;
   double Tolerance = 1e-4;
   double AspectRatio = 0;
   double MaxEdgeLength = 0;
@@ -159,6 +180,11 @@ protected:
 
 private:
   vtkCADFaceSampler(const vtkCADFaceSampler&) = delete;
+  /// The stages of RequestData (each reports its own errors).
+  bool ReadModel();
+  bool MeshFaces();
+  bool MakeFaceBlock(int f, vtkMultiBlockDataSet* output);
+  void AddModelFields(vtkMultiBlockDataSet* output, double faceTime);
   void operator=(const vtkCADFaceSampler&) = delete;
   std::unique_ptr<vtkCADFaceSamplerInternals> Internals;
 };

@@ -1,0 +1,679 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// STEP/IGES reading for CADModel::Read: pre-check of the file's numbers, OCCT's translation and
+// healing (in a child process with a time limit, or in this process), the shape sent back.
+#include "CADFileReading.h"
+
+#include "CADBRepSampling.h"
+
+#include <BRepBndLib.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRep_Tool.hxx>
+#include <BinTools.hxx>
+#include <Bnd_Box.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <IGESControl_Reader.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <Interface_InterfaceModel.hxx>
+#include <OSD.hxx>
+#include <STEPControl_Reader.hxx>
+#include <ShapeBuild_ReShape.hxx>
+#include <ShapeFix_Face.hxx>
+#include <StepRepr_RepresentationItem.hxx>
+#include <TCollection_HAsciiString.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <Transfer_TransientProcess.hxx>
+#include <XSControl_TransferReader.hxx>
+#include <XSControl_WorkSession.hxx>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace ctcad
+{
+namespace
+{
+enum class Format
+{
+  Unknown,
+  STEP,
+  IGES
+};
+
+Format FormatOf(const std::string& fileName)
+{
+  std::string name = fileName;
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  auto endsWith = [&](const std::string& e) {
+    return name.size() >= e.size() && name.compare(name.size() - e.size(), e.size(), e) == 0;
+  };
+  if (endsWith(".step") || endsWith(".stp"))
+  {
+    return Format::STEP;
+  }
+  return endsWith(".iges") || endsWith(".igs") ? Format::IGES : Format::Unknown;
+}
+
+std::string Prefix(Format format, const std::string& fileName)
+{
+  return std::string("cannot read ") + (format == Format::STEP ? "STEP" : "IGES") + " file " + fileName + ": ";
+}
+
+const char* StatusName(IFSelect_ReturnStatus status)
+{
+  switch (status)
+  {
+    case IFSelect_RetVoid:
+      return "nothing read (RetVoid)";
+    case IFSelect_RetDone:
+      return "done";
+    case IFSelect_RetError:
+      return "error in the data (RetError)";
+    case IFSelect_RetFail:
+      return "failure (RetFail)";
+    default:
+      return "stopped (RetStop)";
+  }
+}
+
+/// "face 3 (NAME)" or "face 3" when the entity has no useful name.
+std::string FaceLabel(int i, const std::string& name)
+{
+  const bool useful = !name.empty() && name != "NONE" && name != "''";
+  return "face " + std::to_string(i) + (useful ? " (" + name + ")" : std::string());
+}
+
+/// The STEP entity (as "#123") of the statement that starts at `start`.
+std::string EntityAt(const std::string& text, std::size_t start)
+{
+  while (start < text.size() && std::isspace(static_cast<unsigned char>(text[start])))
+  {
+    ++start;
+  }
+  const std::size_t end = text.find_first_of("=;(", start);
+  if (start >= text.size() || text[start] != '#' || end == std::string::npos || end - start > 24)
+  {
+    return "";
+  }
+  std::string id = text.substr(start, end - start);
+  id.erase(id.find_last_not_of(" \t\r\n") + 1);
+  return ", entity " + id;
+}
+
+/// Every real of a STEP file's text must be a finite double: OCCT reads 1e400 as infinity and
+/// builds geometry from it. Strings and comments are skipped; tokens that follow an identifier
+/// character, '#' or '.' are parts of names, references or enumerations.
+bool CheckStepNumbers(const std::string& text, std::string& error)
+{
+  int line = 1;
+  std::size_t statement = 0;
+  const std::size_t n = text.size();
+  for (std::size_t i = 0; i < n; ++i)
+  {
+    const char c = text[i];
+    if (c == '\n')
+    {
+      ++line;
+    }
+    else if (c == '\'')
+    {
+      const std::size_t close = text.find('\'', i + 1);
+      line += static_cast<int>(std::count(text.begin() + i, close == std::string::npos ? text.end() : text.begin() + close, '\n'));
+      i = close == std::string::npos ? n : close;
+    }
+    else if (c == '/' && i + 1 < n && text[i + 1] == '*')
+    {
+      const std::size_t close = text.find("*/", i + 2);
+      line += static_cast<int>(std::count(text.begin() + i, close == std::string::npos ? text.end() : text.begin() + close, '\n'));
+      i = close == std::string::npos ? n : close + 1;
+    }
+    else if (c == ';')
+    {
+      statement = i + 1;
+    }
+    else if (std::isdigit(static_cast<unsigned char>(c)) ||
+      ((c == '+' || c == '-' || c == '.') && i + 1 < n && std::isdigit(static_cast<unsigned char>(text[i + 1]))))
+    {
+      const char prev = i > 0 ? text[i - 1] : ' ';
+      if (std::isalnum(static_cast<unsigned char>(prev)) || prev == '_' || prev == '#' || prev == '.')
+      {
+        continue;
+      }
+      char* end = nullptr;
+      const double value = std::strtod(text.c_str() + i, &end);
+      const std::size_t length = static_cast<std::size_t>(end - (text.c_str() + i));
+      if (!std::isfinite(value))
+      {
+        error = "line " + std::to_string(line) + EntityAt(text, statement) + ": the number " +
+          text.substr(i, std::min<std::size_t>(length, 40)) + " is out of the range of a double";
+        return false;
+      }
+      i += length > 0 ? length - 1 : 0;
+    }
+  }
+  return true;
+}
+} // namespace
+
+bool CheckFileNumbers(const std::string& fileName, std::string& error)
+{
+  const Format format = FormatOf(fileName);
+  std::ifstream in(fileName, std::ios::binary);
+  if (!in)
+  {
+    error = Prefix(format, fileName) + std::strerror(errno);
+    return false;
+  }
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+  {
+    error = Prefix(format, fileName) + "the file is empty";
+    return false;
+  }
+  std::string detail;
+  if (format == Format::STEP && !CheckStepNumbers(text, detail))
+  {
+    error = Prefix(format, fileName) + detail;
+    return false;
+  }
+  return true;
+}
+
+namespace
+{
+/// Faces on closed surfaces bounded by closed wires but without a seam edge (e.g. a cylinder's
+/// lateral face between two circles) have pcurves that are open curves in the parameter plane:
+/// ShapeFix_Face::FixMissingSeam joins the wires by a seam edge. OCCT's readers do so in their
+/// own healing (FixShape, on by default), which can be configured away or fail: this repeats
+/// that one fix on the faces that still need it. Names follow their faces.
+bool FixMissingSeams(ShapeRead& r, const std::string& prefix, std::string& error)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  const Handle(ShapeBuild_ReShape) context = new ShapeBuild_ReShape;
+  std::string failure;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Face& F = TopoDS::Face(faceMap(i));
+    const bool ok = RunGuarded(
+      [&] {
+        const BRepAdaptor_Surface S(F, Standard_False);
+        int wires = 0;
+        bool seam = false;
+        for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
+        {
+          ++wires;
+        }
+        for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More() && !seam; ex.Next())
+        {
+          seam = BRep_Tool::IsClosed(TopoDS::Edge(ex.Current()), F);
+        }
+        if (seam || wires < 2 || (!S.IsUClosed() && !S.IsVClosed()))
+        {
+          return;
+        }
+        const Handle(ShapeFix_Face) fix = new ShapeFix_Face(F);
+        fix->SetContext(context);
+        if (fix->FixMissingSeam())
+        {
+          if (!context->IsRecorded(F))
+          {
+            context->Replace(F, fix->Face());
+          }
+          ++r.SeamsAdded;
+        }
+      },
+      failure);
+    if (!ok)
+    {
+      error = prefix + "healing " + FaceLabel(i - 1, r.FaceNames[i - 1]) +
+        " (ShapeFix_Face::FixMissingSeam): " + failure;
+      return false;
+    }
+  }
+  if (r.SeamsAdded == 0)
+  {
+    return true;
+  }
+  std::vector<std::string> names;
+  const bool ok = RunGuarded(
+    [&] {
+      r.Shape = context->Apply(r.Shape);
+      TopTools_IndexedMapOfShape newMap;
+      TopExp::MapShapes(r.Shape, TopAbs_FACE, newMap);
+      names.assign(newMap.Extent(), std::string());
+      for (int i = 1; i <= faceMap.Extent(); ++i)
+      {
+        for (TopExp_Explorer fx(context->Value(faceMap(i)), TopAbs_FACE); fx.More(); fx.Next())
+        {
+          const int j = newMap.FindIndex(fx.Current());
+          if (j > 0)
+          {
+            names[j - 1] = r.FaceNames[i - 1];
+          }
+        }
+      }
+    },
+    failure);
+  if (!ok)
+  {
+    error = prefix + "healing: applying the missing seams (ShapeBuild_ReShape::Apply): " + failure;
+    return false;
+  }
+  r.FaceNames = names;
+  return true;
+}
+
+/// Face names come from the STEP entity each face was transferred from.
+void StepFaceNames(STEPControl_Reader& reader, ShapeRead& r)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  const Handle(XSControl_TransferReader) tr = reader.WS()->TransferReader();
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    std::string name;
+    if (!tr.IsNull())
+    {
+      const Handle(StepRepr_RepresentationItem) item =
+        Handle(StepRepr_RepresentationItem)::DownCast(tr->EntityFromShapeResult(faceMap(i), 1));
+      if (!item.IsNull() && !item->Name().IsNull())
+      {
+        name = item->Name()->ToCString();
+      }
+    }
+    r.FaceNames.push_back(name);
+  }
+}
+
+/// The entities OCCT's translation failed on (it skips them, so the shape may miss faces).
+std::string TransferFailures(XSControl_Reader& reader)
+{
+  const Handle(XSControl_TransferReader) tr = reader.WS()->TransferReader();
+  const Handle(Interface_InterfaceModel) model = reader.WS()->Model();
+  if (tr.IsNull() || tr->TransientProcess().IsNull() || model.IsNull())
+  {
+    return "";
+  }
+  const Interface_CheckIterator checks = tr->TransientProcess()->CheckList(Standard_True);
+  int count = 0;
+  std::string first;
+  for (checks.Start(); checks.More(); checks.Next())
+  {
+    const Handle(Interface_Check)& check = checks.Value();
+    if (check.IsNull() || !check->HasFailed())
+    {
+      continue;
+    }
+    if (++count <= 3)
+    {
+      const int n = checks.Number();
+      const Handle(TCollection_HAsciiString) label =
+        n > 0 && n <= model->NbEntities() ? model->StringLabel(model->Value(n)) : Handle(TCollection_HAsciiString)();
+      first += std::string(first.empty() ? "" : "; ") + (label.IsNull() ? "entity" : label->ToCString()) +
+        ": " + check->CFail(1);
+    }
+  }
+  if (count == 0)
+  {
+    return "";
+  }
+  return "OpenCASCADE's translation failed on " + std::to_string(count) + " entit" +
+    (count == 1 ? "y" : "ies") + " of the file and skipped them (" + first + (count > 3 ? "; ..." : "") +
+    "): the model may miss faces";
+}
+
+/// Parsing and translation by OCCT's reader (STEPControl_Reader or IGESControl_Reader).
+template <class Reader>
+bool Transfer(Reader& reader, Format format, const std::string& fileName, ShapeRead& r, std::string& error)
+{
+  const std::string prefix = Prefix(format, fileName);
+  std::string failure;
+  IFSelect_ReturnStatus status = IFSelect_RetVoid;
+  if (!RunGuarded([&] { status = reader.ReadFile(fileName.c_str()); }, failure))
+  {
+    error = prefix + "parsing (ReadFile): " + failure;
+    return false;
+  }
+  if (status != IFSelect_RetDone)
+  {
+    error = prefix + "OpenCASCADE's parser rejected it: " + StatusName(status);
+    return false;
+  }
+  if (!RunGuarded(
+        [&] {
+          reader.TransferRoots();
+          r.Shape = reader.OneShape();
+        },
+        failure))
+  {
+    error = prefix + "translating its entities into a shape (TransferRoots): " + failure;
+    return false;
+  }
+  std::string warning;
+  if (!RunGuarded([&] { warning = TransferFailures(reader); }, failure))
+  {
+    warning = "the check list of OpenCASCADE's translation cannot be read: " + failure;
+  }
+  if (!warning.empty())
+  {
+    r.Warnings.push_back(warning);
+  }
+  return true;
+}
+
+/// Translation and the healing that belongs to reading, in this process.
+bool Translate(const std::string& fileName, Format format, ShapeRead& r, std::string& error)
+{
+  const std::string prefix = Prefix(format, fileName);
+  std::string failure;
+  if (format == Format::STEP)
+  {
+    STEPControl_Reader reader;
+    if (!Transfer(reader, format, fileName, r, error))
+    {
+      return false;
+    }
+    if (!RunGuarded([&] { StepFaceNames(reader, r); }, failure))
+    {
+      error = prefix + "reading the face names: " + failure;
+      return false;
+    }
+  }
+  else
+  {
+    IGESControl_Reader reader;
+    if (!Transfer(reader, format, fileName, r, error))
+    {
+      return false;
+    }
+    TopTools_IndexedMapOfShape faceMap;
+    TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+    r.FaceNames.assign(faceMap.Extent(), std::string());
+  }
+  if (r.Shape.IsNull() || r.FaceNames.empty())
+  {
+    error = "no faces in " + fileName + (r.Warnings.empty() ? "" : " (" + r.Warnings[0] + ")");
+    return false;
+  }
+  if (!FixMissingSeams(r, prefix, error))
+  {
+    return false;
+  }
+  Bnd_Box box;
+  if (!RunGuarded([&] { BRepBndLib::AddOptimal(r.Shape, box, Standard_False, Standard_False); }, failure))
+  {
+    error = prefix + "its bounding box (BRepBndLib::AddOptimal): " + failure;
+    return false;
+  }
+  if (box.IsVoid())
+  {
+    error = prefix + "its shape has an empty bounding box";
+    return false;
+  }
+  box.Get(r.Box[0], r.Box[2], r.Box[4], r.Box[1], r.Box[3], r.Box[5]);
+  if (!std::all_of(r.Box, r.Box + 6, [](double v) { return std::isfinite(v) && std::abs(v) < 1e100; }))
+  {
+    error = prefix + "its shape's bounding box is not finite (coordinates out of range)";
+    return false;
+  }
+  return true;
+}
+
+// The child's answer on the pipe: 'S' + face names + seams + box + BinTools shape, or 'E' + error.
+void PutU32(std::ostream& out, std::uint32_t v)
+{
+  out.write(reinterpret_cast<const char*>(&v), sizeof v);
+}
+
+bool GetU32(std::istream& in, std::uint32_t& v)
+{
+  return static_cast<bool>(in.read(reinterpret_cast<char*>(&v), sizeof v));
+}
+
+void PutStrings(std::ostream& out, const std::vector<std::string>& strings)
+{
+  PutU32(out, static_cast<std::uint32_t>(strings.size()));
+  for (const std::string& s : strings)
+  {
+    PutU32(out, static_cast<std::uint32_t>(s.size()));
+    out.write(s.data(), static_cast<std::streamsize>(s.size()));
+  }
+}
+
+bool GetStrings(std::istream& in, std::size_t limit, std::vector<std::string>& strings)
+{
+  std::uint32_t count = 0;
+  bool ok = GetU32(in, count) && count <= limit;
+  for (std::uint32_t i = 0; ok && i < count; ++i)
+  {
+    std::uint32_t length = 0;
+    ok = GetU32(in, length) && length <= limit;
+    std::string s(ok ? length : 0, '\0');
+    ok = ok && (length == 0 || in.read(&s[0], length));
+    strings.push_back(s);
+  }
+  return ok;
+}
+
+std::string Encode(const ShapeRead& r)
+{
+  std::ostringstream out(std::ios::binary);
+  out.put('S');
+  PutStrings(out, r.FaceNames);
+  PutStrings(out, r.Warnings);
+  PutU32(out, static_cast<std::uint32_t>(r.SeamsAdded));
+  out.write(reinterpret_cast<const char*>(r.Box), sizeof r.Box);
+  BinTools::Write(r.Shape, out);
+  return out.str();
+}
+
+bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r, std::string& error)
+{
+  if (!payload.empty() && payload[0] == 'E')
+  {
+    error = payload.substr(1);
+    return false;
+  }
+  std::istringstream in(payload, std::ios::binary);
+  std::uint32_t count = 0, seams = 0;
+  bool ok = in.get() == 'S' && GetStrings(in, payload.size(), r.FaceNames);
+  count = static_cast<std::uint32_t>(r.FaceNames.size());
+  ok = ok && GetStrings(in, payload.size(), r.Warnings) && GetU32(in, seams) && in.read(reinterpret_cast<char*>(r.Box), sizeof r.Box);
+  std::string failure;
+  if (!ok || !RunGuarded([&] { BinTools::Read(r.Shape, in); }, failure))
+  {
+    error = prefix + "the shape sent back by the reading process is incomplete " + failure;
+    return false;
+  }
+  r.SeamsAdded = static_cast<int>(seams);
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  if (faceMap.Extent() != static_cast<int>(count))
+  {
+    error = prefix + "the shape sent back by the reading process has " + std::to_string(faceMap.Extent()) +
+      " faces instead of " + std::to_string(count);
+    return false;
+  }
+  return true;
+}
+
+/// The child: translates, writes its answer to fd and ends without running any of the parent's
+/// exit handlers or destructors.
+[[noreturn]] void ChildRead(const std::string& fileName, Format format, int fd)
+{
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  // This process is ours: OCCT's handlers for every signal it knows.
+  OSD::SetSignal(OSD_SignalMode_Set, Standard_False);
+  ShapeRead r;
+  std::string error, payload, failure;
+  if (!Translate(fileName, format, r, error))
+  {
+    payload = "E" + error;
+  }
+  else if (!RunGuarded([&] { payload = Encode(r); }, failure))
+  {
+    payload = "E" + Prefix(format, fileName) + "writing the shape for the reading process's parent: " + failure;
+  }
+  for (std::size_t done = 0; done < payload.size();)
+  {
+    const ssize_t n = write(fd, payload.data() + done, payload.size() - done);
+    if (n < 0 && errno == EINTR)
+    {
+      continue;
+    }
+    if (n <= 0)
+    {
+      break;
+    }
+    done += static_cast<std::size_t>(n);
+  }
+  close(fd);
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  _exit(0);
+}
+
+/// Reads fd until end of file; false when the time runs out first.
+bool ReceiveUntil(int fd, double seconds, std::string& out)
+{
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  char buffer[1 << 16];
+  for (;;)
+  {
+    const double left = std::chrono::duration<double>(deadline - Clock::now()).count();
+    if (left <= 0)
+    {
+      return false;
+    }
+    pollfd p{ fd, POLLIN, 0 };
+    const int ready = poll(&p, 1, static_cast<int>(std::min(std::ceil(left * 1000), 1e9)));
+    if (ready <= 0)
+    {
+      continue; // EINTR or the time is up (checked above)
+    }
+    const ssize_t n = read(fd, buffer, sizeof buffer);
+    if (n > 0)
+    {
+      out.append(buffer, static_cast<std::size_t>(n));
+    }
+    else if (n == 0 || (errno != EINTR && errno != EAGAIN))
+    {
+      return true;
+    }
+  }
+}
+
+std::string SignalText(int sig)
+{
+  const char* what = strsignal(sig);
+  return "signal " + std::to_string(sig) + (what ? std::string(", ") + what : std::string());
+}
+
+bool ReadInChild(const std::string& fileName, Format format, double timeout, ShapeRead& r, std::string& error)
+{
+  const std::string prefix = Prefix(format, fileName);
+  int fds[2];
+  if (pipe2(fds, O_CLOEXEC) != 0)
+  {
+    error = prefix + "cannot start the reading process (pipe): " + std::strerror(errno);
+    return false;
+  }
+  // What this process has buffered would otherwise be written twice, by the child too.
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0)
+  {
+    error = prefix + "cannot start the reading process (fork): " + std::strerror(errno);
+    close(fds[0]);
+    close(fds[1]);
+    return false;
+  }
+  if (pid == 0)
+  {
+    close(fds[0]);
+    ChildRead(fileName, format, fds[1]);
+  }
+  close(fds[1]);
+  std::string payload;
+  const bool finished = ReceiveUntil(fds[0], timeout, payload);
+  close(fds[0]);
+  if (!finished)
+  {
+    kill(pid, SIGKILL);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+  {
+  }
+  if (!finished)
+  {
+    std::ostringstream s;
+    s << prefix << "OpenCASCADE's translation and healing did not end within the read timeout of "
+      << timeout << " s: abandoned (a malformed file, or raise the timeout for a very large model)";
+    error = s.str();
+    return false;
+  }
+  if (WIFSIGNALED(status))
+  {
+    error = prefix + "OpenCASCADE's translation crashed (" + SignalText(WTERMSIG(status)) +
+      ") in the reading process: the file is malformed";
+    return false;
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || payload.empty())
+  {
+    error = prefix + "the reading process ended without a result (exit status " +
+      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")";
+    return false;
+  }
+  return Decode(payload, prefix, r, error);
+}
+} // namespace
+
+bool ReadCADFile(const std::string& fileName, double timeoutSeconds, ShapeRead& result, std::string& error)
+{
+  const Format format = FormatOf(fileName);
+  if (format == Format::Unknown)
+  {
+    error = "unknown CAD file extension (want .step, .stp, .iges, .igs): " + fileName;
+    return false;
+  }
+  if (!CheckFileNumbers(fileName, error))
+  {
+    return false;
+  }
+  result = ShapeRead();
+  return timeoutSeconds > 0 ? ReadInChild(fileName, format, timeoutSeconds, result, error)
+                            : Translate(fileName, format, result, error);
+}
+
+} // namespace ctcad

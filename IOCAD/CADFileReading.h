@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Reading a STEP or IGES file into an OpenCASCADE shape, bounded in time and isolated from
+// OCCT's crashes: the numbers of the file are checked first, then OCCT's translation and the
+// healing that belongs to reading (missing seams) run in a child process (fork) whose result
+// comes back through a pipe. A child that crashes, loops past the time limit or throws is an
+// error naming the file and the stage; this process never crashes or hangs on a malformed file.
+// For OpenCASCADE translation units only (CADBRepSampling.cxx).
+#ifndef CTSplines_IOCAD_CADFileReading_h
+#define CTSplines_IOCAD_CADFileReading_h
+
+#include <TopoDS_Shape.hxx>
+
+#include <string>
+#include <vector>
+
+namespace ctcad
+{
+struct ShapeRead
+{
+  TopoDS_Shape Shape;
+  /// Per face, in TopExp::MapShapes order: the name of the STEP entity it came from (may be
+  /// empty, "NONE" or "''").
+  std::vector<std::string> FaceNames;
+  int SeamsAdded = 0; // faces given their missing seam edge (ShapeFix_Face::FixMissingSeam)
+  double Box[6] = { 0, 0, 0, 0, 0, 0 }; // xmin, xmax, ymin, ymax, zmin, zmax
+  /// What OCCT's translation could not do (entities it failed on, and so skipped): the model
+  /// may miss faces.
+  std::vector<std::string> Warnings;
+};
+
+/// Reads fileName (.step, .stp, .iges, .igs). timeoutSeconds > 0: in a child process killed
+/// after that time; 0: in this process (with OCCT's signal handling) without a time limit.
+/// Returns false with `error` starting with "cannot read" or "unknown CAD file extension".
+bool ReadCADFile(const std::string& fileName, double timeoutSeconds, ShapeRead& result,
+  std::string& error);
+
+/// The pre-check of ReadCADFile: false with `error` (line, entity) when a real number of a STEP
+/// file is out of the range of a double (1e400) or not a number, or the file is empty.
+bool CheckFileNumbers(const std::string& fileName, std::string& error);
+
+} // namespace ctcad
+
+#endif
