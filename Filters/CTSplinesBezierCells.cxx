@@ -66,20 +66,8 @@ std::string ReadUV(
     return requiredFor ? "the input has no point data array '" + name + "' (" + requiredFor + ")"
                        : std::string();
   }
-  return CopyPointArray(
-    array, ds->GetNumberOfPoints(), "point data array '" + name + "'", 2, cells.UV);
-}
-
-std::string CopyPointArray(vtkDataArray* array, vtkIdType nPoints, const std::string& what,
-  int components, std::vector<double>& out)
-{
-  std::string error = CopyArray(array, what, components, "point", out);
-  if (error.empty() && array->GetNumberOfTuples() != nPoints)
-  {
-    error = what + " has " + std::to_string(array->GetNumberOfTuples()) + " tuples for " +
-      std::to_string(nPoints) + " points";
-  }
-  return error;
+  return CopyArray(
+    array, "point data array '" + name + "'", 2, ds->GetNumberOfPoints(), "point", cells.UV);
 }
 
 namespace
@@ -259,7 +247,7 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells, const std::str
   {
     const std::string what = arrayPrefix + "point data array '" +
       (w->GetName() ? w->GetName() : "") + "'";
-    std::string error = CopyPointArray(w, nPoints, what, 1, cells.Weights);
+    std::string error = CopyArray(w, what, 1, nPoints, "point", cells.Weights);
     if (!error.empty())
     {
       return error;
@@ -467,6 +455,28 @@ void LatticeNumbering::WriteTriangles(
   }
 }
 
+std::string CheckCellIdArrays(vtkDataSet* input, const std::string& arrayPrefix)
+{
+  for (const char* name : { "MacroTriangleId", "MicroTriangleId" })
+  {
+    if (vtkDataArray* in = input->GetCellData()->GetArray(name))
+    {
+      std::string error = CheckTuples(
+        in, arrayPrefix + "cell data array '" + name + "'", input->GetNumberOfCells(), "cell");
+      if (error.empty() && in->GetNumberOfComponents() != 1)
+      {
+        error = arrayPrefix + "cell data array '" + name + "' has " +
+          std::to_string(in->GetNumberOfComponents()) + " components, expected 1";
+      }
+      if (!error.empty())
+      {
+        return error;
+      }
+    }
+  }
+  return {};
+}
+
 void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell)
 {
   const vtkIdType nCells = input->GetNumberOfCells();
@@ -498,6 +508,10 @@ std::string GatherBezierCellsWithUV(
   vtkDataSet* ds, const std::string& uvName, BezierCells& cells, const char* uvRequiredFor)
 {
   std::string error = GatherBezierCells(ds, cells);
+  if (error.empty())
+  {
+    error = CheckCellIdArrays(ds, "");
+  }
   return error.empty() ? ReadUV(ds, uvName, cells, uvRequiredFor) : error;
 }
 

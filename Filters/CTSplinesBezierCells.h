@@ -57,14 +57,10 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells,
 std::string ReadUV(vtkDataSet* ds, const std::string& name, BezierCells& cells,
   const char* requiredFor = nullptr);
 
-/// GatherBezierCells, then ReadUV: the common opening of the filters that read a spline grid.
+/// GatherBezierCells, CheckCellIdArrays, then ReadUV: the common opening of the filters that
+/// read a spline grid.
 std::string GatherBezierCellsWithUV(vtkDataSet* ds, const std::string& uvName, BezierCells& cells,
   const char* uvRequiredFor = nullptr);
-
-/// Copies a per-point array (checked like CopyArray, plus one tuple per point).
-std::string CopyPointArray(
-  vtkDataArray* array, vtkIdType nPoints, const std::string& what, int components,
-  std::vector<double>& out);
 
 /// Whether a patch's parametric derivatives dr, ds span no tangent plane (e.g. at a collapsed
 /// corner); the filters then take the limit from inside the cell, at NudgeInside(t).
@@ -128,8 +124,13 @@ private:
   std::vector<vtkIdType> CornerOf, CornerOwner, CellEdge, EdgeOwner;
 };
 
+/// Checks the input's cell data arrays MacroTriangleId and MicroTriangleId (when present): one
+/// tuple of one component per cell.
+std::string CheckCellIdArrays(vtkDataSet* input, const std::string& arrayPrefix);
+
 /// Adds to `out` the input's cell data arrays MacroTriangleId and MicroTriangleId (when present),
-/// repeated for the trianglesPerCell output triangles of each input cell.
+/// repeated for the trianglesPerCell output triangles of each input cell (CheckCellIdArrays
+/// must have passed; GatherBezierCellsWithUV checks them).
 void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell);
 
 /// Runs body over [0, n) in `blocks` consecutive parallel loops (vtkSMPTools), reporting progress

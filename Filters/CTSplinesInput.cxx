@@ -2,7 +2,9 @@
 #include "CTSplinesInput.h"
 
 #include "LargeArrays.h"
+#include "SplineDataValidation.h"
 
+#include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
 #include "vtkCellType.h"
 #include "vtkCellTypes.h"
@@ -12,6 +14,7 @@
 #include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 
@@ -21,33 +24,53 @@
 
 namespace ctsplines
 {
-std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  const char* element, std::vector<double>& out, int nanGroup)
+std::string CheckTuples(
+  vtkAbstractArray* array, const std::string& what, vtkIdType tuples, const char* element)
 {
   std::ostringstream os;
   if (!array)
   {
     os << what << " is missing";
-    return os.str();
   }
+  else if (array->GetNumberOfTuples() != tuples)
+  {
+    os << what << " has " << array->GetNumberOfTuples() << " tuples for " << tuples << " "
+       << element << "s";
+  }
+  return os.str();
+}
+
+std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup)
+{
+  std::string error = CheckTuples(array, what, tuples, element);
+  if (!error.empty())
+  {
+    return error;
+  }
+  std::ostringstream os;
   if (array->GetNumberOfComponents() != components)
   {
     os << what << " has " << array->GetNumberOfComponents() << " components, expected "
        << components;
     return os.str();
   }
-  const vtkIdType n = array->GetNumberOfTuples();
+  const vtkIdType n = tuples;
   ctk::ResizeForOverwrite(out, static_cast<size_t>(n) * components);
-  // Values in (tuple, component) order, so the first non-finite one is reported.
+  // Values in (tuple, component) order, so the first bad one is reported.
   auto copy = [&](auto get) {
     const size_t count = static_cast<size_t>(n) * components;
     for (size_t k = 0; k < count; ++k)
     {
       const double x = get(k);
-      if (!std::isfinite(x) && !(nanGroup > 0 && std::isnan(x)))
+      if (!ctk::IsUsableValue(x) && !(nanGroup > 0 && std::isnan(x)))
       {
-        os << what << " has a non-finite value (" << x << ") at " << element << " "
-           << static_cast<vtkIdType>(k / components);
+        os << what << " has a " << (std::isfinite(x) ? "value too large" : "non-finite value")
+           << " (" << x << ") at " << element << " " << static_cast<vtkIdType>(k / components);
+        if (std::isfinite(x))
+        {
+          os << "; magnitudes must stay below " << ctk::MaxInputMagnitude << " (rescale the data)";
+        }
         return false;
       }
       out[k] = x;
@@ -91,6 +114,37 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
   return ok ? std::string() : os.str();
 }
 
+std::string CopyIdArray(vtkDataArray* array, const std::string& what, vtkIdType tuples,
+  const char* element, vtkIdType limit, std::vector<vtkIdType>& out)
+{
+  std::string error = CheckTuples(array, what, tuples, element);
+  if (error.empty() && array->GetNumberOfComponents() != 1)
+  {
+    error = what + " has " + std::to_string(array->GetNumberOfComponents()) +
+      " components, expected 1";
+  }
+  if (!error.empty())
+  {
+    return error;
+  }
+  ctk::ResizeForOverwrite(out, static_cast<size_t>(tuples));
+  const double top = limit < 0 ? 9e15 : static_cast<double>(limit); // exact in a double
+  vtkIdTypeArray* ids = vtkIdTypeArray::FastDownCast(array);
+  for (vtkIdType k = 0; k < tuples; ++k)
+  {
+    const double x = ids ? static_cast<double>(ids->GetValue(k)) : array->GetComponent(k, 0);
+    if (!(x >= 0 && x < top) || x != std::floor(x))
+    {
+      std::ostringstream os;
+      os << what << " has the value " << x << " at " << element << " " << k
+         << ", expected an integer in [0, " << (limit < 0 ? top : static_cast<double>(limit)) << ")";
+      return os.str();
+    }
+    out[k] = static_cast<vtkIdType>(x);
+  }
+  return {};
+}
+
 vtkDataArray* FindArray(vtkDataSetAttributes* attributes, const std::string& name)
 {
   return name.empty() ? nullptr : attributes->GetArray(name.c_str());
@@ -102,7 +156,8 @@ std::string CopyPoints(vtkPoints* points, std::vector<double>& out)
   {
     return "the input has no points";
   }
-  return CopyArray(points->GetData(), "the point coordinates", 3, "point", out);
+  return CopyArray(
+    points->GetData(), "the point coordinates", 3, points->GetNumberOfPoints(), "point", out);
 }
 
 namespace
@@ -114,11 +169,18 @@ std::string TrianglesOfCellArray(
   std::ostringstream os;
   const vtkIdType n = cells->GetNumberOfCells();
   ctk::ResizeForOverwrite(triangles, static_cast<size_t>(n) * 3);
+  const vtkIdType connectivitySize = cells->GetNumberOfConnectivityIds();
   auto extract = [&](const auto* offsets, const auto* connectivity) {
     for (vtkIdType cellId = 0; cellId < n; ++cellId)
     {
       const vtkIdType begin = static_cast<vtkIdType>(offsets[cellId]);
       const vtkIdType npts = static_cast<vtkIdType>(offsets[cellId + 1]) - begin;
+      if (begin < 0 || begin + npts > connectivitySize)
+      {
+        os << "cell " << cellId << " has offsets outside the connectivity array (corrupt cell "
+           << "array)";
+        return false;
+      }
       if (npts != 3)
       {
         os << "cell " << cellId << " is " << what << " with " << npts
@@ -167,7 +229,13 @@ std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles
 std::string ExtractTriangles(vtkUnstructuredGrid* input, std::vector<ctk::Id>& triangles)
 {
   const vtkIdType n = input->GetNumberOfCells();
-  const unsigned char* types = input->GetCellTypesArray()->GetPointer(0);
+  vtkUnsignedCharArray* typeArray = input->GetCellTypesArray();
+  if (!typeArray || !input->GetCells() || typeArray->GetNumberOfTuples() != n ||
+    input->GetCells()->GetNumberOfCells() != n)
+  {
+    return "the unstructured grid's cell types and cells disagree in number (corrupt grid)";
+  }
+  const unsigned char* types = typeArray->GetPointer(0);
   for (vtkIdType c = 0; c < n; ++c)
   {
     if (types[c] != VTK_TRIANGLE)

@@ -7,9 +7,12 @@
 
 #include "MeshTopology.h" // for ctk::Id
 
+#include "vtkType.h" // for vtkIdType
+
 #include <string>
 #include <vector>
 
+class vtkAbstractArray;
 class vtkDataArray;
 class vtkDataSetAttributes;
 class vtkPoints;
@@ -18,12 +21,23 @@ class vtkUnstructuredGrid;
 
 namespace ctsplines
 {
+/// Checks that `array` exists and has one tuple per element (`tuples` of them). `what` names the
+/// array's role in messages ("point data array 'dFdu'"); `element` is "point" or "cell".
+/// Every array a filter reads goes through this (or CopyArray/CopyIdArray, which call it).
+std::string CheckTuples(
+  vtkAbstractArray* array, const std::string& what, vtkIdType tuples, const char* element);
+
 /// Copies `array` (any numeric type) into row-major doubles after checking that it exists, has
-/// `components` components and only finite values. `what` names the array's role in messages
-/// ("point data array 'dFdu'"); `element` is "point" or "cell". With nanGroup > 0, NaN marks
-/// "no value" for whole aligned groups of nanGroup components (a partly NaN group is an error).
+/// `tuples` tuples of `components` components and only finite values of magnitude below
+/// ctk::MaxInputMagnitude (far from overflow in the constructions' products). With nanGroup > 0, NaN marks "no value" for whole aligned groups of nanGroup
+/// components (a partly NaN group is an error).
 std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  const char* element, std::vector<double>& out, int nanGroup = 0);
+  vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup = 0);
+
+/// Copies a one-component id array (MacroTriangleId, GlobalIds, ...) after checking its size and
+/// that every value is an integer in [0, limit) (limit < 0: any non-negative integer).
+std::string CopyIdArray(vtkDataArray* array, const std::string& what, vtkIdType tuples,
+  const char* element, vtkIdType limit, std::vector<vtkIdType>& out);
 
 /// Finds a point/cell data array by name; empty name or missing array gives nullptr.
 vtkDataArray* FindArray(vtkDataSetAttributes* attributes, const std::string& name);

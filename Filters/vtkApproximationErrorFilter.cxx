@@ -267,11 +267,7 @@ int vtkApproximationErrorFilter::ComputeParametric(vtkDataSet* spline, vtkPolyDa
   std::vector<double> uv;
   std::string error = ctsplines::CopyArray(uvArray,
     std::string("the reference's point data array '") + (uvArray->GetName() ? uvArray->GetName() : "") + "'",
-    2, "point", uv);
-  if (error.empty() && uvArray->GetNumberOfTuples() != reference->GetNumberOfPoints())
-  {
-    error = "the reference's UV array has a different number of tuples than points";
-  }
+    2, reference->GetNumberOfPoints(), "point", uv);
   if (!error.empty())
   {
     vtkErrorMacro(<< "Parametric mode: " << error);

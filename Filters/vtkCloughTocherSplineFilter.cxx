@@ -31,7 +31,6 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 vtkStandardNewMacro(vtkCloughTocherSplineFilter);
@@ -221,6 +220,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   }
   std::vector<ctk::Id> triangles;
   std::vector<double> F, UV, Fu, Fv, edgeGradients, boundaryCurves;
+  const vtkIdType nPoints = input->GetNumberOfPoints(), nInputCells = input->GetNumberOfCells();
   vtkPolyData* polyInput = vtkPolyData::SafeDownCast(input);
   std::string error = polyInput
     ? ctsplines::ExtractTriangles(polyInput, triangles)
@@ -247,18 +247,18 @@ int vtkCloughTocherSplineFilter::RequestData(
     }
     else
     {
-      error = ctsplines::CopyArray(uv, what, 2, "point", UV);
+      error = ctsplines::CopyArray(uv, what, 2, nPoints, "point", UV);
     }
   }
   if (error.empty())
   {
     error = ctsplines::CopyArray(ctsplines::FindArray(pd, this->DuArrayName),
-      "point data array '" + this->DuArrayName + "' (derivative d/du)", 3, "point", Fu);
+      "point data array '" + this->DuArrayName + "' (derivative d/du)", 3, nPoints, "point", Fu);
   }
   if (error.empty())
   {
     error = ctsplines::CopyArray(ctsplines::FindArray(pd, this->DvArrayName),
-      "point data array '" + this->DvArrayName + "' (derivative d/dv)", 3, "point", Fv);
+      "point data array '" + this->DvArrayName + "' (derivative d/dv)", 3, nPoints, "point", Fv);
   }
   ctk::SplineOptions options;
   const bool quartic = this->Construction == Quartic;
@@ -273,7 +273,7 @@ int vtkCloughTocherSplineFilter::RequestData(
     const std::string what = "cell data array '" + this->EdgeGradientsArrayName +
       "' (mid-edge gradients, needed by " + GetConstructionName(this->Construction) +
       " with boundary mode " + GetBoundaryModeName(this->BoundaryMode) + ")";
-    error = ctsplines::CopyArray(eg, what, 18, "cell", edgeGradients);
+    error = ctsplines::CopyArray(eg, what, 18, nInputCells, "cell", edgeGradients);
   }
   if (error.empty() && !this->BoundaryCurvePointsArrayName.empty())
   {
@@ -292,8 +292,22 @@ int vtkCloughTocherSplineFilter::RequestData(
     {
       error = ctsplines::CopyArray(
         ctsplines::FindArray(input->GetCellData(), this->BoundaryCurvePointsArrayName), what, 18,
-        "cell", boundaryCurves, 6);
+        nInputCells, "cell", boundaryCurves, 6);
     }
+  }
+  // Distributed runs: the global cell ids and ghost flags are read per output cell.
+  std::vector<vtkIdType> globalIds;
+  vtkDataArray* globalIdArray = input->GetCellData()->GetGlobalIds();
+  if (error.empty() && globalIdArray)
+  {
+    error = ctsplines::CopyIdArray(globalIdArray,
+      std::string("cell data global ids '") + (globalIdArray->GetName() ? globalIdArray->GetName() : "") + "'",
+      nInputCells, "cell", -1, globalIds);
+  }
+  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  if (error.empty() && ghosts)
+  {
+    error = ctsplines::CheckTuples(ghosts, "cell ghost array 'vtkGhostType'", nInputCells, "cell");
   }
   if (!error.empty())
   {
@@ -309,44 +323,6 @@ int vtkCloughTocherSplineFilter::RequestData(
   {
     vtkErrorMacro(<< "invalid mesh: " << topo.Message);
     return 0;
-  }
-  // Zero-area parameter triangles have no barycentric coordinates: reject them by name.
-  {
-    double lo[2] = { UV[0], UV[1] }, hi[2] = { UV[0], UV[1] };
-    for (ctk::Id v = 1; v < nV; ++v)
-    {
-      for (int c = 0; c < 2; ++c)
-      {
-        lo[c] = std::min(lo[c], UV[2 * v + c]);
-        hi[c] = std::max(hi[c], UV[2 * v + c]);
-      }
-    }
-    const double diag2 = (hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]);
-    // In parallel; the lowest offending cell id is reported whatever the thread count.
-    std::atomic<ctk::Id> firstBad(nT);
-    vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
-      for (ctk::Id t = b; t < e && t < firstBad.load(std::memory_order_relaxed); ++t)
-      {
-        const ctk::Id* p = &triangles[3 * t];
-        auto U = [&](int i) { return ctk::Vec2(UV[2 * p[i]], UV[2 * p[i] + 1]); };
-        if (!(std::abs(ctk::SignedArea2(U(0), U(1), U(2))) > 1e-13 * diag2))
-        {
-          ctk::Id seen = firstBad.load();
-          while (t < seen && !firstBad.compare_exchange_weak(seen, t))
-          {
-          }
-          break;
-        }
-      }
-    });
-    if (firstBad < nT)
-    {
-      const ctk::Id t = firstBad;
-      const ctk::Id* p = &triangles[3 * t];
-      vtkErrorMacro(<< "degenerate parameter triangle: cell " << t << " (points " << p[0] << ", "
-                    << p[1] << ", " << p[2] << ") has zero area in (u, v)");
-      return 0;
-    }
   }
   this->UpdateProgress(0.2);
   if (this->GetAbortExecute())
@@ -495,18 +471,18 @@ int vtkCloughTocherSplineFilter::RequestData(
     AddBezierExtraction(output, data, topology, extraction);
   }
   // Distributed runs: global ids of the macro-triangles, then drop the ghost triangles.
-  if (vtkDataArray* globalIds = input->GetCellData()->GetGlobalIds())
+  if (globalIdArray)
   {
     vtkNew<vtkIdTypeArray> macroGlobal;
     macroGlobal->SetName("MacroTriangleGlobalId");
     macroGlobal->SetNumberOfTuples(nCells);
     for (vtkIdType c = 0; c < nCells; ++c)
     {
-      macroGlobal->SetValue(c, static_cast<vtkIdType>(globalIds->GetComponent(c / 3, 0)));
+      macroGlobal->SetValue(c, globalIds[c / 3]);
     }
     output->GetCellData()->AddArray(macroGlobal);
   }
-  if (vtkUnsignedCharArray* ghosts = input->GetCellGhostArray())
+  if (ghosts)
   {
     std::vector<char> keep(nCells);
     bool anyGhost = false;

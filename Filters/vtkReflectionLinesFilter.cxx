@@ -56,12 +56,7 @@ int vtkReflectionLinesFilter::RequestData(
   std::vector<double> normals, coords;
   const std::string what = std::string("point data array '") +
     (normalArray->GetName() ? normalArray->GetName() : "") + "' (normals)";
-  std::string error = ctsplines::CopyArray(normalArray, what, 3, "point", normals);
-  if (error.empty() && normalArray->GetNumberOfTuples() != nPoints)
-  {
-    error = what + " has " + std::to_string(normalArray->GetNumberOfTuples()) + " tuples for " +
-      std::to_string(nPoints) + " points";
-  }
+  std::string error = ctsplines::CopyArray(normalArray, what, 3, nPoints, "point", normals);
   if (error.empty())
   {
     error = ctsplines::CopyPoints(input->GetPoints(), coords);

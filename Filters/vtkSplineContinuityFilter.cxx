@@ -242,14 +242,7 @@ int vtkSplineContinuityFilter::RequestData(
     {
       return;
     }
-    std::vector<double> values;
-    error = ctsplines::CopyArray(a, "cell data array '" + name + "'", 1, "cell", values);
-    if (error.empty() && a->GetNumberOfTuples() != nCells)
-    {
-      error = "cell data array '" + name + "' has " + std::to_string(a->GetNumberOfTuples()) +
-        " tuples for " + std::to_string(nCells) + " cells";
-    }
-    out.assign(values.begin(), values.end());
+    error = ctsplines::CopyIdArray(a, "cell data array '" + name + "'", nCells, "cell", -1, out);
   };
   std::vector<vtkIdType> macroIds, faceIds;
   readIds(this->MacroTriangleIdArrayName, macroIds);

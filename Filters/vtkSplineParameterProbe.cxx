@@ -32,9 +32,9 @@
 #include "vtkStreamingDemandDrivenPipeline.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
+#include <numeric>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -153,8 +153,8 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
     return os.str();
   }
   std::vector<double> uv;
-  std::string error = ctsplines::CopyPointArray(uvArray, source->GetNumberOfPoints(),
-    "the source's point data array '" + uvName + "'", 2, uv);
+  std::string error = ctsplines::CopyArray(uvArray,
+    "the source's point data array '" + uvName + "'", 2, source->GetNumberOfPoints(), "point", uv);
   if (error.empty())
   {
     error = ctsplines::GatherBezierCells(source, s.Cells, "source cell", "the source's ");
@@ -188,24 +188,21 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
       hi = hi.cwiseMax(p);
     }
     const double diag2 = (hi - lo).squaredNorm();
-    std::atomic<vtkIdType> firstBad(nCells);
+    ctk::LowestId firstBad;
     vtkSMPTools::For(0, nCells, [&](vtkIdType b, vtkIdType e) {
-      for (vtkIdType c = b; c < e && c < firstBad.load(std::memory_order_relaxed); ++c)
+      for (vtkIdType c = b; c < e; ++c)
       {
         const ctk::Vec2* A = &s.Corners[3 * c];
         if (!(std::abs(ctk::SignedArea2(A[0], A[1], A[2])) > 1e-13 * diag2))
         {
-          vtkIdType seen = firstBad.load();
-          while (c < seen && !firstBad.compare_exchange_weak(seen, c))
-          {
-          }
+          firstBad.Report(c);
           break;
         }
       }
     });
-    if (firstBad < nCells)
+    if (firstBad.Get() >= 0)
     {
-      const vtkIdType c = firstBad;
+      const vtkIdType c = firstBad.Get();
       os << "degenerate parameter triangle: source cell " << c << " (corner points "
          << s.Cells.CellIds(c)[0] << ", " << s.Cells.CellIds(c)[1] << ", "
          << s.Cells.CellIds(c)[2] << ") has zero area in (u, v)";
@@ -213,17 +210,13 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
     }
   }
 
+  if (vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId"))
+  {
+    return ctsplines::CopyIdArray(
+      macro, "the source's cell data array 'MacroTriangleId'", nCells, "cell", -1, s.MacroIds);
+  }
   ctk::ResizeForOverwrite(s.MacroIds, nCells);
-  vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId");
-  vtkIdTypeArray* macroIds = vtkIdTypeArray::FastDownCast(macro);
-  vtkSMPTools::For(0, nCells, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType c = b; c < e; ++c)
-    {
-      s.MacroIds[c] = macroIds ? macroIds->GetValue(c)
-        : macro               ? static_cast<vtkIdType>(macro->GetComponent(c, 0))
-                              : c;
-    }
-  });
+  std::iota(s.MacroIds.begin(), s.MacroIds.end(), vtkIdType(0));
   return {};
 }
 } // namespace

@@ -122,6 +122,7 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
   x.CellDofs.assign(3 * nT * M, -1);
   x.CellOperators.assign(3 * nT * 10 * M, 0.0);
   const bool neighbours = UsesNeighbours(options.Method);
+  LowestId firstFailure;
   parallelFor(nT, [&](Id begin, Id end) {
     for (Id t = begin; t < end; ++t)
     {
@@ -184,7 +185,11 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
         tau[s] = real.SplitTau[patch[s]];
       }
       MeshTopology local;
-      BuildMeshTopology(nLocal, nPatch, tris.data(), local);
+      if (!BuildMeshTopology(nLocal, nPatch, tris.data(), local).Ok)
+      {
+        firstFailure.Report(t);
+        continue;
+      }
       SplineData probe;
       probe.NumberOfVertices = nLocal;
       probe.NumberOfTriangles = nPatch;
@@ -229,7 +234,11 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
           }
         }
         CubicSpline spline;
-        BuildCubicCloughTocher(probe, local, options, spline);
+        if (!BuildCubicCloughTocher(probe, local, options, spline).Ok)
+        {
+          firstFailure.Report(t);
+          break;
+        }
         const MacroElementIds ids = GetMacroElementIds(spline.Layout, local, tris.data(), 0);
         for (int k = 0; k < 3; ++k)
         {
@@ -250,6 +259,12 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
       }
     }
   });
+  if (firstFailure.Get() >= 0)
+  {
+    status.Ok = false;
+    status.Message = "Bezier extraction: the local construction around triangle " +
+      std::to_string(firstFailure.Get()) + " failed (its neighbourhood is not a valid mesh)";
+  }
   return status;
 }
 

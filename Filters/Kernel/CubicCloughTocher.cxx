@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CubicCloughTocher.h"
 
+#include "SplineDataValidation.h"
+
 #include "CrossDerivativeRules.h"
 #include "KashyapFairing.h"
 #include "LargeArrays.h"
@@ -488,8 +490,14 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
       " with boundary mode " + ToString(EffectiveBoundaryMode(options)) + " needs mid-edge gradients";
     return status;
   }
+  status = ValidateSplineData(data, topo);
+  if (!status.Ok)
+  {
+    return status;
+  }
   Builder(data, topo, options, spline, parallelFor).Run();
-  return status;
+  return CheckFiniteControlPoints(spline.ControlPoints, topo, data.Triangles,
+    data.NumberOfVertices, 2, CubicSplineLayout::PointsPerTriangle);
 }
 
 } // namespace ctk

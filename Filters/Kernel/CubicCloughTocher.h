@@ -14,7 +14,9 @@
 #include "MeshTopology.h"
 #include "SplitPoint.h"
 
+#include <atomic>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -88,6 +90,29 @@ bool UsesEdgeGradients(const SplineOptions& options);
 /// Runs body(begin, end) over the chunks of [0, n); the caller may run chunks concurrently.
 using ParallelFor = std::function<void(Id n, const std::function<void(Id, Id)>& body)>;
 void SerialFor(Id n, const std::function<void(Id, Id)>& body);
+
+/// The lowest id reported from concurrent chunks, so that an error names the same element
+/// whatever the thread count.
+class LowestId
+{
+public:
+  void Report(Id id)
+  {
+    Id seen = this->Value.load(std::memory_order_relaxed);
+    while (id < seen && !this->Value.compare_exchange_weak(seen, id))
+    {
+    }
+  }
+  /// The lowest reported id, or -1 when none was reported.
+  Id Get() const
+  {
+    const Id v = this->Value.load();
+    return v == std::numeric_limits<Id>::max() ? -1 : v;
+  }
+
+private:
+  std::atomic<Id> Value{ std::numeric_limits<Id>::max() };
+};
 
 struct CubicSpline
 {

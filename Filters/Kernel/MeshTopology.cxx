@@ -113,6 +113,15 @@ TopologyStatus BuildMeshTopology(
              << t2;
           return fail(t2, os.str());
         }
+        const Id opposite = triangles[3 * t + (l + 2) % 3];
+        if (triangles[3 * t2 + (h2 % 3 + 2) % 3] == opposite)
+        {
+          std::ostringstream os;
+          os << "duplicate triangles " << std::min(t, t2) << " and " << std::max(t, t2)
+             << " have the same vertices (" << v
+             << ", " << other << ", " << opposite << ")";
+          return fail(std::max(t, t2), os.str());
+        }
         topology.EdgeTriangles[e][1] = t2;
         topology.EdgeLocalIndex[e][1] = static_cast<signed char>(h2 % 3);
         topology.TriangleEdges[t2][h2 % 3] = e;

@@ -47,7 +47,7 @@ struct TopologyStatus
 
 /// Builds the edge adjacency of numTriangles triangles given as triangles[3 t + l] point ids in
 /// [0, numPoints). Fails (with a message) on out-of-range ids, a triangle repeating a vertex,
-/// or a non-manifold edge (three or more triangles).
+/// a non-manifold edge (three or more triangles) or two triangles with the same three vertices.
 TopologyStatus BuildMeshTopology(
   Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology);
 

@@ -24,11 +24,16 @@ bool IsUsable(const Vec2* c)
   return SignedArea2(c[0], c[1], c[2]) != 0.0;
 }
 
-// Cell of x along one axis, clamped to [0, n) (done in double so huge values cannot overflow).
+// Cell of x along one axis, clamped to [0, n) in double, so that neither huge values nor a NaN
+// from an overflowing or underflowing box (inf * 0) reach the integer cast.
 Id Cell(double x, double origin, double inverseSpacing, Id n)
 {
   const double f = std::floor((x - origin) * inverseSpacing);
-  return static_cast<Id>(std::min(std::max(f, 0.0), static_cast<double>(n - 1)));
+  if (!(f > 0.0))
+  {
+    return 0;
+  }
+  return f < static_cast<double>(n - 1) ? static_cast<Id>(f) : n - 1;
 }
 } // namespace
 
@@ -96,13 +101,25 @@ void ParameterLocator::BuildBuckets()
   // A usable triangle has positive area, so both extents are positive. Aim for square buckets,
   // about one per triangle.
   const double w = hi.x() - lo.x(), h = hi.y() - lo.y();
-  const double nxIdeal = std::sqrt(static_cast<double>(usable) * w / h);
+  double nxIdeal = std::sqrt(static_cast<double>(usable) * w / h);
+  if (!std::isfinite(nxIdeal))
+  {
+    nxIdeal = 1.0; // an extent overflows or underflows: one column (still correct, slower)
+  }
   this->NX = static_cast<Id>(std::min(std::max(std::round(nxIdeal), 1.0), double(usable)));
   this->NY = std::max<Id>(1, (usable + this->NX - 1) / this->NX);
   this->Origin[0] = lo.x();
   this->Origin[1] = lo.y();
+  // Infinite or NaN spacings (extents that overflow or underflow) become one bucket row.
   this->InverseSpacing[0] = static_cast<double>(this->NX) / w;
   this->InverseSpacing[1] = static_cast<double>(this->NY) / h;
+  for (int a = 0; a < 2; ++a)
+  {
+    if (!std::isfinite(this->InverseSpacing[a]))
+    {
+      this->InverseSpacing[a] = 0.0;
+    }
+  }
 
   // Pass 1: bucket sizes; prefix sums give the row starts.
   const Id nBuckets = this->NX * this->NY;

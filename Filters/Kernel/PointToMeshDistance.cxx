@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "PointToMeshDistance.h"
 
+#include "SplineDataValidation.h"
+
 #include <CGAL/AABB_traits.h>
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <vector>
 
@@ -53,10 +56,13 @@ std::string PointToMeshDistance::Build(
         return msg.str();
       }
       const double* x = points + 3 * v;
-      if (!std::isfinite(x[0]) || !std::isfinite(x[1]) || !std::isfinite(x[2]))
+      // Squared distances of coordinates beyond MaxInputMagnitude would overflow in CGAL.
+      if (!IsUsablePoint(Vec3(x[0], x[1], x[2])))
       {
         std::ostringstream msg;
-        msg << "point " << v << " has a non-finite coordinate";
+        msg << "point " << v << " has a coordinate that is non-finite or too large ("
+            << x[0] << ", " << x[1] << ", " << x[2] << "; magnitudes must stay below "
+            << MaxInputMagnitude << ")";
         return msg.str();
       }
       corner[a] = Point(x[0], x[1], x[2]);
@@ -84,6 +90,12 @@ std::string PointToMeshDistance::Build(
 PointToMeshDistance::Result PointToMeshDistance::Query(const Vec3& p) const
 {
   Result r;
+  if (!IsUsablePoint(p))
+  {
+    r.Distance = std::numeric_limits<double>::quiet_NaN();
+    r.Closest.setConstant(r.Distance);
+    return r;
+  }
   const Point q(p.x(), p.y(), p.z());
   const auto hit = this->Impl->AABB.closest_point_and_primitive(q);
   r.Closest = Vec3(hit.first.x(), hit.first.y(), hit.first.z());

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "QuarticCloughTocher.h"
 
+#include "SplineDataValidation.h"
+
 #include "AffineLeastSquares.h"
 #include "InnerEdgeC1Smoothing.h"
 #include "LargeArrays.h"
@@ -394,7 +396,9 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
     previousChange = change;
     report(QuarticStage::Smoothed, round);
   }
-  return status;
+  const BuildStatus finite = CheckFiniteControlPoints(spline.ControlPoints, topo, data.Triangles,
+    data.NumberOfVertices, 3, QuarticSplineLayout::PointsPerTriangle);
+  return finite.Ok ? status : finite;
 }
 
 } // namespace ctk

@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "SplineDataValidation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace ctk
+{
+namespace
+{
+BuildStatus Failure(const std::string& message)
+{
+  BuildStatus status;
+  status.Ok = false;
+  status.Message = message;
+  return status;
+}
+
+// The first value of rows x columns that is non-finite or too large, or -1. With nanRows, an
+// all-NaN group of nanGroup values means "no value".
+Id FirstBadValue(const double* values, Id rows, int columns, int nanGroup = 0)
+{
+  if (!values)
+  {
+    return -1;
+  }
+  for (Id k = 0; k < rows * columns; ++k)
+  {
+    if (!IsUsableValue(values[k]))
+    {
+      if (nanGroup > 0 && std::isnan(values[k]))
+      {
+        const Id g = k - k % nanGroup;
+        if (std::all_of(values + g, values + g + nanGroup, [](double x) { return std::isnan(x); }))
+        {
+          k = g + nanGroup - 1;
+          continue;
+        }
+      }
+      return k;
+    }
+  }
+  return -1;
+}
+
+BuildStatus CheckValues(const SplineData& data)
+{
+  struct Array
+  {
+    const double* Values;
+    Id Rows;
+    int Columns, NanGroup;
+    const char *Name, *Element;
+  };
+  const Id nV = data.NumberOfVertices, nT = data.NumberOfTriangles;
+  const Array arrays[] = { { data.UV, nV, 2, 0, "parameter coordinates (u, v)", "vertex" },
+    { data.F, nV, 3, 0, "positions", "vertex" }, { data.Fu, nV, 3, 0, "derivatives d/du", "vertex" },
+    { data.Fv, nV, 3, 0, "derivatives d/dv", "vertex" },
+    { data.EdgeGradients, nT, 18, 0, "mid-edge gradients", "triangle" },
+    { data.BoundaryCurvePoints, nT, 18, 6, "boundary curve points", "triangle" } };
+  for (const Array& a : arrays)
+  {
+    const Id k = FirstBadValue(a.Values, a.Rows, a.Columns, a.NanGroup);
+    if (k >= 0)
+    {
+      std::ostringstream os;
+      os << "the " << a.Name << " of " << a.Element << " " << k / a.Columns << " include "
+         << a.Values[k];
+      os << (std::isfinite(a.Values[k]) ? "; magnitudes must stay below 1e100 (rescale the data)"
+                                        : ": values must be finite");
+      return Failure(os.str());
+    }
+  }
+  return {};
+}
+
+Vec2 UVOf(const SplineData& data, Id v)
+{
+  return Vec2(data.UV[2 * v], data.UV[2 * v + 1]);
+}
+
+BuildStatus CheckAreas(const SplineData& data)
+{
+  Vec2 lo = UVOf(data, 0), hi = lo;
+  for (Id v = 1; v < data.NumberOfVertices; ++v)
+  {
+    lo = lo.cwiseMin(UVOf(data, v));
+    hi = hi.cwiseMax(UVOf(data, v));
+  }
+  const double diag2 = (hi - lo).squaredNorm();
+  if (!(std::sqrt(diag2) >= MinDomainDiagonal))
+  {
+    std::ostringstream os;
+    os << "the parameter domain is too small: its diagonal is " << std::sqrt(diag2)
+       << " (at least " << MinDomainDiagonal << " is needed; rescale (u, v))";
+    return Failure(os.str());
+  }
+  for (Id t = 0; t < data.NumberOfTriangles; ++t)
+  {
+    const Id* p = data.Triangles + 3 * t;
+    if (!(std::abs(SignedArea2(UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]))) >
+          1e-13 * diag2))
+    {
+      std::ostringstream os;
+      os << "degenerate parameter triangle: cell " << t << " (points " << p[0] << ", " << p[1]
+         << ", " << p[2] << ") has zero area in (u, v)";
+      return Failure(os.str());
+    }
+  }
+  return {};
+}
+
+BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology)
+{
+  const Id nE = static_cast<Id>(topology.Edges.size());
+  for (Id e = 0; e < nE; ++e)
+  {
+    if (topology.IsBoundaryEdge(e))
+    {
+      continue;
+    }
+    const Vec2 A = UVOf(data, topology.Edges[e][0]), B = UVOf(data, topology.Edges[e][1]);
+    double side[2];
+    for (int s = 0; s < 2; ++s)
+    {
+      const Id t = topology.EdgeTriangles[e][s];
+      const Id opposite = data.Triangles[3 * t + (topology.EdgeLocalIndex[e][s] + 2) % 3];
+      side[s] = SignedArea2(A, B, UVOf(data, opposite));
+    }
+    if ((side[0] > 0) == (side[1] > 0))
+    {
+      std::ostringstream os;
+      os << "folded parameterisation: triangles " << topology.EdgeTriangles[e][0] << " and "
+         << topology.EdgeTriangles[e][1] << " lie on the same side of their shared edge ("
+         << topology.Edges[e][0] << ", " << topology.Edges[e][1] << ") in (u, v)";
+      return Failure(os.str());
+    }
+  }
+  return {};
+}
+} // namespace
+
+BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology)
+{
+  if (data.NumberOfVertices <= 0 || data.NumberOfTriangles <= 0 || !data.Triangles || !data.UV ||
+    !data.F || !data.Fu || !data.Fv)
+  {
+    return Failure("empty spline input: vertices, triangles, (u, v), positions and both "
+                   "derivatives are needed");
+  }
+  if (static_cast<Id>(topology.TriangleEdges.size()) != data.NumberOfTriangles)
+  {
+    return Failure("the mesh topology was not built from these triangles");
+  }
+  BuildStatus status = CheckValues(data);
+  if (status.Ok)
+  {
+    status = CheckAreas(data);
+  }
+  if (status.Ok)
+  {
+    status = CheckFolds(data, topology);
+  }
+  return status;
+}
+
+BuildStatus CheckFiniteControlPoints(const std::vector<Vec3>& points, const MeshTopology& topology,
+  const Id* triangles, Id numberOfVertices, int pointsPerEdge, int pointsPerTriangle)
+{
+  const auto bad = std::find_if(
+    points.begin(), points.end(), [](const Vec3& p) { return !p.allFinite(); });
+  if (bad == points.end())
+  {
+    return {};
+  }
+  const Id i = static_cast<Id>(bad - points.begin());
+  const Id nE = static_cast<Id>(topology.Edges.size());
+  const Id nT = static_cast<Id>(topology.TriangleEdges.size());
+  Id t = -1;
+  if (i < numberOfVertices)
+  {
+    const Id* end = triangles + 3 * nT;
+    t = static_cast<Id>(std::find(triangles, end, i) - triangles) / 3;
+  }
+  else if (i < numberOfVertices + pointsPerEdge * nE)
+  {
+    t = topology.EdgeTriangles[(i - numberOfVertices) / pointsPerEdge][0];
+  }
+  else
+  {
+    t = (i - numberOfVertices - pointsPerEdge * nE) / pointsPerTriangle;
+  }
+  std::ostringstream os;
+  os << "the construction produced a non-finite control point (" << bad->transpose()
+     << ") in the macro-element of triangle " << t
+     << ": the data there is degenerate or too large";
+  return Failure(os.str());
+}
+
+} // namespace ctk

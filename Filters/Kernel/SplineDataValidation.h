@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Checks of a construction's input and output that every caller of the kernel gets: the input
+// is usable (finite, far from overflow, a planar parameter domain without zero-area or folded
+// triangles) and the output is finite. Each failure names the offending vertex, triangle or
+// edge.
+#ifndef CTSplines_Kernel_SplineDataValidation_h
+#define CTSplines_Kernel_SplineDataValidation_h
+
+#include "CubicCloughTocher.h"
+
+#include <cmath>
+
+namespace ctk
+{
+/// Input values (positions, derivatives, (u, v), gradients) must stay below this magnitude: the
+/// constructions form products and squared distances of them, far from overflow at 1e100.
+constexpr double MaxInputMagnitude = 1e100;
+/// Finite and below MaxInputMagnitude (false for NaN).
+inline bool IsUsableValue(double x)
+{
+  return std::abs(x) < MaxInputMagnitude;
+}
+inline bool IsUsablePoint(const Vec3& p)
+{
+  return IsUsableValue(p.x()) && IsUsableValue(p.y()) && IsUsableValue(p.z());
+}
+/// A parameter domain whose diagonal is below this is rejected (barycentric coordinates would
+/// divide by underflowing areas).
+constexpr double MinDomainDiagonal = 1e-100;
+
+/// Checks data (and its topology) before any construction:
+/// - UV, F, Fu, Fv and the optional arrays are finite and below MaxInputMagnitude (NaN groups
+///   of BoundaryCurvePoints mean "none");
+/// - no parameter triangle has zero area (relative 1e-13 of the domain's squared diagonal);
+/// - no fold: across every interior edge the two opposite vertices lie on opposite sides of the
+///   edge in (u, v), whatever the triangles' vertex order.
+BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology);
+
+/// Checks that every control point is finite; otherwise names the lowest triangle whose
+/// macro-element holds a non-finite point. Layout: #V vertex points, pointsPerEdge per edge,
+/// then pointsPerTriangle per triangle.
+BuildStatus CheckFiniteControlPoints(const std::vector<Vec3>& points, const MeshTopology& topology,
+  const Id* triangles, Id numberOfVertices, int pointsPerEdge, int pointsPerTriangle);
+
+} // namespace ctk
+
+#endif

@@ -1,0 +1,205 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// Bad input to the kernel, one case per crash class found by fuzzing (issue 13): duplicate
+// triangles, folded parameterisations, values large enough to overflow, a parameter box that
+// overflows the locator, distances that overflow CGAL, and non-finite results. Each must give
+// a failed status naming the offending element, never a crash or NaN output.
+#include "ParameterLocator.h"
+#include "PointToMeshDistance.h"
+#include "QuarticCloughTocher.h"
+#include "SplineDataValidation.h"
+#include "TestMeshes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ctk_test;
+
+namespace
+{
+// Two triangles on edge (1, 2): (0, 1, 2) and (1, 3, 2), a unit square split by its diagonal.
+SampledMesh Square()
+{
+  ParameterMesh m;
+  m.UV = { Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(1, 1) };
+  m.Triangles = { 0, 1, 2, 1, 3, 2 };
+  SampledMesh s = Sample("square", m, AnalyticSurface::Franke);
+  BuildMeshTopology(4, 2, s.Triangles.data(), s.Topology);
+  return s;
+}
+
+// Every construction, then the quartic scheme; returns the messages of failed builds.
+std::vector<std::string> FailuresOfAllConstructions(const SampledMesh& mesh)
+{
+  std::vector<std::string> messages;
+  for (int c = 0; c <= static_cast<int>(Construction::Kashyap); ++c)
+  {
+    SplineOptions options;
+    options.Method = static_cast<Construction>(c);
+    CubicSpline spline;
+    const BuildStatus s = BuildCubicCloughTocher(mesh.Data(), mesh.Topology, options, spline);
+    messages.push_back(s.Ok ? std::string() : s.Message);
+  }
+  QuarticSpline quartic;
+  SplineOptions options;
+  options.Iterations = 2;
+  const BuildStatus s = BuildQuarticCloughTocher(mesh.Data(), mesh.Topology, options, quartic);
+  messages.push_back(s.Ok ? std::string() : s.Message);
+  return messages;
+}
+} // namespace
+
+TEST(InputValidation, ValidSquareBuildsEverywhere)
+{
+  for (const std::string& m : FailuresOfAllConstructions(Square()))
+  {
+    EXPECT_EQ(m, "");
+  }
+}
+
+TEST(InputValidation, DuplicateTrianglesAreRejectedByName)
+{
+  // A triangle and its copy (reversed or not) share all three edges: each edge has two
+  // triangles, so it looked manifold, and the Bézier extraction then read EdgeTriangles[-1].
+  // (A duplicate with other neighbours is a non-manifold edge, reported as such.)
+  for (const std::vector<Id>& tris : { std::vector<Id>{ 0, 1, 2, 0, 2, 1 },
+         std::vector<Id>{ 3, 4, 5, 0, 1, 2, 2, 1, 0 }, std::vector<Id>{ 0, 1, 2, 1, 2, 0 } })
+  {
+    MeshTopology topo;
+    const Id nT = static_cast<Id>(tris.size() / 3);
+    const TopologyStatus s = BuildMeshTopology(6, nT, tris.data(), topo);
+    EXPECT_FALSE(s.Ok);
+    EXPECT_EQ(s.Triangle, nT - 1);
+    const std::string pair =
+      "duplicate triangles " + std::to_string(nT - 2) + " and " + std::to_string(nT - 1);
+    EXPECT_NE(s.Message.find(pair), std::string::npos) << s.Message;
+  }
+}
+
+TEST(InputValidation, FoldedParameterisationIsRejectedByName)
+{
+  // Vertex 3 moved across edge (1, 2): both triangles now lie on the same side of it in (u, v).
+  SampledMesh mesh = Square();
+  mesh.UV[6] = 0.2;
+  mesh.UV[7] = 0.3;
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_NE(m.find("folded parameterisation: triangles 0 and 1"), std::string::npos) << m;
+    EXPECT_NE(m.find("edge (1, 2)"), std::string::npos) << m;
+  }
+}
+
+TEST(InputValidation, MixedTriangleOrientationIsNoFold)
+{
+  SampledMesh mesh = Square();
+  std::swap(mesh.Triangles[4], mesh.Triangles[5]); // (1, 2, 3): clockwise, same domain
+  BuildMeshTopology(4, 2, mesh.Triangles.data(), mesh.Topology);
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_EQ(m, "");
+  }
+}
+
+TEST(InputValidation, ValuesThatWouldOverflowAreRejected)
+{
+  for (double big : { 1e150, 1e300, -1e200 })
+  {
+    SampledMesh mesh = Square();
+    mesh.Fu[3 * 2 + 1] = big; // vertex 2
+    for (const std::string& m : FailuresOfAllConstructions(mesh))
+    {
+      EXPECT_NE(m.find("derivatives d/du of vertex 2"), std::string::npos) << m;
+      EXPECT_NE(m.find("rescale"), std::string::npos) << m;
+    }
+  }
+  SampledMesh mesh = Square();
+  mesh.UV[1] = std::nan("");
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_NE(m.find("(u, v) of vertex 0"), std::string::npos) << m;
+  }
+}
+
+TEST(InputValidation, UnderflowingDomainIsRejected)
+{
+  SampledMesh mesh = Square();
+  for (double& x : mesh.UV)
+  {
+    x *= 1e-200;
+  }
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_NE(m.find("parameter domain is too small"), std::string::npos) << m;
+  }
+}
+
+TEST(InputValidation, SmallButRepresentableDomainWorks)
+{
+  // 1e-50 is far from underflow: the spline is the same up to the scale of (u, v).
+  SampledMesh mesh = Square();
+  for (double& x : mesh.UV)
+  {
+    x *= 1e-50;
+  }
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_EQ(m, "");
+  }
+}
+
+TEST(InputValidation, NonFiniteControlPointNamesItsTriangle)
+{
+  const SampledMesh mesh = Square();
+  CubicSpline spline;
+  ASSERT_TRUE(BuildCubicCloughTocher(mesh.Data(), mesh.Topology, SplineOptions(), spline).Ok);
+  const auto check = [&](Id point) {
+    std::vector<Vec3> points = spline.ControlPoints;
+    points[point].y() = std::nan("");
+    return CheckFiniteControlPoints(points, mesh.Topology, mesh.Triangles.data(), 4, 2,
+      CubicSplineLayout::PointsPerTriangle);
+  };
+  EXPECT_TRUE(CheckFiniteControlPoints(spline.ControlPoints, mesh.Topology,
+    mesh.Triangles.data(), 4, 2, CubicSplineLayout::PointsPerTriangle)
+                .Ok);
+  // Vertex 3 is only in triangle 1; the last triangle-owned point is triangle 1's.
+  EXPECT_NE(check(3).Message.find("triangle 1"), std::string::npos) << check(3).Message;
+  const Id last = static_cast<Id>(spline.ControlPoints.size()) - 1;
+  EXPECT_NE(check(last).Message.find("triangle 1"), std::string::npos);
+  EXPECT_NE(check(0).Message.find("triangle 0"), std::string::npos);
+}
+
+TEST(InputValidation, LocatorSurvivesAnOverflowingParameterBox)
+{
+  // The box of these corners is 2e308 wide: its extent is inf, and the bucket count was a NaN
+  // cast to an integer.
+  const std::vector<Vec2> corners = { Vec2(0, 0), Vec2(1, 0), Vec2(0, 1), Vec2(-1e308, -1e308),
+    Vec2(1e308, -1e308), Vec2(0, 1e308) };
+  ParameterLocator locator;
+  locator.Build(2, corners.data());
+  const ParameterLocator::Hit hit = locator.Locate(0.2, 0.3);
+  ASSERT_GE(hit.Triangle, 0);
+  EXPECT_EQ(hit.Triangle, 0);
+  EXPECT_NEAR(hit.Barycentric.x(), 0.5, 1e-15);
+  EXPECT_LT(locator.Locate(std::nan(""), 0.0).Triangle, 0);
+  // Tiny and huge extents together: finite spacings, every query in range.
+  const std::vector<Vec2> thin = { Vec2(0, 0), Vec2(1e300, 0), Vec2(0, 1e-300) };
+  locator.Build(1, thin.data());
+  EXPECT_EQ(locator.Locate(1.0, 1e-302).Triangle, 0);
+  EXPECT_LT(locator.Locate(-1e308, 1e308).Triangle, 0);
+}
+
+TEST(InputValidation, DistanceQueriesCannotOverflow)
+{
+  PointToMeshDistance d;
+  const std::vector<double> huge = { 0, 0, 0, 1e200, 0, 0, 0, 1e200, 0 };
+  const std::vector<Id> tri = { 0, 1, 2 };
+  const std::string message = d.Build(3, huge.data(), 1, tri.data());
+  EXPECT_NE(message.find("point 1"), std::string::npos) << message;
+  EXPECT_NE(message.find("too large"), std::string::npos) << message;
+  const std::vector<double> unit = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
+  ASSERT_EQ(d.Build(3, unit.data(), 1, tri.data()), "");
+  const PointToMeshDistance::Result far = d.Query(Vec3(1e200, 1e200, 0));
+  EXPECT_TRUE(std::isnan(far.Distance));
+  EXPECT_EQ(far.Triangle, -1);
+  EXPECT_NEAR(d.Query(Vec3(0.25, 0.25, 2)).Distance, 2.0, 1e-15);
+}
