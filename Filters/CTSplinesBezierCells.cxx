@@ -3,6 +3,7 @@
 
 #include "CTSplinesInput.h"
 #include "LargeArrays.h"
+#include "SplineDataValidation.h"
 
 #include "vtkCellArray.h"
 
@@ -155,6 +156,47 @@ std::string GatherUnstructured(const unsigned char* types, const OffsetT* offset
   return {};
 }
 
+// What the evaluation needs of gathered cells: point ids in range, usable coordinates (finite,
+// far from overflow) and positive rational weights; the first offender is named.
+std::string CheckCellValues(
+  const BezierCells& cells, const std::string& cellLabel, const std::string& arrayPrefix)
+{
+  std::ostringstream os;
+  const vtkIdType nPoints = static_cast<vtkIdType>(cells.Points.size());
+  const vtkIdType nCells = static_cast<vtkIdType>(cells.Degree.size());
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (vtkIdType i = cells.Offsets[c]; i < cells.Offsets[c + 1]; ++i)
+    {
+      if (cells.Ids[i] < 0 || cells.Ids[i] >= nPoints)
+      {
+        os << cellLabel << " " << c << " refers to point " << cells.Ids[i] << ", not in [0, "
+           << nPoints << ")";
+        return os.str();
+      }
+    }
+  }
+  for (vtkIdType p = 0; p < nPoints; ++p)
+  {
+    if (!ctk::IsUsablePoint(cells.Points[p]))
+    {
+      os << arrayPrefix << "point " << p << " has the coordinates (" << cells.Points[p].transpose()
+         << "): they must be finite and below " << ctk::MaxInputMagnitude << " in magnitude";
+      return os.str();
+    }
+  }
+  for (size_t p = 0; p < cells.Weights.size(); ++p)
+  {
+    if (!(cells.Weights[p] > 0))
+    {
+      os << arrayPrefix << "rational weight of point " << p << " is " << cells.Weights[p]
+         << "; rational Bezier weights must be positive";
+      return os.str();
+    }
+  }
+  return {};
+}
+
 // Point coordinates: raw pointers (in parallel) for float/double storage, GetPoint otherwise.
 void CopyPoints(vtkDataSet* ds, std::vector<ctk::Vec3>& points)
 {
@@ -254,7 +296,7 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells, const std::str
     }
   }
   CopyPoints(ds, cells.Points);
-  return {};
+  return CheckCellValues(cells, cellLabel, arrayPrefix);
 }
 
 SamplingLattice::SamplingLattice(int level)

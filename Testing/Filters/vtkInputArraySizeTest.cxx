@@ -217,3 +217,36 @@ TEST(InputArraySize, ProbeChecksTheSourcesArrays)
     ExpectNames(Failure(probe, queries), "'UV'");
   }
 }
+
+TEST(InputArraySize, BezierGridValuesAreChecked)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = Spline(Franke());
+  const auto failure = [](vtkUnstructuredGrid* grid) {
+    vtkNew<vtkBezierTriangleTessellator> tessellator;
+    return Failure(tessellator, grid);
+  };
+  vtkNew<vtkUnstructuredGrid> grid;
+  grid->DeepCopy(spline);
+  grid->GetPoints()->SetPoint(5, 0.0, std::nan(""), 0.0);
+  std::string message = failure(grid);
+  EXPECT_NE(message.find("point 5 has the coordinates"), std::string::npos) << message;
+
+  grid->DeepCopy(spline);
+  grid->GetPoints()->SetPoint(6, 1e200, 0.0, 0.0);
+  message = failure(grid);
+  EXPECT_NE(message.find("point 6"), std::string::npos) << message;
+
+  // Zero or negative rational weights make the rational patch undefined (division by zero).
+  for (double w : { 0.0, -1.0 })
+  {
+    grid->DeepCopy(spline);
+    vtkNew<vtkDoubleArray> weights;
+    weights->SetName("RationalWeights");
+    weights->SetNumberOfTuples(grid->GetNumberOfPoints());
+    weights->Fill(1.0);
+    weights->SetValue(3, w);
+    grid->GetPointData()->SetRationalWeights(weights);
+    message = failure(grid);
+    EXPECT_NE(message.find("rational weight of point 3"), std::string::npos) << message;
+  }
+}
