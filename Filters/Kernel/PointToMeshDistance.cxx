@@ -26,13 +26,37 @@ using Traits = CGAL::AABB_traits<Kernel, Primitive>;
 using AABBTree = CGAL::AABB_tree<Traits>;
 }
 
+// CGAL's constructions (squared distances, projections) see the mesh centred on its box and
+// scaled to a unit diagonal, with components below 1e-200 flushed to 0: denormal coordinates
+// otherwise gave NaN squared radii inside CGAL's queries (a precondition abort), and large ones
+// overflowed their squares.
 struct PointToMeshDistance::Tree
 {
   // The primitives point into Triangles, so it must not change once the tree is built.
   std::vector<Triangle> Triangles;
   std::vector<Id> InputIds; // input triangle index of each kept triangle
   AABBTree AABB;
+  Vec3 Center = Vec3::Zero();
+  double Scale = 1.0;
+
+  Point ToUnit(const Vec3& x) const
+  {
+    Vec3 u = (x - this->Center) * this->Scale;
+    for (int c = 0; c < 3; ++c)
+    {
+      u[c] = std::abs(u[c]) < 1e-200 ? 0.0 : u[c];
+    }
+    return Point(u.x(), u.y(), u.z());
+  }
+  Vec3 FromUnit(const Point& p) const
+  {
+    return Vec3(p.x(), p.y(), p.z()) / this->Scale + this->Center;
+  }
 };
+
+/// Meshes smaller than this are rejected: queries up to MaxInputMagnitude away, scaled to the
+/// mesh's unit diagonal, must keep finite squares.
+constexpr double MinMeshDiagonal = 1e-50;
 
 PointToMeshDistance::PointToMeshDistance() = default;
 PointToMeshDistance::~PointToMeshDistance() = default;
@@ -43,29 +67,18 @@ std::string PointToMeshDistance::Build(
   this->Impl.reset();
   auto tree = std::make_unique<Tree>();
   tree->Triangles.reserve(static_cast<size_t>(std::max<Id>(numTriangles, 0)));
+  std::string error = CheckCornersAndFrame(numPoints, points, numTriangles, triangles, *tree);
+  if (!error.empty())
+  {
+    return error;
+  }
   for (Id t = 0; t < numTriangles; ++t)
   {
     Point corner[3];
     for (int a = 0; a < 3; ++a)
     {
-      const Id v = triangles[3 * t + a];
-      if (v < 0 || v >= numPoints)
-      {
-        std::ostringstream msg;
-        msg << "triangle " << t << " refers to point " << v << ", not in [0, " << numPoints << ")";
-        return msg.str();
-      }
-      const double* x = points + 3 * v;
-      // Squared distances of coordinates beyond MaxInputMagnitude would overflow in CGAL.
-      if (!IsUsablePoint(Vec3(x[0], x[1], x[2])))
-      {
-        std::ostringstream msg;
-        msg << "point " << v << " has a coordinate that is non-finite or too large ("
-            << x[0] << ", " << x[1] << ", " << x[2] << "; magnitudes must stay below "
-            << MaxInputMagnitude << ")";
-        return msg.str();
-      }
-      corner[a] = Point(x[0], x[1], x[2]);
+      const double* x = points + 3 * triangles[3 * t + a];
+      corner[a] = tree->ToUnit(Vec3(x[0], x[1], x[2]));
     }
     if (CGAL::collinear(corner[0], corner[1], corner[2]))
     {
@@ -87,6 +100,46 @@ std::string PointToMeshDistance::Build(
   return std::string();
 }
 
+std::string PointToMeshDistance::CheckCornersAndFrame(
+  Id numPoints, const double* points, Id numTriangles, const Id* triangles, Tree& tree)
+{
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (Id t = 0; t < numTriangles; ++t)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      const Id v = triangles[3 * t + a];
+      if (v < 0 || v >= numPoints)
+      {
+        std::ostringstream msg;
+        msg << "triangle " << t << " refers to point " << v << ", not in [0, " << numPoints << ")";
+        return msg.str();
+      }
+      const double* x = points + 3 * v;
+      // Squared distances of coordinates beyond MaxInputMagnitude would overflow in CGAL.
+      if (!IsUsablePoint(Vec3(x[0], x[1], x[2])))
+      {
+        std::ostringstream msg;
+        msg << "point " << v << " has a coordinate that is non-finite or too large ("
+            << x[0] << ", " << x[1] << ", " << x[2] << "; magnitudes must stay below "
+            << MaxInputMagnitude << ")";
+        return msg.str();
+      }
+      lo = lo.cwiseMin(Vec3(x[0], x[1], x[2]));
+      hi = hi.cwiseMax(Vec3(x[0], x[1], x[2]));
+    }
+  }
+  const double diagonal = numTriangles > 0 ? (hi - lo).norm() : 0.0;
+  if (!(diagonal >= MinMeshDiagonal))
+  {
+    return diagonal > 0 ? "the mesh is too small (bounding-box diagonal below 1e-50)"
+                        : "the mesh has no triangle of positive area";
+  }
+  tree.Center = 0.5 * (lo + hi);
+  tree.Scale = 1.0 / diagonal;
+  return std::string();
+}
+
 PointToMeshDistance::Result PointToMeshDistance::Query(const Vec3& p) const
 {
   Result r;
@@ -96,9 +149,8 @@ PointToMeshDistance::Result PointToMeshDistance::Query(const Vec3& p) const
     r.Closest.setConstant(r.Distance);
     return r;
   }
-  const Point q(p.x(), p.y(), p.z());
-  const auto hit = this->Impl->AABB.closest_point_and_primitive(q);
-  r.Closest = Vec3(hit.first.x(), hit.first.y(), hit.first.z());
+  const auto hit = this->Impl->AABB.closest_point_and_primitive(this->Impl->ToUnit(p));
+  r.Closest = this->Impl->FromUnit(hit.first);
   r.Distance = (r.Closest - p).norm();
   r.Triangle = this->Impl->InputIds[static_cast<size_t>(hit.second - this->Impl->Triangles.cbegin())];
   return r;

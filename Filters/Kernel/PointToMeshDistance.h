@@ -48,6 +48,9 @@ public:
 
 private:
   struct Tree;
+  // Checks indices and coordinates, and sets the tree's unit frame (centre and scale).
+  static std::string CheckCornersAndFrame(
+    Id numPoints, const double* points, Id numTriangles, const Id* triangles, Tree& tree);
   std::unique_ptr<Tree> Impl;
 };
 

@@ -203,3 +203,35 @@ TEST(InputValidation, DistanceQueriesCannotOverflow)
   EXPECT_EQ(far.Triangle, -1);
   EXPECT_NEAR(d.Query(Vec3(0.25, 0.25, 2)).Distance, 2.0, 1e-15);
 }
+
+TEST(InputValidation, DistanceQueriesSurviveDenormalCoordinates)
+{
+  // A denormal coordinate beside ordinary ones (found by fuzzing): CGAL's query constructed a
+  // sphere with a NaN squared radius and aborted on its precondition.
+  const std::vector<double> points = { 0, 3.21256e-319, -128, 0, 0, 0, -128, 0, 0, 0, 0, 28,
+    -54, -127.99609375, 0 };
+  const std::vector<Id> tris = { 0, 1, 2, 1, 2, 3, 1, 3, 4, 0, 2, 4 };
+  PointToMeshDistance d;
+  ASSERT_EQ(d.Build(5, points.data(), 4, tris.data()), "");
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-200, 200);
+  for (int q = 0; q < 200; ++q)
+  {
+    const Vec3 p = q < 5 ? Vec3(points[3 * q], points[3 * q + 1], points[3 * q + 2])
+                         : Vec3(coordinate(rng), coordinate(rng), 1e-320 * q);
+    const PointToMeshDistance::Result r = d.Query(p);
+    ASSERT_TRUE(std::isfinite(r.Distance)) << q;
+    ASSERT_GE(r.Triangle, 0);
+    // The closest point is no farther than any mesh vertex.
+    for (int v = 0; v < 5; ++v)
+    {
+      EXPECT_LE(r.Distance, (p - Vec3(points[3 * v], points[3 * v + 1], points[3 * v + 2])).norm() + 1e-12);
+    }
+    if (q < 5)
+    {
+      EXPECT_LT(r.Distance, 1e-12);
+    }
+  }
+  const std::vector<double> tiny = { 0, 0, 0, 1e-60, 0, 0, 0, 1e-60, 0 };
+  EXPECT_NE(d.Build(3, tiny.data(), 1, tris.data()).find("too small"), std::string::npos);
+}
