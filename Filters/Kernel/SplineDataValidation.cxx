@@ -75,6 +75,24 @@ BuildStatus CheckValues(const SplineData& data)
   return {};
 }
 
+// Given split points must lie inside their triangles: barycentric coordinates that are
+// positive and sum to 1.
+BuildStatus CheckSplitPoints(const SplineData& data)
+{
+  for (Id t = 0; data.SplitTau && t < data.NumberOfTriangles; ++t)
+  {
+    const Vec3& tau = data.SplitTau[t];
+    if (!(tau.minCoeff() > 0 && tau.allFinite() && std::abs(tau.sum() - 1) < 1e-9))
+    {
+      std::ostringstream os;
+      os << "the split point of triangle " << t << " has barycentric coordinates ("
+         << tau.transpose() << "): they must be positive and sum to 1";
+      return Failure(os.str());
+    }
+  }
+  return {};
+}
+
 Vec2 UVOf(const SplineData& data, Id v)
 {
   return Vec2(data.UV[2 * v], data.UV[2 * v + 1]);
@@ -154,6 +172,10 @@ BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topol
     return Failure("the mesh topology was not built from these triangles");
   }
   BuildStatus status = CheckValues(data);
+  if (status.Ok)
+  {
+    status = CheckSplitPoints(data);
+  }
   if (status.Ok)
   {
     status = CheckAreas(data);

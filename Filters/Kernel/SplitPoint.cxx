@@ -19,13 +19,15 @@ const char* ToString(SplitPointRule rule)
 
 namespace
 {
-// The incentre's barycentric coordinates are proportional to the opposite side lengths.
+// The incentre's barycentric coordinates are proportional to the opposite side lengths. Where
+// a side (nearly) vanishes, e.g. two coincident 3D corners for Inc3, the incentre would sit on
+// an edge and flatten a micro-triangle: the barycentre is used instead.
 template <typename P>
 Vec3 Incentre(const P& a, const P& b, const P& c)
 {
   const Vec3 len((b - c).norm(), (c - a).norm(), (a - b).norm());
-  const double sum = len.sum();
-  return sum > 0.0 ? Vec3(len / sum) : Vec3(Vec3::Constant(1.0 / 3.0));
+  const Vec3 tau = len / len.sum();
+  return tau.minCoeff() > 1e-8 && tau.allFinite() ? tau : Vec3(Vec3::Constant(1.0 / 3.0));
 }
 } // namespace
 

@@ -120,6 +120,38 @@ TEST(InputValidation, ValuesThatWouldOverflowAreRejected)
   }
 }
 
+TEST(InputValidation, SplitPointsOutsideTheirTriangleAreRejected)
+{
+  const SampledMesh mesh = Square();
+  for (const Vec3& bad : { Vec3(std::nan(""), 0.5, 0.5), Vec3(-0.1, 0.6, 0.5), Vec3(0.5, 0.5, 0.5) })
+  {
+    const std::vector<Vec3> tau = { Vec3::Constant(1.0 / 3), bad };
+    SplineData data = mesh.Data();
+    data.SplitTau = tau.data();
+    CubicSpline spline;
+    const BuildStatus s = BuildCubicCloughTocher(data, mesh.Topology, SplineOptions(), spline);
+    EXPECT_NE(s.Message.find("split point of triangle 1"), std::string::npos) << s.Message;
+  }
+}
+
+TEST(InputValidation, Inc3WithCoincidentCornersUsesTheBarycentre)
+{
+  // Vertices 1 and 2 at one 3D point: their incentre would lie on an edge of the triangle.
+  SampledMesh mesh = Square();
+  std::copy_n(&mesh.F[3], 3, &mesh.F[6]);
+  SplineOptions options;
+  options.SplitPoint = SplitPointRule::Inc3;
+  for (Construction c : { Construction::CTo, Construction::Ka, Construction::KaG })
+  {
+    options.Method = c;
+    CubicSpline spline;
+    const BuildStatus s = BuildCubicCloughTocher(mesh.Data(), mesh.Topology, options, spline);
+    ASSERT_TRUE(s.Ok) << s.Message;
+    EXPECT_TRUE(spline.SplitTau[0].isApprox(Vec3::Constant(1.0 / 3.0)));
+    EXPECT_GT(spline.SplitTau[1].minCoeff(), 0.1);
+  }
+}
+
 TEST(InputValidation, UnderflowingDomainIsRejected)
 {
   SampledMesh mesh = Square();
