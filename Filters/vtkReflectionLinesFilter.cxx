@@ -3,6 +3,7 @@
 
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
+#include "SplineDataValidation.h"
 
 #include <Eigen/Geometry> // for cross
 
@@ -68,6 +69,18 @@ int vtkReflectionLinesFilter::RequestData(
   // Offsets are measured across the lines, in the plane.
   const V across = planeNormal.cross(lineDirection);
   const V light = V(this->LightDirection).normalized();
+  const std::pair<const char*, const double*> vectors[] = { { "EyePosition", this->EyePosition },
+    { "LightPlaneOrigin", this->LightPlaneOrigin }, { "LightPlaneNormal", this->LightPlaneNormal },
+    { "LightLineDirection", this->LightLineDirection }, { "LightDirection", this->LightDirection } };
+  for (const auto& [name, value] : vectors)
+  {
+    if (error.empty() && !ctk::IsUsablePoint(V(value)))
+    {
+      error = std::string(name) + " is (" + std::to_string(value[0]) + ", " +
+        std::to_string(value[1]) + ", " + std::to_string(value[2]) +
+        "): its components must be finite and below 1e100 in magnitude";
+    }
+  }
   if (error.empty() && !(V(this->LightPlaneNormal).norm() > 0))
   {
     error = "LightPlaneNormal is zero";

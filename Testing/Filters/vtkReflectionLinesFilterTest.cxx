@@ -236,6 +236,17 @@ TEST(vtkReflectionLinesFilter, RejectsBadInput)
   m = ctsplines_test::RunCapturingErrors(f3, good, result);
   EXPECT_EQ(result, 0);
   EXPECT_NE(m.find("parallel to LightPlaneNormal"), std::string::npos) << m;
+
+  vtkNew<vtkReflectionLinesFilter> f4;
+  f4->SetEyePosition(0, std::nan(""), 1);
+  m = ctsplines_test::RunCapturingErrors(f4, good, result);
+  EXPECT_EQ(result, 0);
+  EXPECT_NE(m.find("EyePosition is"), std::string::npos) << m;
+  vtkNew<vtkReflectionLinesFilter> f5;
+  f5->SetLightPlaneOrigin(1e300, 0, 0);
+  m = ctsplines_test::RunCapturingErrors(f5, good, result);
+  EXPECT_EQ(result, 0);
+  EXPECT_NE(m.find("LightPlaneOrigin is"), std::string::npos) << m;
 }
 
 TEST(vtkReflectionLinesFilter, PrintSelf)
