@@ -62,17 +62,6 @@ std::string ReadUV(vtkDataSet* ds, const std::string& name, BezierCells& cells,
 std::string GatherBezierCellsWithUV(vtkDataSet* ds, const std::string& uvName, BezierCells& cells,
   const char* uvRequiredFor = nullptr);
 
-/// Whether a patch's parametric derivatives dr, ds span no tangent plane (e.g. at a collapsed
-/// corner); the filters then take the limit from inside the cell, at NudgeInside(t).
-inline bool IsSingular(const ctk::Vec3& dr, const ctk::Vec3& ds)
-{
-  return !(dr.cross(ds).norm() > 1e-12 * (dr.squaredNorm() + ds.squaredNorm()));
-}
-inline ctk::Vec3 NudgeInside(const ctk::Vec3& t)
-{
-  return (1 - 1e-7) * t + ctk::Vec3::Constant(1e-7 / 3);
-}
-
 /// The points (i, j, k) / L of a cell's parameter triangle and the L^2 triangles between them,
 /// and for each point where it lives: a corner, the inner point Step of local edge l (counted
 /// from corner l), or interior point Step.

@@ -12,6 +12,7 @@
 #include "vtkCellData.h"
 #include "vtkDataSet.h"
 #include "vtkDoubleArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkNew.h"
@@ -22,6 +23,8 @@
 #include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 #include <vector>
 
 vtkStandardNewMacro(vtkBezierCurvatureFilter);
@@ -67,6 +70,28 @@ Curvatures FromJet(const ctk::ParametricJet& jet)
   k.MaxDirection = (vMax.x() * jet.Du + vMax.y() * jet.Dv).normalized();
   k.MinDirection = (vMin.x() * jet.Du + vMin.y() * jet.Dv).normalized();
   return k;
+}
+// The p-th and (100 - p)-th percentiles of a one-component array (nearest rank, O(n)), as a
+// 2-component field data array named after it.
+vtkSmartPointer<vtkDoubleArray> RobustRange(vtkDoubleArray* a, double p)
+{
+  std::vector<double> v(a->GetPointer(0), a->GetPointer(0) + a->GetNumberOfTuples());
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  auto range = vtkSmartPointer<vtkDoubleArray>::New();
+  range->SetName((std::string(a->GetName()) + "_RobustRange").c_str());
+  range->SetNumberOfComponents(2);
+  double lohi[2] = { 0.0, 0.0 };
+  if (!v.empty())
+  {
+    const size_t last = v.size() - 1;
+    const size_t lo = static_cast<size_t>(std::llround(p / 100.0 * last));
+    std::nth_element(v.begin(), v.begin() + lo, v.end());
+    lohi[0] = v[lo];
+    std::nth_element(v.begin(), v.begin() + (last - lo), v.end());
+    lohi[1] = v[last - lo];
+  }
+  range->InsertNextTuple(lohi);
+  return range;
 }
 } // namespace
 
@@ -133,12 +158,16 @@ int vtkBezierCurvatureFilter::RequestData(
   // The cell's own parametrisation (r, s): domain (0,0), (1,0), (0,1), t = (1 - r - s, r, s).
   const ctk::Vec2 R0(0, 0), R1(1, 0), R2(0, 1);
   auto evaluate = [&](vtkIdType begin, vtkIdType end) {
-    ctk::Vec3 P[ctk::MaxBezierPoints], Q[ctk::MaxBezierPoints];
+    ctk::Vec3 P[ctk::MaxBezierPoints], Q[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     for (vtkIdType c = begin; c < end; ++c)
     {
       const int n = cells.Degree[c];
       const double* wp = cells.Net(c, P, w);
+      // Derivatives from the net relative to its first point (R): the differences are then
+      // formed of small numbers (exact for nearby points), which keeps the second derivatives
+      // of small cells accurate. Positions come from the net itself, as the tessellator's.
+      ctk::RelativeNet(n, P, R);
       if (uvOut)
       {
         cells.UVNet(c, Q);
@@ -152,10 +181,10 @@ int vtkBezierCurvatureFilter::RequestData(
           continue;
         }
         const ctk::Vec3& t = lattice.Points[li].T;
-        const ctk::ParametricJet exact = ctk::EvaluateOverDomain(n, P, wp, R0, R1, R2, t, 2);
-        coords->SetTypedTuple(id, exact.Value.data());
-        const Curvatures k = ctsplines::IsSingular(exact.Du, exact.Dv)
-          ? FromJet(ctk::EvaluateOverDomain(n, P, wp, R0, R1, R2, ctsplines::NudgeInside(t), 2))
+        const ctk::ParametricJet exact = ctk::EvaluateOverDomain(n, R, wp, R0, R1, R2, t, 2);
+        coords->SetTypedTuple(id, ctk::EvaluateBezierTriangle(n, P, wp, t, 0).Value.data());
+        const Curvatures k = ctk::IsSingularTangentPlane(exact.Du, exact.Dv)
+          ? FromJet(ctk::EvaluateOverDomain(n, R, wp, R0, R1, R2, ctk::NudgeInside(t), 2))
           : FromJet(exact);
         normals->SetTypedTuple(id, k.Normal.data());
         gauss->SetValue(id, k.K);
@@ -199,6 +228,10 @@ int vtkBezierCurvatureFilter::RequestData(
   }
   output->GetCellData()->AddArray(bezierCellId);
   ctsplines::RepeatCellIdArrays(input, output->GetCellData(), trianglesPerCell);
+  for (vtkDoubleArray* a : { gauss.Get(), mean.Get(), kmax.Get(), kmin.Get() })
+  {
+    output->GetFieldData()->AddArray(RobustRange(a, this->RobustRangePercentile));
+  }
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -208,5 +241,6 @@ void vtkBezierCurvatureFilter::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "MergePoints: " << (this->MergePoints ? "on" : "off") << "\n";
+  os << indent << "RobustRangePercentile: " << this->RobustRangePercentile << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
 }

@@ -31,6 +31,14 @@
  * vtkCurvatures on outward-oriented closed surfaces. At singular points (collapsed corners) the
  * values are the limit from inside the cell.
  *
+ * Field data `Gauss_Curvature_RobustRange` (and likewise for the mean, maximum and minimum
+ * curvatures) holds the RobustRangePercentile-th and (100 - RobustRangePercentile)-th
+ * percentiles of the array: a colour range that vertex spikes do not wash out.
+ *
+ * Precision: the curvatures of a spline that reproduces a quadratic are exact up to the
+ * round-off of its control points, amplified by the cell size h as about 1e-16 |x| / (kappa h^2)
+ * (relative); 4e-13 on a 4 x 4 grid, 3e-9 on the smallest cells of 300 random points.
+ *
  * By default (MergePoints off) every cell has its own output points, so the jumps of curvature
  * across cell edges of a C1 spline stay visible. With MergePoints on, a corner or edge shared by
  * cells (same point ids) gets its points once, evaluated by the lowest cell id that uses it
@@ -72,6 +80,15 @@ public:
   ///@}
 
   ///@{
+  /// Percentile p of the robust colour ranges: for each scalar curvature array `X` the field
+  /// data array `X_RobustRange` holds its p-th and (100 - p)-th percentiles, so that a few
+  /// spikes at vertices (where the curvature of a C1 spline jumps) do not wash out a colour map.
+  /// Default 1 (%), in [0, 50]; 0 gives the full range.
+  vtkSetClampMacro(RobustRangePercentile, double, 0.0, 50.0);
+  vtkGetMacro(RobustRangePercentile, double);
+  ///@}
+
+  ///@{
   /// Name of the 2-component point data array carried over as `UV`. Default "UV".
   vtkSetStdStringFromCharMacro(UVArrayName);
   vtkGetCharFromStdStringMacro(UVArrayName);
@@ -86,6 +103,7 @@ protected:
 
   int SubdivisionLevel = 8;
   bool MergePoints = false;
+  double RobustRangePercentile = 1.0;
   std::string UVArrayName = "UV";
 
 private:

@@ -100,12 +100,13 @@ int vtkBezierTriangleTessellator::RequestData(
   vtkIdType* source = bezierCellId->GetPointer(0);
 
   auto tessellate = [&](vtkIdType begin, vtkIdType end) {
-    ctk::Vec3 P[ctk::MaxBezierPoints], Q[ctk::MaxBezierPoints];
+    ctk::Vec3 P[ctk::MaxBezierPoints], Q[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     for (vtkIdType c = begin; c < end; ++c)
     {
       const int n = cells.Degree[c];
       const double* wp = cells.Net(c, P, w);
+      ctk::RelativeNet(n, P, R); // for the normals' accuracy
       if (uvw)
       {
         cells.UVNet(c, Q);
@@ -119,24 +120,9 @@ int vtkBezierTriangleTessellator::RequestData(
         {
           continue;
         }
-        ctk::BezierJet jet = ctk::EvaluateBezierTriangle(n, P, wp, lp.T, 1);
-        std::copy_n(jet.Value.data(), 3, xyz + 3 * id);
-        // Parametric derivatives of the cell's (r, s): t = (1 - r - s, r, s).
-        ctk::Vec3 dr = jet.DT[1] - jet.DT[0], ds = jet.DT[2] - jet.DT[0];
-        ctk::Vec3 normal = dr.cross(ds);
-        if (ctsplines::IsSingular(dr, ds))
-        {
-          // Singular point (e.g. a collapsed corner): take the limit from inside the cell.
-          jet = ctk::EvaluateBezierTriangle(n, P, wp, ctsplines::NudgeInside(lp.T), 1);
-          dr = jet.DT[1] - jet.DT[0];
-          ds = jet.DT[2] - jet.DT[0];
-          normal = dr.cross(ds);
-        }
-        const double length = normal.norm();
-        if (length > 0)
-        {
-          normal /= length;
-        }
+        const ctk::Vec3 x = ctk::EvaluateBezierTriangle(n, P, wp, lp.T, 0).Value;
+        std::copy_n(x.data(), 3, xyz + 3 * id);
+        const ctk::Vec3 normal = ctk::PatchNormal(n, R, wp, lp.T);
         std::copy_n(normal.data(), 3, nrm + 3 * id);
         if (uvw)
         {

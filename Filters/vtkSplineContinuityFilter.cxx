@@ -185,18 +185,6 @@ void Elevate(int from, int to, ctk::Vec3* P)
   }
 }
 
-ctk::Vec3 UnitNormal(int n, const ctk::Vec3* P, const ctk::Vec3& t)
-{
-  ctk::BezierJet jet = ctk::EvaluateBezierTriangle(n, P, nullptr, t, 1);
-  ctk::Vec3 dr = jet.DT[1] - jet.DT[0], ds = jet.DT[2] - jet.DT[0];
-  if (ctsplines::IsSingular(dr, ds))
-  {
-    jet = ctk::EvaluateBezierTriangle(n, P, nullptr, ctsplines::NudgeInside(t), 1);
-    dr = jet.DT[1] - jet.DT[0];
-    ds = jet.DT[2] - jet.DT[0];
-  }
-  return dr.cross(ds).normalized();
-}
 } // namespace
 
 int vtkSplineContinuityFilter::RequestData(
@@ -352,13 +340,17 @@ int vtkSplineContinuityFilter::RequestData(
         ctk::RuleAJumps(n, PA, DA, PB, DB, std::min(n, 2), jumps);
         std::copy_n(jumps, 3, value);
         double angle = 0;
+        ctk::Vec3 RA[ctk::MaxBezierPoints], RB[ctk::MaxBezierPoints];
+        ctk::RelativeNet(n, PA, RA);
+        ctk::RelativeNet(n, PB, RB);
         for (int k = 1; k <= samples; ++k)
         {
           const double s = double(k) / (samples + 1);
           ctk::Vec3 tA = ctk::Vec3::Zero(), tB = ctk::Vec3::Zero();
           tA[pa] = 1 - s, tA[qa] = s;
           tB[pb] = 1 - s, tB[qb] = s;
-          const double cosine = UnitNormal(n, PA, tA).dot(UnitNormal(n, PB, tB));
+          const double cosine =
+            ctk::PatchNormal(n, RA, nullptr, tA).dot(ctk::PatchNormal(n, RB, nullptr, tB));
           angle = std::max(angle, std::acos(std::max(-1.0, std::min(1.0, cosine))));
         }
         value[3] = angle * 180.0 / M_PI;

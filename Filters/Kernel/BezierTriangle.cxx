@@ -370,4 +370,28 @@ ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, co
   return out;
 }
 
+void RelativeNet(int n, const Vec3* P, Vec3* out)
+{
+  const Vec3 origin = P[0];
+  for (int i = 0; i < BezierPointCount(n); ++i)
+  {
+    out[i] = P[i] - origin;
+  }
+}
+
+Vec3 PatchNormal(int n, const Vec3* P, const double* weights, const Vec3& t)
+{
+  BezierJet jet = EvaluateBezierTriangle(n, P, weights, t, 1);
+  Vec3 dr = jet.DT[1] - jet.DT[0], ds = jet.DT[2] - jet.DT[0];
+  if (IsSingularTangentPlane(dr, ds))
+  {
+    jet = EvaluateBezierTriangle(n, P, weights, NudgeInside(t), 1);
+    dr = jet.DT[1] - jet.DT[0];
+    ds = jet.DT[2] - jet.DT[0];
+  }
+  const Vec3 normal = dr.cross(ds);
+  const double length = normal.norm();
+  return length > 0 ? Vec3(normal / length) : normal;
+}
+
 } // namespace ctk

@@ -15,6 +15,7 @@
 #define CTSplines_Kernel_BezierTriangle_h
 
 #include <Eigen/Core>
+#include <Eigen/Geometry> // for cross
 
 #include <array>
 #include <vector>
@@ -110,6 +111,24 @@ struct ParametricJet
 };
 ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, const Vec2& A0,
   const Vec2& A1, const Vec2& A2, const Vec3& t, int order);
+
+/// Whether derivatives dr, ds span no tangent plane (e.g. at a collapsed corner).
+inline bool IsSingularTangentPlane(const Vec3& dr, const Vec3& ds)
+{
+  return !(dr.cross(ds).norm() > 1e-12 * (dr.squaredNorm() + ds.squaredNorm()));
+}
+/// A point just inside the domain next to t, where a limit at a singular point is taken.
+inline Vec3 NudgeInside(const Vec3& t)
+{
+  return (1 - 1e-7) * t + Vec3::Constant(1e-7 / 3);
+}
+/// out[i] = P[i] - P[0] for the degree-n net P: derivatives of a net relative to one of its own
+/// points are differences of small numbers, accurate on small patches far from the origin.
+void RelativeNet(int n, const Vec3* P, Vec3* out);
+/// Unit normal (x_r x x_s) / |x_r x x_s| at barycentric t, x_r = dx/dt1 - dx/dt0 and
+/// x_s = dx/dt2 - dx/dt0 (oriented by the corner order); where the tangent plane is singular,
+/// the limit from inside (at NudgeInside(t)). Pass a RelativeNet for accuracy.
+Vec3 PatchNormal(int n, const Vec3* P, const double* weights, const Vec3& t);
 
 } // namespace ctk
 
