@@ -139,6 +139,7 @@ struct CADModel::Impl
   std::vector<std::vector<PCurveUse>> EdgeUses;
   std::vector<Point3> VertexSum;
   std::vector<int> VertexCount;
+  bool OCCTFailed = false; // an OCCT exception or signal ended a stage
 };
 
 /// The stages of Read and Sample, each on one face or edge, under RunGuarded.
@@ -154,6 +155,7 @@ struct CADModel::Stages
       return ok;
     }
     m.ErrorMessage = what() + ": " + failure;
+    m.Internal->OCCTFailed = true;
     return false;
   }
   static std::string FaceLabel(const CADModel& m, int f)
@@ -174,6 +176,7 @@ struct CADModel::Stages
     }
     return label + (faces.empty() ? " (free)" : " (of " + faces + ")");
   }
+  static bool Install(CADModel& m, const ShapeRead& r, const std::string& fileName);
   static bool Prepare(CADModel& m);
   static bool CollectEdge(CADModel& m, int e);
   static void SampleEdge(CADModel& m, int e, double tol, double maxSpan, int maxSamples);
@@ -203,17 +206,41 @@ int CADModel::NumberOfVertices() const
 bool CADModel::Read(const std::string& fileName, double timeoutSeconds)
 {
   const auto start = Clock::now();
+  // In the reading child: the sampling at a coarse tolerance, which makes every kind of OCCT
+  // query Sample makes. Some malformed files give shapes on which those queries crash, and
+  // OCCT's recovery from such a crash (inside its own handlers) can leave its handler stack
+  // broken, so a later signal aborts: such a file is an error found in the child. Errors that
+  // are the model's (no pcurve, no seam) are left to the Sample of this process.
+  const ShapeCheck probe = [&](const ShapeRead& shape, std::string& error) {
+    CADModel m;
+    SamplingOptions coarse;
+    coarse.Tolerance = 1e-2;
+    if (!Stages::Install(m, shape, fileName) || (!m.Sample(coarse) && m.Internal->OCCTFailed))
+    {
+      error = "cannot read " + fileName + ": its shape fails OpenCASCADE's queries: " + m.Error();
+      return false;
+    }
+    return true;
+  };
   ShapeRead r;
-  if (!ReadCADFile(fileName, timeoutSeconds, r, this->ErrorMessage))
+  if (!ReadCADFile(fileName, timeoutSeconds, probe, r, this->ErrorMessage) ||
+    !Stages::Install(*this, r, fileName))
   {
     return false;
   }
-  Impl& d = *this->Internal;
+  this->Time.Read = Seconds(start);
+  return true;
+}
+
+/// The shape read, its maps of faces, edges and vertices, face names and bounding box.
+bool CADModel::Stages::Install(CADModel& m, const ShapeRead& r, const std::string& fileName)
+{
+  Impl& d = *m.Internal;
   d = Impl();
   d.Shape = r.Shape;
-  this->SeamsAdded = r.SeamsAdded;
-  this->WarningMessages = r.Warnings;
-  const bool ok = Stages::Guard(*this, [&] { return "cannot read " + fileName + ": mapping its faces, edges and vertices"; },
+  m.SeamsAdded = r.SeamsAdded;
+  m.WarningMessages = r.Warnings;
+  const bool ok = Guard(m, [&] { return "cannot read " + fileName + ": mapping its faces, edges and vertices"; },
     [&] {
       TopExp::MapShapes(d.Shape, TopAbs_FACE, d.FaceMap);
       TopExp::MapShapes(d.Shape, TopAbs_EDGE, d.EdgeMap);
@@ -225,9 +252,9 @@ bool CADModel::Read(const std::string& fileName, double timeoutSeconds)
   {
     return false;
   }
-  if (d.FaceMap.Extent() != static_cast<int>(r.FaceNames.size()))
+  if (d.FaceMap.Extent() == 0 || d.FaceMap.Extent() != static_cast<int>(r.FaceNames.size()))
   {
-    this->ErrorMessage = "no faces in " + fileName;
+    m.ErrorMessage = "no faces in " + fileName;
     return false;
   }
   for (int i = 0; i < d.FaceMap.Extent(); ++i)
@@ -236,12 +263,12 @@ bool CADModel::Read(const std::string& fileName, double timeoutSeconds)
     const bool useful = !n.empty() && n != "NONE" && n != "''";
     d.Names.push_back(useful ? n : "Face " + std::to_string(i));
   }
-  std::copy_n(r.Box, 6, this->Box);
-  this->BoxDiagonal = std::sqrt(std::pow(this->Box[1] - this->Box[0], 2) +
-    std::pow(this->Box[3] - this->Box[2], 2) + std::pow(this->Box[5] - this->Box[4], 2));
-  this->Time.Read = Seconds(start);
+  std::copy_n(r.Box, 6, m.Box);
+  m.BoxDiagonal = std::sqrt(std::pow(m.Box[1] - m.Box[0], 2) + std::pow(m.Box[3] - m.Box[2], 2) +
+    std::pow(m.Box[5] - m.Box[4], 2));
   return true;
 }
+
 void CADModel::Evaluate(int f, double s, double t, double P[3], double Ds[3], double Dt[3]) const
 {
   const bool rev = this->FaceList[f].Reversed;

@@ -106,6 +106,31 @@ std::string FaceLabel(int i, const std::string& name)
   return "face " + std::to_string(i) + (useful ? " (" + name + ")" : std::string());
 }
 
+/// Why `token` (a real, or a word in a real's place) cannot be a coordinate, or "". Beyond 1e100
+/// no model's numbers go, and OCCT's geometry overflows (its healing can then loop for ever).
+std::string BadNumber(const std::string& token)
+{
+  std::string upper = token;
+  std::transform(upper.begin(), upper.end(), upper.begin(), [](unsigned char c) { return std::toupper(c); });
+  const std::size_t sign = upper.find_first_not_of("+-");
+  const std::string word = sign == std::string::npos ? upper : upper.substr(sign);
+  if (word == "NAN" || word == "INF" || word == "INFINITY")
+  {
+    return "'" + token + "' is not a number";
+  }
+  if (word.empty() || !(std::isdigit(static_cast<unsigned char>(word[0])) || word[0] == '.'))
+  {
+    return "";
+  }
+  std::replace(upper.begin(), upper.end(), 'D', 'E'); // IGES exponents
+  const double value = std::strtod(upper.c_str(), nullptr);
+  if (!std::isfinite(value))
+  {
+    return "the number " + token + " is out of the range of a double";
+  }
+  return std::abs(value) > 1e100 ? "the number " + token + " is beyond 1e100 in magnitude (no model's is)" : "";
+}
+
 /// The STEP entity (as "#123") of the statement that starts at `start`.
 std::string EntityAt(const std::string& text, std::size_t start)
 {
@@ -123,9 +148,10 @@ std::string EntityAt(const std::string& text, std::size_t start)
   return ", entity " + id;
 }
 
-/// Every real of a STEP file's text must be a finite double: OCCT reads 1e400 as infinity and
-/// builds geometry from it. Strings and comments are skipped; tokens that follow an identifier
-/// character, '#' or '.' are parts of names, references or enumerations.
+/// Every real of a STEP file's text must be a finite double within 1e100 (OCCT reads 1e400 as
+/// infinity and builds geometry from it), and no NaN or Inf may stand where a real would.
+/// Strings and comments are skipped; tokens that follow an identifier character, '#' or '.' are
+/// parts of names, references or enumerations.
 bool CheckStepNumbers(const std::string& text, std::string& error)
 {
   int line = 1;
@@ -154,24 +180,88 @@ bool CheckStepNumbers(const std::string& text, std::string& error)
     {
       statement = i + 1;
     }
-    else if (std::isdigit(static_cast<unsigned char>(c)) ||
-      ((c == '+' || c == '-' || c == '.') && i + 1 < n && std::isdigit(static_cast<unsigned char>(text[i + 1]))))
+    else if (std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.')
     {
       const char prev = i > 0 ? text[i - 1] : ' ';
       if (std::isalnum(static_cast<unsigned char>(prev)) || prev == '_' || prev == '#' || prev == '.')
       {
         continue;
       }
-      char* end = nullptr;
-      const double value = std::strtod(text.c_str() + i, &end);
-      const std::size_t length = static_cast<std::size_t>(end - (text.c_str() + i));
-      if (!std::isfinite(value))
+      // The token: a real (sign, digits, point, exponent) or a word.
+      std::size_t end = i + 1;
+      while (end < n && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '.' || text[end] == '_' ||
+                          ((text[end] == '+' || text[end] == '-') && (text[end - 1] == 'E' || text[end - 1] == 'e'))))
       {
-        error = "line " + std::to_string(line) + EntityAt(text, statement) + ": the number " +
-          text.substr(i, std::min<std::size_t>(length, 40)) + " is out of the range of a double";
+        ++end;
+      }
+      const std::string token = text.substr(i, std::min<std::size_t>(end - i, 40));
+      const std::string bad = BadNumber(token);
+      if (!bad.empty())
+      {
+        error = "line " + std::to_string(line) + EntityAt(text, statement) + ": " + bad;
         return false;
       }
-      i += length > 0 ? length - 1 : 0;
+      i = end - 1;
+    }
+  }
+  return true;
+}
+/// The reals of an IGES file's global and parameter sections (free format before the last 16
+/// columns of a line; Hollerith strings nH... skipped) must be finite doubles, "1.5D3" included.
+bool CheckIgesNumbers(const std::string& text, std::string& error)
+{
+  int line = 0;
+  for (std::size_t start = 0; start < text.size();)
+  {
+    std::size_t end = text.find('\n', start);
+    end = end == std::string::npos ? text.size() : end;
+    std::string row = text.substr(start, end - start);
+    start = end + 1;
+    ++line;
+    row.erase(row.find_last_not_of("\r") + 1);
+    const char section = row.size() >= 8 ? row[row.size() - 8] : ' ';
+    if (row.size() < 17 || (section != 'P' && section != 'G'))
+    {
+      continue;
+    }
+    const std::string data = row.substr(0, row.size() - 16);
+    for (std::size_t i = 0; i < data.size();)
+    {
+      const std::size_t token = data.find_first_not_of(" ", i);
+      if (token == std::string::npos)
+      {
+        break;
+      }
+      std::size_t j = token;
+      while (j < data.size() && std::isdigit(static_cast<unsigned char>(data[j])))
+      {
+        ++j;
+      }
+      if (j > token && j < data.size() && data[j] == 'H')
+      {
+        i = j + 1 + std::strtoul(data.c_str() + token, nullptr, 10); // Hollerith
+        i = data.find_first_of(",;", std::min(i, data.size()));
+        i = i == std::string::npos ? data.size() : i + 1;
+        continue;
+      }
+      j = data.find_first_of(",;", token);
+      j = j == std::string::npos ? data.size() : j;
+      std::string value = data.substr(token, j - token);
+      value.erase(value.find_last_not_of(" ") + 1);
+      i = j + 1;
+      const std::string bad = BadNumber(value);
+      if (!bad.empty())
+      {
+        const std::string entry = section == 'P' ? row.substr(row.size() - 16, 8) : std::string();
+        const std::size_t digits = entry.find_first_not_of(" 0");
+        error = std::string(section == 'P' ? "parameter data" : "global section") + " line " +
+          std::to_string(line) +
+          (section == 'P' && digits != std::string::npos
+              ? " (directory entry " + entry.substr(digits) + ")"
+              : std::string()) +
+          ": " + bad;
+        return false;
+      }
     }
   }
   return true;
@@ -196,7 +286,7 @@ bool CheckFileNumbers(const std::string& fileName, std::string& error)
     return false;
   }
   std::string detail;
-  if (format == Format::STEP && !CheckStepNumbers(text, detail))
+  if (format == Format::STEP ? !CheckStepNumbers(text, detail) : !CheckIgesNumbers(text, detail))
   {
     error = Prefix(format, fileName) + detail;
     return false;
@@ -311,16 +401,9 @@ void StepFaceNames(STEPControl_Reader& reader, ShapeRead& r)
   }
 }
 
-/// The entities OCCT's translation failed on (it skips them, so the shape may miss faces).
-std::string TransferFailures(XSControl_Reader& reader)
+/// "N entities: #12: message; #40: message; ..." for the failed checks, or "".
+std::string Failures(const Interface_CheckIterator& checks, const Handle(Interface_InterfaceModel)& model)
 {
-  const Handle(XSControl_TransferReader) tr = reader.WS()->TransferReader();
-  const Handle(Interface_InterfaceModel) model = reader.WS()->Model();
-  if (tr.IsNull() || tr->TransientProcess().IsNull() || model.IsNull())
-  {
-    return "";
-  }
-  const Interface_CheckIterator checks = tr->TransientProcess()->CheckList(Standard_True);
   int count = 0;
   std::string first;
   for (checks.Start(); checks.More(); checks.Next())
@@ -333,19 +416,39 @@ std::string TransferFailures(XSControl_Reader& reader)
     if (++count <= 3)
     {
       const int n = checks.Number();
-      const Handle(TCollection_HAsciiString) label =
-        n > 0 && n <= model->NbEntities() ? model->StringLabel(model->Value(n)) : Handle(TCollection_HAsciiString)();
-      first += std::string(first.empty() ? "" : "; ") + (label.IsNull() ? "entity" : label->ToCString()) +
+      const Handle(TCollection_HAsciiString) label = n > 0 && !model.IsNull() && n <= model->NbEntities()
+        ? model->StringLabel(model->Value(n))
+        : Handle(TCollection_HAsciiString)();
+      first += std::string(first.empty() ? "" : "; ") + (label.IsNull() ? "the file" : label->ToCString()) +
         ": " + check->CFail(1);
     }
   }
-  if (count == 0)
+  return count == 0 ? std::string()
+                    : std::to_string(count) + (count == 1 ? " entity (" : " entities (") + first +
+      (count > 3 ? "; ..." : "") + ")";
+}
+
+/// What OCCT's parser and translation failed on (it skips such entities, so the shape may miss
+/// faces).
+std::string ReadFailures(XSControl_Reader& reader)
+{
+  const Handle(XSControl_WorkSession) ws = reader.WS();
+  const Handle(XSControl_TransferReader) tr = ws->TransferReader();
+  std::string text;
+  const std::string parsed = Failures(ws->ModelCheckList(Standard_False), ws->Model());
+  if (!parsed.empty())
   {
-    return "";
+    text = "OpenCASCADE's parser found errors in " + parsed;
   }
-  return "OpenCASCADE's translation failed on " + std::to_string(count) + " entit" +
-    (count == 1 ? "y" : "ies") + " of the file and skipped them (" + first + (count > 3 ? "; ..." : "") +
-    "): the model may miss faces";
+  const std::string translated = tr.IsNull() || tr->TransientProcess().IsNull()
+    ? std::string()
+    : Failures(tr->TransientProcess()->CheckList(Standard_True), ws->Model());
+  if (!translated.empty())
+  {
+    text += (text.empty() ? "" : "; ") + std::string("OpenCASCADE's translation failed on ") + translated +
+      " and skipped them";
+  }
+  return text.empty() ? text : text + ": the model may miss faces";
 }
 
 /// Parsing and translation by OCCT's reader (STEPControl_Reader or IGESControl_Reader).
@@ -376,7 +479,7 @@ bool Transfer(Reader& reader, Format format, const std::string& fileName, ShapeR
     return false;
   }
   std::string warning;
-  if (!RunGuarded([&] { warning = TransferFailures(reader); }, failure))
+  if (!RunGuarded([&] { warning = ReadFailures(reader); }, failure))
   {
     warning = "the check list of OpenCASCADE's translation cannot be read: " + failure;
   }
@@ -525,14 +628,14 @@ bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r,
 
 /// The child: translates, writes its answer to fd and ends without running any of the parent's
 /// exit handlers or destructors.
-[[noreturn]] void ChildRead(const std::string& fileName, Format format, int fd)
+[[noreturn]] void ChildRead(const std::string& fileName, Format format, const ShapeCheck& check, int fd)
 {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   // This process is ours: OCCT's handlers for every signal it knows.
   OSD::SetSignal(OSD_SignalMode_Set, Standard_False);
   ShapeRead r;
   std::string error, payload, failure;
-  if (!Translate(fileName, format, r, error))
+  if (!Translate(fileName, format, r, error) || (check && !check(r, error)))
   {
     payload = "E" + error;
   }
@@ -597,7 +700,8 @@ std::string SignalText(int sig)
   return "signal " + std::to_string(sig) + (what ? std::string(", ") + what : std::string());
 }
 
-bool ReadInChild(const std::string& fileName, Format format, double timeout, ShapeRead& r, std::string& error)
+bool ReadInChild(const std::string& fileName, Format format, double timeout, const ShapeCheck& check,
+  ShapeRead& r, std::string& error)
 {
   const std::string prefix = Prefix(format, fileName);
   int fds[2];
@@ -621,7 +725,7 @@ bool ReadInChild(const std::string& fileName, Format format, double timeout, Sha
   if (pid == 0)
   {
     close(fds[0]);
-    ChildRead(fileName, format, fds[1]);
+    ChildRead(fileName, format, check, fds[1]);
   }
   close(fds[1]);
   std::string payload;
@@ -651,15 +755,17 @@ bool ReadInChild(const std::string& fileName, Format format, double timeout, Sha
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || payload.empty())
   {
-    error = prefix + "the reading process ended without a result (exit status " +
-      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) + ")";
+    error = prefix + "OpenCASCADE ended the reading process without a result (exit status " +
+      std::to_string(WIFEXITED(status) ? WEXITSTATUS(status) : -1) +
+      ": an exception it found no handler for): the file is malformed";
     return false;
   }
   return Decode(payload, prefix, r, error);
 }
 } // namespace
 
-bool ReadCADFile(const std::string& fileName, double timeoutSeconds, ShapeRead& result, std::string& error)
+bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const ShapeCheck& check,
+  ShapeRead& result, std::string& error)
 {
   const Format format = FormatOf(fileName);
   if (format == Format::Unknown)
@@ -672,7 +778,7 @@ bool ReadCADFile(const std::string& fileName, double timeoutSeconds, ShapeRead& 
     return false;
   }
   result = ShapeRead();
-  return timeoutSeconds > 0 ? ReadInChild(fileName, format, timeoutSeconds, result, error)
+  return timeoutSeconds > 0 ? ReadInChild(fileName, format, timeoutSeconds, check, result, error)
                             : Translate(fileName, format, result, error);
 }
 

@@ -10,6 +10,7 @@
 
 #include <TopoDS_Shape.hxx>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,11 +29,15 @@ struct ShapeRead
   std::vector<std::string> Warnings;
 };
 
+/// A check of the shape read, run in the reading child (false with an error rejects the file).
+using ShapeCheck = std::function<bool(const ShapeRead& shape, std::string& error)>;
+
 /// Reads fileName (.step, .stp, .iges, .igs). timeoutSeconds > 0: in a child process killed
-/// after that time; 0: in this process (with OCCT's signal handling) without a time limit.
-/// Returns false with `error` starting with "cannot read" or "unknown CAD file extension".
-bool ReadCADFile(const std::string& fileName, double timeoutSeconds, ShapeRead& result,
-  std::string& error);
+/// after that time, which also runs `check` on the shape; 0: in this process (with OCCT's
+/// signal handling) without a time limit, and without `check`. Returns false with `error`
+/// starting with "cannot read", "no faces in" or "unknown CAD file extension".
+bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const ShapeCheck& check,
+  ShapeRead& result, std::string& error);
 
 /// The pre-check of ReadCADFile: false with `error` (line, entity) when a real number of a STEP
 /// file is out of the range of a double (1e400) or not a number, or the file is empty.

@@ -543,7 +543,11 @@ int vtkWatertightSplineStitcher::RequestData(
           }
           const ctk::Vec3 s = ctk::EvaluateBezierTriangle(3, P, nullptr, bestTau).Value;
           double q[3];
-          this->SurfaceSource->EvaluateSurface(static_cast<int>(f), X.x(), X.y(), q);
+          if (!this->SurfaceSource->EvaluateSurface(static_cast<int>(f), X.x(), X.y(), q))
+          {
+            vtkErrorMacro(<< "deviation from the CAD surfaces: " << this->SurfaceSource->GetEvaluationError());
+            return 0;
+          }
           const double d = (s - ctk::Vec3(q[0], q[1], q[2])).norm();
           faceMax = std::max(faceMax, d);
           sum += d * d;

@@ -5,6 +5,8 @@
 #include "vtkCADFaceSampler.h"
 #include "vtkWatertightSplineStitcher.h"
 
+#include "CADTestShapes.h"
+
 #include "vtkCallbackCommand.h"
 #include "vtkCellData.h"
 #include "vtkCommand.h"
@@ -168,15 +170,6 @@ TopoDS_Shape SeamlessCylinder()
   B.Add(solid, shell);
   BRepLib::OrientClosedSolid(solid);
   return solid;
-}
-
-/// Planes, a seamed cylinder and faces with holes (as ctsplines_write_test_model writes).
-TopoDS_Shape BoxWithHole()
-{
-  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(-1.0, -0.6, 0.0), 2.0, 1.2, 0.8).Shape();
-  const TopoDS_Shape drill =
-    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.2, 0.1, -0.5), gp_Dir(0, 0, 1)), 0.35, 2.0).Shape();
-  return BRepAlgoAPI_Cut(box, drill).Shape();
 }
 
 /// Longest edge / (2 sqrt(3) inradius) of a 3D triangle.
@@ -484,7 +477,7 @@ TEST(CADConversion, PeriodicFaceWithoutSeam)
 /// one face of this model to ~6e5 triangles and end in a zero-area parameter triangle.
 TEST(CADConversion, AspectRatioBound)
 {
-  const std::string file = TempStep("box_with_hole", BoxWithHole());
+  const std::string file = TempStep("box_with_hole", ctsplines_test::BoxWithHole());
   vtkIdType unbounded = 0;
   // (aspect bound, edge length bound): the last splits the edge spans too.
   for (const auto& [bound, length] : { std::make_pair(0.0, 0.0), std::make_pair(4.0, 0.0),
