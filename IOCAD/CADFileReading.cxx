@@ -667,7 +667,8 @@ bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r,
 bool ReceiveUntil(int fd, double seconds, std::string& out)
 {
   using Clock = std::chrono::steady_clock;
-  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+  const std::chrono::duration<double> limit(std::min(seconds, 1e9)); // no overflow of the clock
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(limit);
   char buffer[1 << 16];
   for (;;)
   {

@@ -135,10 +135,56 @@ class CADCommandLineTest(CommandLineCase):
         p = self.cli("convert", mesh, self.path("s.vtu"), "--g1", code=2)
         self.assertIn("--g1 applies to CAD models", p.stderr)
 
+    def test_malformed_files_are_clean_errors(self):
+        # Each was a crash or a hang of OpenCASCADE before; now exit code 3 naming the file.
+        with open(self.box()) as f:
+            text = f.read()
+        point = re.search(r"CARTESIAN_POINT\('',\(([^,]+),", text)
+        cases = {
+            "truncated.step": (text[: len(text) // 3], "cannot read"),
+            "huge.step": (text[: point.start(1)] + "1.E400" + text[point.end(1):],
+                          "out of the range of a double"),
+            "nan.step": (text[: point.start(1)] + "NaN" + text[point.end(1):],
+                         "'NaN' is not a number"),
+            "empty.stp": ("", "the file is empty"),
+        }
+        for name, (content, message) in cases.items():
+            path = self.path(name)
+            with open(path, "w") as f:
+                f.write(content)
+            p = self.cli("convert", path, "-o", self.path("o.vtm"), code=3)
+            self.assertIn(message, p.stderr, name)
+            self.assertIn(name, p.stderr)
+            self.assertNotIn("Traceback", p.stderr)
+
+    def test_read_timeout(self):
+        p = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--read-timeout", "1e-4",
+                     code=3)
+        self.assertIn("did not end within the read timeout of 0.0001 s", p.stderr)
+        # 0: in this process, without a limit.
+        self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--tolerance", "1e-2",
+                 "--read-timeout", "0")
+        self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--read-timeout", "-1", code=2)
+
+    def test_crash_in_translation_is_an_error(self):
+        step = model("component8.step")
+        if step is None:
+            self.skipTest("component8.step not fetched (gmsh-doc unavailable)")
+        with open(step) as f:
+            text = f.read()
+        # An oriented edge that is its own edge: OCCT recurses until its stack overflows.
+        changed = self.path("self_reference.step")
+        with open(changed, "w") as f:
+            f.write(re.sub(r"#179=ORIENTED_EDGE\([^;]*;", "#179=ORIENTED_EDGE('',*,*,#179,.T.);",
+                           text))
+        p = self.cli("convert", changed, "-o", self.path("o.vtm"), code=3)
+        self.assertIn("OpenCASCADE's translation crashed", p.stderr)
+        self.assertIn("self_reference.step", p.stderr)
+
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
         for text in ("--tolerance", "--aspect-ratio", "--max-edge-length", "--g1",
-                     "--g1-threshold", ".step", "OUT.vtu", "-o"):
+                     "--g1-threshold", "--read-timeout", ".step", "OUT.vtu", "-o"):
             self.assertIn(text, out)
 
 

@@ -236,6 +236,7 @@ def _convert_cad(args):
         "iterations": args.iterations,
         "g1": args.g1,
         "g1_threshold": 10.0 if args.g1_threshold is None else args.g1_threshold,
+        "read_timeout": args.read_timeout,
     }
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
@@ -565,6 +566,11 @@ def build_parser():
     cad.add_argument("--g1-threshold", type=_angle, metavar="DEGREES",
                      help="largest angle between the faces' normals for an interface to count as "
                      "tangent (default 10)")
+    cad.add_argument("--read-timeout", type=_non_negative_float, metavar="SECONDS", default=120.0,
+                     help="OpenCASCADE translates the file in a separate process, which is "
+                     "abandoned after this time (a malformed file on which it loops or crashes is "
+                     "then an error, exit code 3); 0 translates in this process without a limit "
+                     "(default %(default)g)")
     convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
                          help="auto: use the file's derivative arrays, estimate them when "
                          "missing; file: only the file's (missing ones are an error); "

@@ -10,8 +10,10 @@ from .io import FilterError, InputError, cad_sampler, write
 # vtkCloughTocherSplineFilter); the fairing schemes after them have no C0 stitching.
 STITCHED_CONSTRUCTIONS = 8
 
-# Errors of vtkCADFaceSampler that mean the file itself could not be used (exit code 3); the
-# others (an edge without pcurve, a face that cannot be meshed) are the model's (exit code 1).
+# Errors of vtkCADFaceSampler that mean the file itself could not be used (exit code 3: also a
+# malformed file on which OpenCASCADE's translation crashed or did not end within the read
+# timeout); the others (an edge without pcurve, a face that cannot be meshed) are the model's
+# (exit code 1).
 _READ_ERRORS = ("cannot read", "unknown CAD file extension", "no faces in")
 
 
@@ -40,7 +42,7 @@ def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
     it. options: tolerance, aspect_ratio, max_edge_length, construction, split_point,
     boundary_mode, iterations (ints for the enumerations), g1 (RestoreG1), g1_threshold
-    (degrees). Returns the summary as a dict."""
+    (degrees), read_timeout (seconds; 0 reads in this process). Returns the summary as a dict."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
@@ -55,6 +57,7 @@ def convert(model, output, options, messages, progress):
     sampler.SetBoundaryMode(options["boundary_mode"])
     sampler.SetRestoreG1(bool(options.get("g1")))
     sampler.SetG1Threshold(options.get("g1_threshold", 10.0))
+    sampler.SetReadTimeout(options.get("read_timeout", 120.0))
     start = time.perf_counter()
     ok, errors = _update(sampler, messages)
     if not ok:
