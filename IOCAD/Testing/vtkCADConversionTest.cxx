@@ -14,6 +14,7 @@
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -557,6 +558,52 @@ TEST(CADConversion, UnknownExtensionIsAnError)
   sampler->Update();
   EXPECT_EQ(sampler->GetOutput()->GetNumberOfBlocks(), 0u);
   EXPECT_NE(errors.Text.find("unknown CAD file extension"), std::string::npos) << errors.Text;
+}
+
+/// Reading in the child process (the default) and in this process (ReadTimeout 0) give the
+/// same faces in the same order with the same names, sampled to the same doubles.
+void CheckChildReadMatchesInProcessRead(const std::string& file)
+{
+  vtkNew<vtkCADFaceSampler> child, here;
+  for (vtkCADFaceSampler* s : { child.Get(), here.Get() })
+  {
+    s->SetFileName(file.c_str());
+    s->SetTolerance(1e-2);
+  }
+  here->SetReadTimeout(0);
+  child->Update();
+  here->Update();
+  const unsigned int n = child->GetOutput()->GetNumberOfBlocks();
+  ASSERT_GT(n, 0u);
+  ASSERT_EQ(here->GetOutput()->GetNumberOfBlocks(), n);
+  for (unsigned int f = 0; f < n; ++f)
+  {
+    const char* a = child->GetOutput()->GetMetaData(f)->Get(vtkCompositeDataSet::NAME());
+    const char* b = here->GetOutput()->GetMetaData(f)->Get(vtkCompositeDataSet::NAME());
+    ASSERT_STREQ(a, b) << "face " << f;
+    vtkPolyData* pa = vtkPolyData::SafeDownCast(child->GetOutput()->GetBlock(f));
+    vtkPolyData* pb = vtkPolyData::SafeDownCast(here->GetOutput()->GetBlock(f));
+    ASSERT_EQ(pa->GetNumberOfPoints(), pb->GetNumberOfPoints()) << "face " << f;
+    for (vtkIdType p = 0; p < pa->GetNumberOfPoints(); ++p)
+    {
+      double x[3], y[3];
+      pa->GetPoint(p, x);
+      pb->GetPoint(p, y);
+      ASSERT_TRUE(x[0] == y[0] && x[1] == y[1] && x[2] == y[2]) << "face " << f << " point " << p;
+    }
+  }
+}
+
+TEST(CADConversion, ReadInChildProcessKeepsFacesNamesAndPoints)
+{
+  CheckChildReadMatchesInProcessRead(TempStep("box_with_hole_child", ctsplines_test::BoxWithHole()));
+  CheckChildReadMatchesInProcessRead(TempIges("cylinder_hole_child", CylinderWithHole()));
+  const char* dir = std::getenv("CTSPLINES_CAD_MODELS");
+  const std::string named = dir ? std::string(dir) + "/as1-tu-203.stp" : std::string();
+  if (!named.empty() && std::ifstream(named).good())
+  {
+    CheckChildReadMatchesInProcessRead(named); // faces named '#1099', ...
+  }
 }
 
 /// A real model of gmsh-doc (fetched by the CAD.FetchModels fixture) converted at 1e-4: closed,

@@ -211,6 +211,11 @@ Outcome ConvertChanged(const std::string& name, const std::string& match, const 
 }
 } // namespace
 
+/// Skips the test when the CAD.FetchModels fixture could not fetch `name`.
+#define SKIP_WITHOUT_MODEL(name)                                                                   \
+  if (FetchedModel(name).empty())                                                                  \
+  GTEST_SKIP() << name << " was not fetched"
+
 TEST(Mutants, BoxWithHoleStep)
 {
   RunMutants(BoxWithHoleFile(".step"), ".step", 20261201, 300);
@@ -223,12 +228,8 @@ TEST(Mutants, BoxWithHoleIges)
 
 TEST(Mutants, Component8)
 {
-  const std::string model = FetchedModel("component8.step");
-  if (model.empty())
-  {
-    GTEST_SKIP() << "component8.step was not fetched";
-  }
-  RunMutants(model, ".step", 20261203, 100);
+  SKIP_WITHOUT_MODEL("component8.step");
+  RunMutants(FetchedModel("component8.step"), ".step", 20261203, 100);
 }
 
 TEST(Mutants, OutOfRangeNumberNamesLineAndEntity)
@@ -268,10 +269,7 @@ TEST(Mutants, ReadTimeoutAbandonsTheTranslation)
 
 TEST(Mutants, Component8DeletedEdgeLoop)
 {
-  if (FetchedModel("component8.step").empty())
-  {
-    GTEST_SKIP() << "component8.step was not fetched";
-  }
+  SKIP_WITHOUT_MODEL("component8.step");
   // Crashed the process in OCCT's translation before (faces refer to the missing loop).
   const Outcome o = ConvertChanged("component8.step", "#142=EDGE_LOOP", "", ".step");
   EXPECT_FALSE(o.Converted);
@@ -282,10 +280,7 @@ TEST(Mutants, Component8DeletedEdgeLoop)
 
 TEST(Mutants, Component8EntityReferringToItself)
 {
-  if (FetchedModel("component8.step").empty())
-  {
-    GTEST_SKIP() << "component8.step was not fetched";
-  }
+  SKIP_WITHOUT_MODEL("component8.step");
   // An oriented edge that is its own edge element: OCCT's translation recurses until the stack
   // overflows (a crash no signal handler can convert), in the reading child only.
   const Outcome o = ConvertChanged("component8.step", "#179=ORIENTED_EDGE", "#179=ORIENTED_EDGE('',*,*,#179,.T.);", ".step");
@@ -296,10 +291,7 @@ TEST(Mutants, Component8EntityReferringToItself)
 
 TEST(Mutants, AS1TU203FlippedByteInVectorKeyword)
 {
-  if (FetchedModel("as1-tu-203.stp").empty())
-  {
-    GTEST_SKIP() << "as1-tu-203.stp was not fetched";
-  }
+  SKIP_WITHOUT_MODEL("as1-tu-203.stp");
   // component8.step has no VECTOR entity; as1-tu-203.stp's first one, "VECTOR" -> "WECTOR":
   // crashed the process before. OCCT now skips the lines built on it: fewer faces, said.
   const std::string model = FetchedModel("as1-tu-203.stp");
