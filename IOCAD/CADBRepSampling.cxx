@@ -40,9 +40,9 @@ namespace ctcad
 bool RunGuarded(const std::function<void()>& body, std::string& failure)
 {
   // Only for signals nobody handles: a host's own handlers (Python's SIGINT, a sanitizer's
-  // SIGSEGV) stay. No floating-point traps: the rest of the program relies on IEEE results.
+  // SIGSEGV) stay.
   static std::once_flag once;
-  std::call_once(once, [] { OSD::SetSignal(OSD_SignalMode_SetUnhandled, Standard_False); });
+  std::call_once(once, [] { SetOCCTSignals(OSD_SignalMode_SetUnhandled); });
   try
   {
     OCC_CATCH_SIGNALS

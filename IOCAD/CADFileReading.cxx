@@ -631,8 +631,10 @@ bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r,
 [[noreturn]] void ChildRead(const std::string& fileName, Format format, const ShapeCheck& check, int fd)
 {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
-  // This process is ours: OCCT's handlers for every signal it knows.
-  OSD::SetSignal(OSD_SignalMode_Set, Standard_False);
+  // This process is ours: OCCT's handlers for every crash signal, even where the parent had its
+  // own (OCCT's translation recovers from many crashes inside its own handlers).
+  SetOCCTSignals(OSD_SignalMode_Set);
+  signal(SIGINT, SIG_DFL); // Ctrl-C ends the child too (a host's handler would only set a flag)
   ShapeRead r;
   std::string error, payload, failure;
   if (!Translate(fileName, format, r, error) || (check && !check(r, error)))
@@ -764,6 +766,21 @@ bool ReadInChild(const std::string& fileName, Format format, double timeout, con
   return Decode(payload, prefix, r, error);
 }
 } // namespace
+
+void SetOCCTSignals(OSD_SignalMode mode)
+{
+  const int keep[] = { SIGINT, SIGHUP, SIGQUIT };
+  struct sigaction before[3];
+  for (int i = 0; i < 3; ++i)
+  {
+    sigaction(keep[i], nullptr, &before[i]);
+  }
+  OSD::SetSignal(mode, Standard_False);
+  for (int i = 0; i < 3; ++i)
+  {
+    sigaction(keep[i], &before[i], nullptr);
+  }
+}
 
 bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const ShapeCheck& check,
   ShapeRead& result, std::string& error)

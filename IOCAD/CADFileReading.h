@@ -8,6 +8,7 @@
 #ifndef CTSplines_IOCAD_CADFileReading_h
 #define CTSplines_IOCAD_CADFileReading_h
 
+#include <OSD_SignalMode.hxx>
 #include <TopoDS_Shape.hxx>
 
 #include <functional>
@@ -38,6 +39,11 @@ using ShapeCheck = std::function<bool(const ShapeRead& shape, std::string& error
 /// starting with "cannot read", "no faces in" or "unknown CAD file extension".
 bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const ShapeCheck& check,
   ShapeRead& result, std::string& error);
+
+/// OSD::SetSignal(mode) without floating-point traps (the rest of the program relies on IEEE
+/// results), and without taking SIGINT, SIGHUP and SIGQUIT, which keep what they had (OCCT's
+/// handler would make Ctrl-C no longer stop the program).
+void SetOCCTSignals(OSD_SignalMode mode);
 
 /// The pre-check of ReadCADFile: false with `error` (line, entity) when a real number of a STEP
 /// file is out of the range of a double (1e400) or not a number, or the file is empty.
