@@ -15,6 +15,9 @@
 #include <Interface_Check.hxx>
 #include <Interface_CheckIterator.hxx>
 #include <Interface_InterfaceModel.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Message_Printer.hxx>
 #include <OSD.hxx>
 #include <STEPControl_Reader.hxx>
 #include <ShapeBuild_ReShape.hxx>
@@ -451,6 +454,40 @@ std::string ReadFailures(XSControl_Reader& reader)
   return text.empty() ? text : text + ": the model may miss faces";
 }
 
+/// The first failure messages OCCT sends to its messenger while it lives (the parser's syntax
+/// errors, with their line numbers, go there and nowhere else).
+class FailureMessages : public Message_Printer
+{
+public:
+  FailureMessages() { Message::DefaultMessenger()->AddPrinter(this); }
+  ~FailureMessages() override = default;
+  void Detach() { Message::DefaultMessenger()->RemovePrinter(this); }
+  std::string Text() const
+  {
+    std::string text;
+    for (const std::string& line : this->Lines)
+    {
+      text += (text.empty() ? "" : "; ") + line;
+    }
+    return text;
+  }
+
+protected:
+  void send(const TCollection_AsciiString& message, const Message_Gravity gravity) const override
+  {
+    if (gravity >= Message_Fail && this->Lines.size() < 3)
+    {
+      std::string line = message.ToCString();
+      line.erase(0, line.find_first_not_of(" *"));
+      line.erase(line.find_last_not_of(" *\r\n") + 1);
+      this->Lines.push_back(line);
+    }
+  }
+
+private:
+  mutable std::vector<std::string> Lines;
+};
+
 /// Parsing and translation by OCCT's reader (STEPControl_Reader or IGESControl_Reader).
 template <class Reader>
 bool Transfer(Reader& reader, Format format, const std::string& fileName, ShapeRead& r, std::string& error)
@@ -458,14 +495,18 @@ bool Transfer(Reader& reader, Format format, const std::string& fileName, ShapeR
   const std::string prefix = Prefix(format, fileName);
   std::string failure;
   IFSelect_ReturnStatus status = IFSelect_RetVoid;
-  if (!RunGuarded([&] { status = reader.ReadFile(fileName.c_str()); }, failure))
+  const Handle(FailureMessages) messages = new FailureMessages;
+  const bool parsed = RunGuarded([&] { status = reader.ReadFile(fileName.c_str()); }, failure);
+  messages->Detach();
+  if (!parsed)
   {
     error = prefix + "parsing (ReadFile): " + failure;
     return false;
   }
   if (status != IFSelect_RetDone)
   {
-    error = prefix + "OpenCASCADE's parser rejected it: " + StatusName(status);
+    const std::string detail = messages->Text();
+    error = prefix + "OpenCASCADE's parser rejected it: " + StatusName(status) + (detail.empty() ? "" : " (" + detail + ")");
     return false;
   }
   if (!RunGuarded(
