@@ -5,6 +5,7 @@
 #include "LargeArrays.h"
 #include "SplineDataValidation.h"
 
+#include "vtkAbstractArray.h"
 #include "vtkCellArray.h"
 
 #include "vtkCellData.h"
@@ -12,6 +13,7 @@
 #include "vtkCellTypes.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
+#include "vtkDataSetAttributes.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdList.h"
@@ -48,12 +50,107 @@ const double* BezierCells::Net(vtkIdType c, ctk::Vec3* P, double* w) const
 
 void BezierCells::UVNet(vtkIdType c, ctk::Vec3* Q) const
 {
+  this->ValueNet(c, this->UV.data(), 2, 0, Q);
+}
+
+void BezierCells::ValueNet(
+  vtkIdType c, const double* values, int components, int first, ctk::Vec3* Q) const
+{
   const int n = this->Degree[c];
   const std::vector<int>& order = this->Orders[n];
   const vtkIdType* ids = this->CellIds(c);
   for (int p = 0; p < ctk::BezierPointCount(n); ++p)
   {
-    Q[order[p]] = ctk::Vec3(this->UV[2 * ids[p]], this->UV[2 * ids[p] + 1], 0.0);
+    const double* v = values + ids[p] * components;
+    for (int k = 0; k < 3; ++k)
+    {
+      Q[order[p]][k] = first + k < components ? v[first + k] : 0.0;
+    }
+  }
+}
+
+std::string PointDataInterpolator::Gather(
+  vtkDataSet* ds, const std::string& uvName, vtkIdType outputPoints)
+{
+  this->Arrays.clear();
+  this->Nets = 0;
+  vtkPointData* pd = ds->GetPointData();
+  vtkDataArray* weights = pd->GetRationalWeights();
+  for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* in = pd->GetArray(a);
+    if (!in || !in->GetName() || in == weights || in == pd->GetNormals() ||
+      !(in->GetDataType() == VTK_DOUBLE || in->GetDataType() == VTK_FLOAT))
+    {
+      continue;
+    }
+    const std::string name = in->GetName();
+    if (name == "RationalWeights" || name == "Normals" || (name == "UV" && uvName != "UV"))
+    {
+      continue;
+    }
+    Array array;
+    array.Name = name == uvName ? "UV" : name;
+    array.Components = in->GetNumberOfComponents();
+    std::string error = CopyArray(in, "point data array '" + name + "'", array.Components,
+      ds->GetNumberOfPoints(), "point", array.Values);
+    if (!error.empty())
+    {
+      return error;
+    }
+    array.Out = vtkSmartPointer<vtkDoubleArray>::New();
+    array.Out->SetName(array.Name.c_str());
+    array.Out->SetNumberOfComponents(array.Components);
+    array.Out->SetNumberOfTuples(outputPoints);
+    this->Nets += (array.Components + 2) / 3;
+    this->Arrays.push_back(std::move(array));
+  }
+  return {};
+}
+
+void PointDataInterpolator::LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets) const
+{
+  for (const Array& a : this->Arrays)
+  {
+    for (int first = 0; first < a.Components; first += 3, nets += ctk::MaxBezierPoints)
+    {
+      cells.ValueNet(c, a.Values.data(), a.Components, first, nets);
+    }
+  }
+}
+
+void PointDataInterpolator::Write(
+  int n, const ctk::Vec3* nets, const double* weights, const ctk::Vec3& t, vtkIdType id) const
+{
+  for (const Array& a : this->Arrays)
+  {
+    double* out = a.Out->GetPointer(id * a.Components);
+    for (int first = 0; first < a.Components; first += 3, nets += ctk::MaxBezierPoints)
+    {
+      const ctk::Vec3 v = ctk::EvaluateBezierTriangle(n, nets, weights, t, 0).Value;
+      std::copy_n(v.data(), std::min(3, a.Components - first), out + first);
+    }
+  }
+}
+
+void PointDataInterpolator::Append(vtkIdType first, const std::vector<vtkIdType>& from)
+{
+  for (Array& a : this->Arrays)
+  {
+    a.Out->Resize(first + static_cast<vtkIdType>(from.size())); // keeps the values
+    a.Out->SetNumberOfTuples(first + static_cast<vtkIdType>(from.size()));
+    for (size_t k = 0; k < from.size(); ++k)
+    {
+      a.Out->SetTuple(first + static_cast<vtkIdType>(k), from[k], a.Out);
+    }
+  }
+}
+
+void PointDataInterpolator::AddTo(vtkDataSetAttributes* out) const
+{
+  for (const Array& a : this->Arrays)
+  {
+    out->AddArray(a.Out);
   }
 }
 
@@ -497,52 +594,60 @@ void LatticeNumbering::WriteTriangles(
   }
 }
 
-std::string CheckCellIdArrays(vtkDataSet* input, const std::string& arrayPrefix)
+std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefix)
 {
-  for (const char* name : { "MacroTriangleId", "MicroTriangleId" })
+  vtkCellData* cd = input->GetCellData();
+  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
   {
-    if (vtkDataArray* in = input->GetCellData()->GetArray(name))
+    vtkAbstractArray* in = cd->GetAbstractArray(a);
+    const std::string name = in->GetName() ? in->GetName() : "";
+    const std::string what = arrayPrefix + "cell data array '" + name + "'";
+    std::string error = CheckTuples(in, what, input->GetNumberOfCells(), "cell");
+    if (error.empty() && (name == "MacroTriangleId" || name == "MicroTriangleId") &&
+      in->GetNumberOfComponents() != 1)
     {
-      std::string error = CheckTuples(
-        in, arrayPrefix + "cell data array '" + name + "'", input->GetNumberOfCells(), "cell");
-      if (error.empty() && in->GetNumberOfComponents() != 1)
-      {
-        error = arrayPrefix + "cell data array '" + name + "' has " +
-          std::to_string(in->GetNumberOfComponents()) + " components, expected 1";
-      }
-      if (!error.empty())
-      {
-        return error;
-      }
+      error = what + " has " + std::to_string(in->GetNumberOfComponents()) +
+        " components, expected 1";
+    }
+    if (!error.empty())
+    {
+      return error;
     }
   }
   return {};
 }
 
-void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell)
+void CopyCellDataBySource(
+  vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells)
 {
-  const vtkIdType nCells = input->GetNumberOfCells();
-  for (const char* name : { "MacroTriangleId", "MicroTriangleId" })
+  vtkCellData* cd = input->GetCellData();
+  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
   {
-    vtkDataArray* in = input->GetCellData()->GetArray(name);
-    if (!in)
+    vtkAbstractArray* in = cd->GetAbstractArray(a);
+    if (in == cd->GetGlobalIds() || !in->GetName())
     {
       continue;
     }
-    vtkSmartPointer<vtkDataArray> array = vtkSmartPointer<vtkDataArray>::Take(in->NewInstance());
-    array->SetName(name);
+    vtkSmartPointer<vtkAbstractArray> array =
+      vtkSmartPointer<vtkAbstractArray>::Take(in->NewInstance());
+    array->SetName(in->GetName());
     array->SetNumberOfComponents(in->GetNumberOfComponents());
-    array->SetNumberOfTuples(nCells * trianglesPerCell);
-    vtkSMPTools::For(0, nCells, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType c = begin; c < end; ++c)
+    array->SetNumberOfTuples(outputCells);
+    vtkSMPTools::For(0, outputCells, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType k = begin; k < end; ++k)
       {
-        for (vtkIdType m = 0; m < trianglesPerCell; ++m)
-        {
-          array->SetTuple(c * trianglesPerCell + m, c, in);
-        }
+        array->SetTuple(k, sourceCell[k], in);
       }
     });
-    out->AddArray(array);
+    const int attribute = cd->IsArrayAnAttribute(a);
+    if (attribute >= 0)
+    {
+      out->SetAttribute(array, attribute);
+    }
+    else
+    {
+      out->AddArray(array);
+    }
   }
 }
 
@@ -552,7 +657,7 @@ std::string GatherBezierCellsWithUV(
   std::string error = GatherBezierCells(ds, cells);
   if (error.empty())
   {
-    error = CheckCellIdArrays(ds, "");
+    error = CheckCellDataArrays(ds, "");
   }
   return error.empty() ? ReadUV(ds, uvName, cells, uvRequiredFor) : error;
 }

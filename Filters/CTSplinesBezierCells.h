@@ -10,6 +10,8 @@
 #include <Eigen/Geometry> // for cross
 
 #include "vtkAlgorithm.h"  // for progress and abort
+#include "vtkDoubleArray.h" // for the interpolated arrays
+#include "vtkSmartPointer.h"
 #include "vtkSMPTools.h" // for ForInBlocks
 #include "vtkType.h"     // for vtkIdType
 
@@ -22,6 +24,7 @@
 class vtkCellData;
 class vtkDataArray;
 class vtkDataSet;
+class vtkDataSetAttributes;
 
 namespace ctsplines
 {
@@ -43,6 +46,42 @@ struct BezierCells
   const double* Net(vtkIdType c, ctk::Vec3* P, double* w) const;
   /// The UV values of cell c's control points as a net (u, v, 0) in canonical order.
   void UVNet(vtkIdType c, ctk::Vec3* Q) const;
+  /// Components first..first+2 (zero beyond `components`) of per-point values (#points by
+  /// components) at cell c's control points, as a net in canonical order.
+  void ValueNet(
+    vtkIdType c, const double* values, int components, int first, ctk::Vec3* Q) const;
+};
+
+/// The floating-point point data arrays of a Bézier grid carried to sampled points: each is
+/// interpolated with the cell's Bézier basis, rational where the cell is. The array named
+/// uvName is output as `UV`. Not carried: integer arrays (ids and flags mean nothing between
+/// control points), the rational weights (they define the geometry) and `Normals` (the filters
+/// output exact ones).
+class PointDataInterpolator
+{
+public:
+  /// Reads and checks the arrays of ds (one tuple per point, finite) and allocates the outputs.
+  std::string Gather(vtkDataSet* ds, const std::string& uvName, vtkIdType outputPoints);
+  /// Number of 3-component nets per cell (LoadNets fills that many times MaxBezierPoints).
+  int NumberOfNets() const { return this->Nets; }
+  void LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets) const;
+  /// Writes the values at barycentric t of a degree-n cell (nets from LoadNets) to point id.
+  void Write(int n, const ctk::Vec3* nets, const double* weights, const ctk::Vec3& t,
+    vtkIdType id) const;
+  /// Grows the outputs to `outputPoints` tuples, copying point from[k] to first + k.
+  void Append(vtkIdType first, const std::vector<vtkIdType>& from);
+  void AddTo(vtkDataSetAttributes* out) const;
+
+private:
+  struct Array
+  {
+    std::string Name;
+    int Components = 0;
+    std::vector<double> Values;
+    vtkSmartPointer<vtkDoubleArray> Out;
+  };
+  std::vector<Array> Arrays;
+  int Nets = 0;
 };
 
 /// Checks that every cell of ds is a VTK_BEZIER_TRIANGLE of an order in 1..ctk::MaxDegree and
@@ -57,7 +96,7 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells,
 std::string ReadUV(vtkDataSet* ds, const std::string& name, BezierCells& cells,
   const char* requiredFor = nullptr);
 
-/// GatherBezierCells, CheckCellIdArrays, then ReadUV: the common opening of the filters that
+/// GatherBezierCells, CheckCellDataArrays, then ReadUV: the common opening of the filters that
 /// read a spline grid.
 std::string GatherBezierCellsWithUV(vtkDataSet* ds, const std::string& uvName, BezierCells& cells,
   const char* uvRequiredFor = nullptr);
@@ -113,14 +152,16 @@ private:
   std::vector<vtkIdType> CornerOf, CornerOwner, CellEdge, EdgeOwner;
 };
 
-/// Checks the input's cell data arrays MacroTriangleId and MicroTriangleId (when present): one
-/// tuple of one component per cell.
-std::string CheckCellIdArrays(vtkDataSet* input, const std::string& arrayPrefix);
+/// Checks the input's cell data arrays: one tuple per cell each, and one component for
+/// MacroTriangleId and MicroTriangleId.
+std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefix);
 
-/// Adds to `out` the input's cell data arrays MacroTriangleId and MicroTriangleId (when present),
-/// repeated for the trianglesPerCell output triangles of each input cell (CheckCellIdArrays
-/// must have passed; GatherBezierCellsWithUV checks them).
-void RepeatCellIdArrays(vtkDataSet* input, vtkCellData* out, vtkIdType trianglesPerCell);
+/// Adds to `out` every cell data array of the input (CheckCellDataArrays must have passed;
+/// GatherBezierCellsWithUV checks them), output cell k taking the tuple of input cell
+/// sourceCell[k]; the active attributes stay active. Global ids are not copied: they would no
+/// longer be unique.
+void CopyCellDataBySource(
+  vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells);
 
 /// Runs body over [0, n) in `blocks` consecutive parallel loops (vtkSMPTools), reporting progress
 /// from progress0 to progress1 and checking GetAbortExecute() between blocks on the calling

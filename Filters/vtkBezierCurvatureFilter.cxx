@@ -114,8 +114,11 @@ int vtkBezierCurvatureFilter::RequestData(
 
   // 1. Validate and flatten the input so that the parallel part reads plain arrays.
   ctsplines::BezierCells cells;
-  std::string error = ctsplines::GatherBezierCellsWithUV(input, this->UVArrayName, cells);
-  const bool withUV = !cells.UV.empty();
+  std::string error = ctsplines::GatherBezierCells(input, cells);
+  if (error.empty())
+  {
+    error = ctsplines::CheckCellDataArrays(input, "");
+  }
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -126,6 +129,13 @@ int vtkBezierCurvatureFilter::RequestData(
   const ctsplines::SamplingLattice lattice(L);
   const ctsplines::LatticeNumbering numbering(cells, lattice, this->MergePoints);
   const vtkIdType nOutPoints = numbering.NumberOfPoints();
+  ctsplines::PointDataInterpolator data;
+  error = data.Gather(input, this->UVArrayName, nOutPoints);
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
   const vtkIdType trianglesPerCell = static_cast<vtkIdType>(L) * L;
   const vtkIdType nOutCells = nCells * trianglesPerCell;
 
@@ -145,7 +155,6 @@ int vtkBezierCurvatureFilter::RequestData(
   auto kmin = makeArray("Minimum_Curvature", 1);
   auto dmax = makeArray("Maximum_Curvature_Direction", 3);
   auto dmin = makeArray("Minimum_Curvature_Direction", 3);
-  vtkSmartPointer<vtkDoubleArray> uvOut = withUV ? makeArray("UV", 2) : nullptr;
   vtkNew<vtkIdTypeArray> offsets, connectivity, bezierCellId;
   offsets->SetNumberOfTuples(nOutCells + 1);
   connectivity->SetNumberOfTuples(3 * nOutCells);
@@ -158,8 +167,9 @@ int vtkBezierCurvatureFilter::RequestData(
   // The cell's own parametrisation (r, s): domain (0,0), (1,0), (0,1), t = (1 - r - s, r, s).
   const ctk::Vec2 R0(0, 0), R1(1, 0), R2(0, 1);
   auto evaluate = [&](vtkIdType begin, vtkIdType end) {
-    ctk::Vec3 P[ctk::MaxBezierPoints], Q[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
+    ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
+    std::vector<ctk::Vec3> nets(std::max(1, data.NumberOfNets()) * ctk::MaxBezierPoints);
     for (vtkIdType c = begin; c < end; ++c)
     {
       const int n = cells.Degree[c];
@@ -168,10 +178,7 @@ int vtkBezierCurvatureFilter::RequestData(
       // formed of small numbers (exact for nearby points), which keeps the second derivatives
       // of small cells accurate. Positions come from the net itself, as the tessellator's.
       ctk::RelativeNet(n, P, R);
-      if (uvOut)
-      {
-        cells.UVNet(c, Q);
-      }
+      data.LoadNets(cells, c, nets.data());
       for (int li = 0; li < static_cast<int>(lattice.Points.size()); ++li)
       {
         bool owned = false;
@@ -193,11 +200,7 @@ int vtkBezierCurvatureFilter::RequestData(
         kmin->SetValue(id, k.Min);
         dmax->SetTypedTuple(id, k.MaxDirection.data());
         dmin->SetTypedTuple(id, k.MinDirection.data());
-        if (uvOut)
-        {
-          const ctk::Vec3 q = ctk::EvaluateBezierTriangle(n, Q, wp, t, 0).Value;
-          uvOut->SetTypedTuple(id, q.data());
-        }
+        data.Write(n, nets.data(), wp, t, id);
       }
       numbering.WriteTriangles(c, off, conn, source);
     }
@@ -219,15 +222,13 @@ int vtkBezierCurvatureFilter::RequestData(
   vtkPointData* outPD = output->GetPointData();
   outPD->SetNormals(normals);
   for (vtkDoubleArray* a : { gauss.Get(), mean.Get(), kmax.Get(), kmin.Get(), dmax.Get(),
-         dmin.Get(), uvOut.Get() })
+         dmin.Get() })
   {
-    if (a)
-    {
-      outPD->AddArray(a);
-    }
+    outPD->AddArray(a);
   }
+  data.AddTo(outPD);
+  ctsplines::CopyCellDataBySource(input, output->GetCellData(), source, nOutCells);
   output->GetCellData()->AddArray(bezierCellId);
-  ctsplines::RepeatCellIdArrays(input, output->GetCellData(), trianglesPerCell);
   for (vtkDoubleArray* a : { gauss.Get(), mean.Get(), kmax.Get(), kmin.Get() })
   {
     output->GetFieldData()->AddArray(RobustRange(a, this->RobustRangePercentile));

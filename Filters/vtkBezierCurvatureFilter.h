@@ -20,10 +20,11 @@
  * - `Maximum_Curvature_Direction`, `Minimum_Curvature_Direction`: unit principal directions (3D
  *   tangent vectors; their sign is arbitrary),
  * - `Normals`: the unit normal n = (x_r x x_s) / |x_r x x_s|, oriented by the cell's corner order,
- * - `UV` (when the input has the 2-component point data array UVArrayName; interpolated with the
- *   cell's Bézier basis),
- * and cell data `BezierCellId` (the source cell of each triangle) and, when present in the input,
- * `MacroTriangleId` and `MicroTriangleId`.
+ * - every floating-point point data array of the input, interpolated with the cell's Bézier
+ *   basis (rational when the cell is; the array named UVArrayName comes out as `UV`; integer
+ *   arrays, the rational weights and input `Normals` are not carried),
+ * every cell data array of the input copied to the cell's triangles (but global ids), and cell
+ * data `BezierCellId` (the source cell of each triangle).
  *
  * Sign convention: with the second fundamental form L = x_rr . n, M = x_rs . n, N = x_ss . n,
  * H = -(E N - 2 F M + G L) / (2 (E G - F^2)), so that H > 0 where the surface bends away from

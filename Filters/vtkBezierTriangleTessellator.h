@@ -15,13 +15,16 @@
  * (same two corner point ids) produce their points once. Each output point is evaluated by a
  * single owner cell (the lowest cell id using it), so results do not depend on the number of
  * threads. Output points are numbered corners first (in order of first use), then the inner
- * points of the edges, then cell interiors.
+ * points of the edges, then cell interiors, then (SplitSharpEdges) the copies of points split at
+ * creases, which keep their coordinates bit for bit: the geometry stays watertight.
  *
  * Output arrays: point data `Normals` (unit normal from the cross product of the two parametric
- * derivatives, i.e. oriented by the cell's corner order), `UV` (when the input has the 2-component
- * point data array named by UVArrayName: interpolated with the cell's Bézier basis, rational when
- * the cell is), cell data `BezierCellId` (the source cell of each triangle) and, when present in
- * the input, `MacroTriangleId` and `MicroTriangleId`.
+ * derivatives, i.e. oriented by the cell's corner order; at a split point the normal of the
+ * cells on its side), every floating-point point data array of the input interpolated with the
+ * cell's Bézier basis (rational when the cell is; the array named UVArrayName comes out as
+ * `UV`; integer arrays, the rational weights and input `Normals` are not carried), every cell
+ * data array of the input copied to the cell's triangles (but global ids, which would not stay
+ * unique), and cell data `BezierCellId` (the source cell of each triangle).
  *
  * Other cell types, point counts that are not (n+1)(n+2)/2 for a supported order n, and a
  * `RationalWeights` array that is not one finite component per point are reported with
@@ -51,6 +54,24 @@ public:
   ///@}
 
   ///@{
+  /// Split points where the cells meeting there have exact normals more than FeatureAngle
+  /// apart (creases of G0 joins, e.g. between CAD faces): each side gets its own point, with the
+  /// same coordinates, and its own exact normal, so shading shows no light and dark stars along
+  /// creases. Default on. Off gives the conforming mesh with one normal per point (the owner
+  /// cell's).
+  vtkSetMacro(SplitSharpEdges, bool);
+  vtkGetMacro(SplitSharpEdges, bool);
+  vtkBooleanMacro(SplitSharpEdges, bool);
+  ///@}
+
+  ///@{
+  /// Angle in degrees above which the normals of cells at a point count as a crease. Default 30,
+  /// as in vtkPolyDataNormals.
+  vtkSetClampMacro(FeatureAngle, double, 0.0, 180.0);
+  vtkGetMacro(FeatureAngle, double);
+  ///@}
+
+  ///@{
   /// Name of the 2-component point data array carried over as `UV`. Default "UV".
   vtkSetStdStringFromCharMacro(UVArrayName);
   vtkGetCharFromStdStringMacro(UVArrayName);
@@ -64,6 +85,8 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   int SubdivisionLevel = 8;
+  bool SplitSharpEdges = true;
+  double FeatureAngle = 30.0;
   std::string UVArrayName = "UV";
 
 private:

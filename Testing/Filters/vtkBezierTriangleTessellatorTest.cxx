@@ -9,6 +9,8 @@
 #include "vtkCellType.h"
 #include "vtkExecutive.h"
 #include "vtkIdTypeArray.h"
+#include "vtkIntArray.h"
+#include "vtkMath.h"
 #include "vtkSMPTools.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -39,11 +41,12 @@ vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(ctk::AnalyticSurface surface, in
   return out;
 }
 
-vtkSmartPointer<vtkPolyData> Tessellate(vtkDataSet* input, int level)
+vtkSmartPointer<vtkPolyData> Tessellate(vtkDataSet* input, int level, bool split = true)
 {
   vtkNew<vtkBezierTriangleTessellator> tessellator;
   tessellator->SetInputData(input);
   tessellator->SetSubdivisionLevel(level);
+  tessellator->SetSplitSharpEdges(split);
   tessellator->Update();
   auto out = vtkSmartPointer<vtkPolyData>::New();
   out->ShallowCopy(tessellator->GetOutput());
@@ -328,7 +331,7 @@ TEST(vtkBezierTriangleTessellator, RationalCellsSharingAnEdge)
   vtkSmartPointer<vtkUnstructuredGrid> octants = SphereOctants(true, false);
   for (int L : { 1, 3, 6 })
   {
-    vtkSmartPointer<vtkPolyData> out = Tessellate(octants, L);
+    vtkSmartPointer<vtkPolyData> out = Tessellate(octants, L, false);
     // 4 corners, 5 edges, 2 cells.
     EXPECT_EQ(out->GetNumberOfPoints(), 4 + 5 * (L - 1) + 2 * (L - 1) * (L - 2) / 2);
     EXPECT_EQ(out->GetNumberOfPoints(), ExpectedPointCount(octants, L));
@@ -341,6 +344,25 @@ TEST(vtkBezierTriangleTessellator, RationalCellsSharingAnEdge)
       EXPECT_NEAR(x.norm(), 1.0, 1e-12);
       EXPECT_LE(Tuple3(normals, p).cross(x).norm(), 1e-12);
     }
+    // The mirrored octant has the opposite orientation: its normals are -x, so with
+    // SplitSharpEdges the L + 1 points of the shared edge are split, and every triangle's
+    // corners carry the normal of its own side.
+    vtkSmartPointer<vtkPolyData> split = Tessellate(octants, L);
+    EXPECT_EQ(split->GetNumberOfPoints(), out->GetNumberOfPoints() + L + 1);
+    vtkDataArray* splitNormals = split->GetPointData()->GetNormals();
+    for (vtkIdType c = 0; c < split->GetNumberOfCells(); ++c)
+    {
+      const vtkIdType* pts;
+      vtkIdType npts;
+      split->GetPolys()->GetCellAtId(c, npts, pts);
+      const ctk::Vec3 facet =
+        (Point(split, pts[1]) - Point(split, pts[0])).cross(Point(split, pts[2]) - Point(split, pts[0]));
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_GT(Tuple3(splitNormals, pts[a]).dot(facet), 0) << c;
+      }
+    }
+    EXPECT_EQ(MinimumSeparation(split), 0.0); // the copies keep their coordinates
   }
 }
 
@@ -518,4 +540,158 @@ TEST(vtkBezierTriangleTessellator, PrintSelfAndDefaults)
   std::ostringstream os;
   tessellator->Print(os);
   EXPECT_NE(os.str().find("SubdivisionLevel: 1"), std::string::npos);
+}
+
+namespace
+{
+// Adds a point data array equal to the control points' coordinates: interpolated with the
+// cells' own (rational) basis it must give the output points themselves.
+void AddPositionArray(vtkDataSet* grid)
+{
+  vtkNew<vtkDoubleArray> position;
+  position->SetName("Position");
+  position->SetNumberOfComponents(3);
+  for (vtkIdType p = 0; p < grid->GetNumberOfPoints(); ++p)
+  {
+    position->InsertNextTuple(grid->GetPoint(p));
+  }
+  grid->GetPointData()->AddArray(position);
+}
+
+// Two flat cubic cells folded by `angle` degrees about their common edge on the y axis: cell 0
+// in the plane z = 0, cell 1 rotated about the y axis.
+vtkSmartPointer<vtkUnstructuredGrid> Fold(double angle)
+{
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(3);
+  const auto exponents = ctk::BezierExponents(3);
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  grid->SetPoints(points);
+  const double a = vtkMath::RadiansFromDegrees(angle);
+  const ctk::Vec3 apex[2] = { ctk::Vec3(1, 0.5, 0), ctk::Vec3(-std::cos(a), 0.5, std::sin(a)) };
+  std::map<std::array<int, 3>, vtkIdType> shared; // edge points on the y axis, by exponent
+  for (int c = 0; c < 2; ++c)
+  {
+    // Corners (0, 0, 0), (0, 1, 0) on the axis, then the apex; corner order flipped for cell 1
+    // so that both cells' normals point to the same side of the fold.
+    const ctk::Vec3 corner[3] = { ctk::Vec3(0, c == 0 ? 0 : 1, 0), ctk::Vec3(0, c == 0 ? 1 : 0, 0), apex[c] };
+    std::vector<vtkIdType> ids(10);
+    for (int p = 0; p < 10; ++p)
+    {
+      const std::array<int, 3>& e = exponents[order[p]];
+      const ctk::Vec3 x = (e[0] * corner[0] + e[1] * corner[1] + e[2] * corner[2]) / 3.0;
+      if (e[2] == 0)
+      {
+        const std::array<int, 3> key = c == 0 ? e : std::array<int, 3>{ e[1], e[0], 0 };
+        auto it = shared.find(key);
+        ids[p] = it != shared.end() ? it->second : (shared[key] = points->InsertNextPoint(x.data()));
+      }
+      else
+      {
+        ids[p] = points->InsertNextPoint(x.data());
+      }
+    }
+    grid->InsertNextCell(VTK_BEZIER_TRIANGLE, 10, ids.data());
+  }
+  return grid;
+}
+} // namespace
+
+TEST(vtkBezierTriangleTessellator, PointAndCellDataAreCarried)
+{
+  for (bool rational : { false, true })
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> grid =
+      rational ? SphereOctants(true) : MakeSpline(ctk::AnalyticSurface::Franke, 3);
+    AddPositionArray(grid);
+    vtkNew<vtkIntArray> pointLabel, cellLabel;
+    pointLabel->SetName("PointLabel");
+    pointLabel->SetNumberOfTuples(grid->GetNumberOfPoints());
+    pointLabel->Fill(3);
+    grid->GetPointData()->AddArray(pointLabel);
+    cellLabel->SetName("CellLabel");
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      cellLabel->InsertNextValue(static_cast<int>(7 * c + 1));
+    }
+    grid->GetCellData()->SetScalars(cellLabel);
+    vtkSmartPointer<vtkPolyData> out = Tessellate(grid, 5);
+    vtkDataArray* position = out->GetPointData()->GetArray("Position");
+    ASSERT_NE(position, nullptr);
+    double worst = 0;
+    for (vtkIdType p = 0; p < out->GetNumberOfPoints(); ++p)
+    {
+      worst = std::max(worst, (Tuple3(position, p) - Point(out, p)).norm());
+    }
+    EXPECT_LT(worst, 1e-14) << (rational ? "rational" : "polynomial");
+    // Integer point data has no meaning between control points: not carried.
+    EXPECT_EQ(out->GetPointData()->GetArray("PointLabel"), nullptr);
+    vtkDataArray* label = out->GetCellData()->GetScalars();
+    ASSERT_NE(label, nullptr);
+    EXPECT_STREQ(label->GetName(), "CellLabel");
+    vtkDataArray* source = out->GetCellData()->GetArray("BezierCellId");
+    for (vtkIdType t = 0; t < out->GetNumberOfCells(); ++t)
+    {
+      ASSERT_EQ(label->GetComponent(t, 0), 7 * source->GetComponent(t, 0) + 1);
+    }
+    if (!rational)
+    {
+      EXPECT_NE(out->GetCellData()->GetArray("MacroTriangleId"), nullptr);
+      EXPECT_NE(out->GetPointData()->GetArray("UV"), nullptr);
+    }
+  }
+}
+
+TEST(vtkBezierTriangleTessellator, CreasesAreSplitWithExactNormals)
+{
+  const int L = 4;
+  for (double angle : { 90.0, 45.0, 20.0 })
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> fold = Fold(angle);
+    AddPositionArray(fold);
+    vtkSmartPointer<vtkPolyData> merged = Tessellate(fold, L, false);
+    vtkSmartPointer<vtkPolyData> split = Tessellate(fold, L);
+    // 4 corners, 5 edges, 2 cells; the L + 1 points of the fold are doubled above 30 degrees.
+    const vtkIdType conforming = 4 + 5 * (L - 1) + 2 * (L - 1) * (L - 2) / 2;
+    EXPECT_EQ(merged->GetNumberOfPoints(), conforming);
+    const bool crease = angle > 30;
+    EXPECT_EQ(split->GetNumberOfPoints(), conforming + (crease ? L + 1 : 0)) << angle;
+    EXPECT_EQ(split->GetNumberOfCells(), merged->GetNumberOfCells());
+    // Every point carries the exact normal of its own cell's plane where split.
+    vtkDataArray* normals = split->GetPointData()->GetNormals();
+    vtkDataArray* source = split->GetCellData()->GetArray("BezierCellId");
+    const double a = vtkMath::RadiansFromDegrees(angle);
+    const ctk::Vec3 planeNormal[2] = { ctk::Vec3(0, 0, -1), ctk::Vec3(-std::sin(a), 0, -std::cos(a)) };
+    for (vtkIdType t = 0; t < split->GetNumberOfCells(); ++t)
+    {
+      const vtkIdType* pts;
+      vtkIdType npts;
+      split->GetPolys()->GetCellAtId(t, npts, pts);
+      const int c = static_cast<int>(source->GetComponent(t, 0));
+      for (int k = 0; k < 3; ++k)
+      {
+        const ctk::Vec3 n = Tuple3(normals, pts[k]);
+        if (crease || c == 0)
+        {
+          EXPECT_LT((n - planeNormal[c]).norm(), 1e-14) << angle << " cell " << c;
+        }
+      }
+    }
+    // The copies keep their coordinates bit for bit, and carry the point data.
+    EXPECT_GT(MinimumSeparation(merged), 1e-6);
+    EXPECT_EQ(MinimumSeparation(split), crease ? 0.0 : MinimumSeparation(merged));
+    vtkDataArray* position = split->GetPointData()->GetArray("Position");
+    for (vtkIdType p = 0; p < split->GetNumberOfPoints(); ++p)
+    {
+      EXPECT_LT((Tuple3(position, p) - Point(split, p)).norm(), 1e-15);
+    }
+  }
+  // A feature angle above the fold keeps the points shared.
+  vtkNew<vtkBezierTriangleTessellator> wide;
+  wide->SetInputData(Fold(90));
+  wide->SetSubdivisionLevel(L);
+  wide->SetFeatureAngle(100);
+  wide->Update();
+  EXPECT_EQ(wide->GetOutput()->GetNumberOfPoints(), 4 + 5 * (L - 1) + 2 * (L - 1) * (L - 2) / 2);
 }
