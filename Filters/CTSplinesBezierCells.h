@@ -143,8 +143,15 @@ public:
   void WriteTriangles(vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity,
     vtkIdType* sourceCell) const;
 
-private:
+  /// The shared corners and edges (shared numbering only): ids, counts and owners.
   vtkIdType CornerId(vtkIdType c, int a) const;
+  vtkIdType EdgeId(vtkIdType c, int l) const { return this->CellEdge[3 * c + l]; }
+  bool OwnsCorner(vtkIdType c, int a) const { return this->CornerOwner[this->CornerId(c, a)] == c; }
+  bool OwnsEdge(vtkIdType c, int l) const { return this->EdgeOwner[this->EdgeId(c, l)] == c; }
+  vtkIdType NumberOfCorners() const { return static_cast<vtkIdType>(this->CornerOwner.size()); }
+  vtkIdType NumberOfEdges() const { return static_cast<vtkIdType>(this->EdgeOwner.size()); }
+
+private:
   const BezierCells& Cells;
   const SamplingLattice& Lattice;
   bool Shared;

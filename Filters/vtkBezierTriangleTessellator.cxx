@@ -3,6 +3,7 @@
 
 #include "BezierTriangle.h"
 #include "CTSplinesBezierCells.h"
+#include "CTSplinesCellPatterns.h"
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h" // for AllocateTuples
 
@@ -22,6 +23,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <vector>
 
 vtkStandardNewMacro(vtkBezierTriangleTessellator);
@@ -37,13 +40,12 @@ int vtkBezierTriangleTessellator::FillInputPortInformation(int, vtkInformation* 
 
 namespace
 {
-// The output being filled: conforming points (LatticeNumbering), exact normals, carried point
-// data and the triangles of every cell.
+// The output being filled: conforming points (CellPatterns), exact normals, carried point data
+// and the triangles of every cell.
 struct Tessellation
 {
   const ctsplines::BezierCells& Cells;
-  const ctsplines::SamplingLattice& Lattice;
-  const ctsplines::LatticeNumbering& Numbering;
+  const ctsplines::CellPatterns& Patterns;
   ctsplines::PointDataInterpolator& Data;
   vtkDoubleArray* Coordinates;
   vtkDoubleArray* Normals;
@@ -66,11 +68,12 @@ void Tessellation::Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk:
   this->Data.LoadNets(this->Cells, c, nets);
   double* xyz = this->Coordinates->GetPointer(0);
   double* nrm = this->Normals->GetPointer(0);
-  for (int li = 0; li < static_cast<int>(this->Lattice.Points.size()); ++li)
+  const ctsplines::SnappedLattice& pattern = this->Patterns.Pattern(c);
+  for (int p = 0; p < static_cast<int>(pattern.Points.size()); ++p)
   {
-    const ctk::Vec3& t = this->Lattice.Points[li].T;
+    const ctk::Vec3& t = pattern.Points[p].T;
     bool owned = false;
-    const vtkIdType id = this->Numbering.OutputId(c, li, owned);
+    const vtkIdType id = this->Patterns.OutputId(c, p, owned);
     if (!owned)
     {
       continue; // each point is written by its owner only
@@ -81,7 +84,7 @@ void Tessellation::Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk:
     std::copy_n(normal.data(), 3, nrm + 3 * id);
     this->Data.Write(n, nets, wp, t, id);
   }
-  this->Numbering.WriteTriangles(c, this->Offsets, this->Connectivity, this->Source);
+  this->Patterns.WriteTriangles(c, this->Offsets, this->Connectivity, this->Source);
 }
 
 vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
@@ -89,7 +92,7 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
   struct Use
   {
     vtkIdType Id, Cell, NewId;
-    int Lattice;
+    int Point;
     ctk::Vec3 Normal;
   };
   const double cosine = std::cos(vtkMath::RadiansFromDegrees(featureAngle));
@@ -108,18 +111,19 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
         const int n = this->Cells.Degree[c];
         const double* wp = this->Cells.Net(c, P, w);
         ctk::RelativeNet(n, P, R);
-        for (int li = 0; li < static_cast<int>(this->Lattice.Points.size()); ++li)
+        const ctsplines::SnappedLattice& pattern = this->Patterns.Pattern(c);
+        for (int p = 0; p < static_cast<int>(pattern.Points.size()); ++p)
         {
           bool owned = true;
-          const vtkIdType id = this->Numbering.OutputId(c, li, owned);
+          const vtkIdType id = this->Patterns.OutputId(c, p, owned);
           if (owned)
           {
             continue;
           }
-          const ctk::Vec3 normal = ctk::PatchNormal(n, R, wp, this->Lattice.Points[li].T);
+          const ctk::Vec3 normal = ctk::PatchNormal(n, R, wp, pattern.Points[p].T);
           if (!(normal.dot(ctk::Vec3(nrm + 3 * id)) >= cosine))
           {
-            chunks[chunk].push_back({ id, c, -1, li, normal });
+            chunks[chunk].push_back({ id, c, -1, p, normal });
           }
         }
       }
@@ -134,6 +138,7 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
   // the angle of its own, or makes a new copy with its normal.
   std::stable_sort(
     uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.Id < b.Id; });
+  const vtkIdType first = this->Coordinates->GetNumberOfTuples();
   std::vector<vtkIdType> copiedFrom;
   std::vector<ctk::Vec3> copyNormals;
   for (size_t begin = 0, u = 0; u < uses.size(); begin = u)
@@ -151,10 +156,9 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
         copiedFrom.push_back(uses[u].Id);
         copyNormals.push_back(uses[u].Normal);
       }
-      uses[u].NewId = this->Coordinates->GetNumberOfTuples() + static_cast<vtkIdType>(g);
+      uses[u].NewId = first + static_cast<vtkIdType>(g);
     }
   }
-  const vtkIdType first = this->Coordinates->GetNumberOfTuples();
   const vtkIdType copies = static_cast<vtkIdType>(copiedFrom.size());
   for (vtkDoubleArray* a : { this->Coordinates, this->Normals })
   {
@@ -167,30 +171,113 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
     this->Normals->SetTuple(first + k, copyNormals[k].data());
   }
   this->Data.Append(first, copiedFrom);
-  // Renumber the triangles of the cells concerned; their entries follow the lattice.
+  // Renumber the triangles of the cells concerned; their entries follow the pattern.
   std::stable_sort(
     uses.begin(), uses.end(), [](const Use& a, const Use& b) { return a.Cell < b.Cell; });
-  const vtkIdType perCell = 3 * static_cast<vtkIdType>(this->Lattice.L) * this->Lattice.L;
-  std::vector<vtkIdType> byLattice(this->Lattice.Points.size(), -1);
+  std::vector<vtkIdType> byPoint;
   for (size_t begin = 0, u = 0; u < uses.size(); begin = u)
   {
     const vtkIdType c = uses[begin].Cell;
+    const ctsplines::SnappedLattice& pattern = this->Patterns.Pattern(c);
+    byPoint.assign(pattern.Points.size(), -1);
     for (; u < uses.size() && uses[u].Cell == c; ++u)
     {
-      byLattice[uses[u].Lattice] = uses[u].NewId;
+      byPoint[uses[u].Point] = uses[u].NewId;
     }
-    vtkIdType* connectivity = this->Connectivity + c * perCell;
-    for (vtkIdType k = 0; k < perCell; ++k)
+    vtkIdType* connectivity = this->Connectivity + 3 * this->Patterns.FirstTriangle(c);
+    for (size_t k = 0; k < pattern.Triangles.size(); ++k)
     {
-      const vtkIdType id = byLattice[this->Lattice.Triangles[k]];
+      const vtkIdType id = byPoint[pattern.Triangles[k]];
       connectivity[k] = id >= 0 ? id : connectivity[k];
-    }
-    for (size_t v = begin; v < u; ++v)
-    {
-      byLattice[uses[v].Lattice] = -1;
     }
   }
   return copies;
+}
+
+// Adaptive levels: per cell the smallest power of two (up to maxLevel) at which every lattice
+// triangle is within the chordal tolerance (distance of the surface from the triangle at its
+// edge midpoints) and the angular one (angle between the exact normals at its corners and
+// edge midpoints). Both are checked on the lattice of twice the level, whose points include
+// those midpoints.
+std::vector<int> ChooseLevels(const ctsplines::BezierCells& cells, int maxLevel, double chordal,
+  double angularDegrees)
+{
+  const vtkIdType nCells = cells.NumberOfCells();
+  std::vector<int> levels(nCells, maxLevel);
+  const double cosine =
+    angularDegrees > 0 ? std::cos(vtkMath::RadiansFromDegrees(angularDegrees)) : -2.0;
+  std::map<int, ctsplines::SamplingLattice> lattices;
+  for (int L = 2; L <= 2 * maxLevel; L *= 2)
+  {
+    lattices.emplace(L, ctsplines::SamplingLattice(L));
+  }
+  vtkSMPTools::For(0, nCells, [&](vtkIdType begin, vtkIdType end) {
+    ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
+    double w[ctk::MaxBezierPoints];
+    std::vector<ctk::Vec3> x, normal;
+    for (vtkIdType c = begin; c < end; ++c)
+    {
+      const int n = cells.Degree[c];
+      const double* wp = cells.Net(c, P, w);
+      ctk::RelativeNet(n, P, R);
+      for (int L = 1; L < maxLevel; L *= 2)
+      {
+        const ctsplines::SamplingLattice& fine = lattices.at(2 * L);
+        x.resize(fine.Points.size());
+        normal.resize(fine.Points.size());
+        for (size_t p = 0; p < fine.Points.size(); ++p)
+        {
+          x[p] = ctk::EvaluateBezierTriangle(n, R, wp, fine.Points[p].T, 0).Value;
+          normal[p] = ctk::PatchNormal(n, R, wp, fine.Points[p].T);
+        }
+        // Level-2L index of the level-L lattice point (j, k) doubled, plus an offset.
+        const int F = 2 * L;
+        auto at = [F](int j, int k) { return k * (F + 1) - k * (k - 1) / 2 + j; };
+        bool ok = true;
+        for (int k = 0; k < L && ok; ++k)
+        {
+          for (int j = 0; j + k < L && ok; ++j)
+          {
+            for (int down = 0; down < (j + k + 1 < L ? 2 : 1) && ok; ++down)
+            {
+              // Corners and edge midpoints of the up (down = 0) or down triangle at (j, k).
+              const int a = down ? at(2 * j + 2, 2 * k) : at(2 * j, 2 * k);
+              const int b = down ? at(2 * j + 2, 2 * k + 2) : at(2 * j + 2, 2 * k);
+              const int d = at(2 * j, 2 * k + 2);
+              const int ab = down ? at(2 * j + 2, 2 * k + 1) : at(2 * j + 1, 2 * k);
+              const int bd = down ? at(2 * j + 1, 2 * k + 2) : at(2 * j + 1, 2 * k + 1);
+              const int da = down ? at(2 * j + 1, 2 * k + 1) : at(2 * j, 2 * k + 1);
+              const int corner[3] = { a, b, d }, mid[3] = { ab, bd, da };
+              for (int e = 0; e < 3 && ok; ++e)
+              {
+                const ctk::Vec3 chord = 0.5 * (x[corner[e]] + x[corner[(e + 1) % 3]]);
+                ok = (x[mid[e]] - chord).norm() <= chordal &&
+                  normal[corner[e]].dot(normal[corner[(e + 1) % 3]]) >= cosine &&
+                  normal[corner[e]].dot(normal[mid[e]]) >= cosine;
+              }
+            }
+          }
+        }
+        if (ok)
+        {
+          levels[c] = L;
+          break;
+        }
+      }
+    }
+  });
+  return levels;
+}
+
+// Largest power of two not above level.
+int PowerOfTwoAtMost(int level)
+{
+  int p = 1;
+  while (2 * p <= level)
+  {
+    p *= 2;
+  }
+  return p;
 }
 } // namespace
 
@@ -225,11 +312,16 @@ int vtkBezierTriangleTessellator::RequestData(
     vtkErrorMacro(<< error);
     return 0;
   }
-  // 2. Conforming numbering: shared corners and edges are evaluated once, by their owner cell.
-  const int L = this->SubdivisionLevel;
-  const ctsplines::SamplingLattice lattice(L);
-  const ctsplines::LatticeNumbering numbering(cells, lattice, true);
-  const vtkIdType nOutPoints = numbering.NumberOfPoints();
+  // 2. Levels (uniform, or per cell within the tolerances) and the conforming numbering:
+  // shared corners and edges are evaluated once, by their owner cell.
+  const std::vector<int> levels = this->IsAdaptive()
+    ? ChooseLevels(cells, PowerOfTwoAtMost(this->SubdivisionLevel),
+        this->GetAbsoluteChordalTolerance(input), this->AngularTolerance)
+    : std::vector<int>(nCells, this->SubdivisionLevel);
+  this->UpdateProgress(this->IsAdaptive() ? 0.3 : 0.0);
+  const ctsplines::CellPatterns patterns(cells, levels);
+  const vtkIdType nOutPoints = patterns.NumberOfPoints();
+  const vtkIdType nOutCells = patterns.NumberOfTriangles();
   ctsplines::PointDataInterpolator data;
   error = data.Gather(input, this->UVArrayName, nOutPoints);
   if (!error.empty())
@@ -239,7 +331,6 @@ int vtkBezierTriangleTessellator::RequestData(
   }
 
   // 3. Output arrays, then every cell fills its triangles and the points it owns.
-  const vtkIdType nOutCells = nCells * L * L;
   vtkNew<vtkDoubleArray> coords, normals;
   normals->SetName("Normals");
   for (vtkDoubleArray* a : { coords.Get(), normals.Get() })
@@ -252,8 +343,8 @@ int vtkBezierTriangleTessellator::RequestData(
   ctsplines::AllocateTuples(connectivity, 3 * nOutCells);
   bezierCellId->SetName("BezierCellId");
   ctsplines::AllocateTuples(bezierCellId, nOutCells);
-  Tessellation tessellation{ cells, lattice, numbering, data, coords, normals,
-    offsets->GetPointer(0), connectivity->GetPointer(0), bezierCellId->GetPointer(0) };
+  Tessellation tessellation{ cells, patterns, data, coords, normals, offsets->GetPointer(0),
+    connectivity->GetPointer(0), bezierCellId->GetPointer(0) };
   const auto tessellate = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
@@ -264,7 +355,7 @@ int vtkBezierTriangleTessellator::RequestData(
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.
-  if (!ctsplines::ForInBlocks(this, nCells, 20, 0.0, 0.9, tessellate))
+  if (!ctsplines::ForInBlocks(this, nCells, 20, this->IsAdaptive() ? 0.3 : 0.0, 0.9, tessellate))
   {
     output->Initialize();
     return 1;
@@ -288,11 +379,29 @@ int vtkBezierTriangleTessellator::RequestData(
   return 1;
 }
 
+bool vtkBezierTriangleTessellator::IsAdaptive() const
+{
+  return this->ChordalTolerance > 0 || this->AngularTolerance > 0;
+}
+
+double vtkBezierTriangleTessellator::GetAbsoluteChordalTolerance(vtkDataSet* input) const
+{
+  if (!(this->ChordalTolerance > 0))
+  {
+    return std::numeric_limits<double>::infinity();
+  }
+  return this->RelativeChordalTolerance ? this->ChordalTolerance * input->GetLength()
+                                        : this->ChordalTolerance;
+}
+
 void vtkBezierTriangleTessellator::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
   os << indent << "SubdivisionLevel: " << this->SubdivisionLevel << "\n";
   os << indent << "SplitSharpEdges: " << (this->SplitSharpEdges ? "on" : "off") << "\n";
   os << indent << "FeatureAngle: " << this->FeatureAngle << "\n";
+  os << indent << "ChordalTolerance: " << this->ChordalTolerance
+     << (this->RelativeChordalTolerance ? " (relative to the bounding-box diagonal)" : "") << "\n";
+  os << indent << "AngularTolerance: " << this->AngularTolerance << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
 }

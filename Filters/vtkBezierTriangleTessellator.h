@@ -47,8 +47,8 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Number of segments each cell edge is divided into (SubdivisionLevel^2 triangles per cell).
-  /// Default 8.
+  /// Number of segments each cell edge is divided into (SubdivisionLevel^2 triangles per cell);
+  /// in adaptive mode the largest level, rounded down to a power of two. Default 8.
   vtkSetClampMacro(SubdivisionLevel, int, 1, 4096);
   vtkGetMacro(SubdivisionLevel, int);
   ///@}
@@ -72,6 +72,26 @@ public:
   ///@}
 
   ///@{
+  /// Adaptive mode, on when either tolerance is positive (as OCCT's BRepMesh deflections):
+  /// each cell gets the smallest power-of-two level, at most SubdivisionLevel (rounded down to
+  /// a power of two), at which every triangle is within ChordalTolerance of the surface
+  /// (measured at its edge midpoints) and the exact normals at its corners and edge midpoints
+  /// are within AngularTolerance degrees of each other. A shared cell edge gets one number of
+  /// segments, the finer side's, so the mesh stays conforming. Defaults 0 (uniform).
+  vtkSetClampMacro(ChordalTolerance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(ChordalTolerance, double);
+  vtkSetClampMacro(AngularTolerance, double, 0.0, 180.0);
+  vtkGetMacro(AngularTolerance, double);
+  ///@}
+
+  ///@{
+  /// Whether ChordalTolerance is relative to the input's bounding-box diagonal. Default on.
+  vtkSetMacro(RelativeChordalTolerance, bool);
+  vtkGetMacro(RelativeChordalTolerance, bool);
+  vtkBooleanMacro(RelativeChordalTolerance, bool);
+  ///@}
+
+  ///@{
   /// Name of the 2-component point data array carried over as `UV`. Default "UV".
   vtkSetStdStringFromCharMacro(UVArrayName);
   vtkGetCharFromStdStringMacro(UVArrayName);
@@ -87,9 +107,14 @@ protected:
   int SubdivisionLevel = 8;
   bool SplitSharpEdges = true;
   double FeatureAngle = 30.0;
+  double ChordalTolerance = 0.0;
+  double AngularTolerance = 0.0;
+  bool RelativeChordalTolerance = true;
   std::string UVArrayName = "UV";
 
 private:
+  bool IsAdaptive() const;
+  double GetAbsoluteChordalTolerance(vtkDataSet* input) const;
   vtkBezierTriangleTessellator(const vtkBezierTriangleTessellator&) = delete;
   void operator=(const vtkBezierTriangleTessellator&) = delete;
 };

@@ -4,6 +4,7 @@
 #include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
 #include "vtkCloughTocherSplineFilter.h"
+#include "vtkSplineParameterProbe.h"
 
 #include "vtkBezierTriangle.h"
 #include "vtkCellType.h"
@@ -19,6 +20,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <random>
@@ -96,6 +98,29 @@ ctk::Vec2 CellParametric(vtkUnstructuredGrid* spline, vtkIdType c, const ctk::Ve
 }
 
 // Number of points of a conforming tessellation: unique corners and edges of the cells.
+// Whether the point normals at the first `corners` corners of every triangle point to the side
+// of its facet (triangles oriented as their cells, normals of their own side).
+bool NormalsFollowFacets(vtkPolyData* pd, int corners)
+{
+  vtkDataArray* normals = pd->GetPointData()->GetNormals();
+  for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType* pts;
+    vtkIdType npts;
+    pd->GetPolys()->GetCellAtId(t, npts, pts);
+    const ctk::Vec3 facet =
+      (Point(pd, pts[1]) - Point(pd, pts[0])).cross(Point(pd, pts[2]) - Point(pd, pts[0]));
+    for (int a = 0; a < corners; ++a)
+    {
+      if (!(Tuple3(normals, pts[a]).dot(facet) > 0))
+      {
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
 vtkIdType ExpectedPointCount(vtkUnstructuredGrid* grid, int L)
 {
   std::set<vtkIdType> corners;
@@ -349,19 +374,7 @@ TEST(vtkBezierTriangleTessellator, RationalCellsSharingAnEdge)
     // corners carry the normal of its own side.
     vtkSmartPointer<vtkPolyData> split = Tessellate(octants, L);
     EXPECT_EQ(split->GetNumberOfPoints(), out->GetNumberOfPoints() + L + 1);
-    vtkDataArray* splitNormals = split->GetPointData()->GetNormals();
-    for (vtkIdType c = 0; c < split->GetNumberOfCells(); ++c)
-    {
-      const vtkIdType* pts;
-      vtkIdType npts;
-      split->GetPolys()->GetCellAtId(c, npts, pts);
-      const ctk::Vec3 facet =
-        (Point(split, pts[1]) - Point(split, pts[0])).cross(Point(split, pts[2]) - Point(split, pts[0]));
-      for (int a = 0; a < 3; ++a)
-      {
-        EXPECT_GT(Tuple3(splitNormals, pts[a]).dot(facet), 0) << c;
-      }
-    }
+    EXPECT_TRUE(NormalsFollowFacets(split, 3));
     EXPECT_EQ(MinimumSeparation(split), 0.0); // the copies keep their coordinates
   }
 }
@@ -694,4 +707,136 @@ TEST(vtkBezierTriangleTessellator, CreasesAreSplitWithExactNormals)
   wide->SetFeatureAngle(100);
   wide->Update();
   EXPECT_EQ(wide->GetOutput()->GetNumberOfPoints(), 4 + 5 * (L - 1) + 2 * (L - 1) * (L - 2) / 2);
+}
+
+namespace
+{
+vtkSmartPointer<vtkPolyData> Adaptive(vtkDataSet* input, int maxLevel, double chordal,
+  double angular, bool split = false)
+{
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  tessellator->SetInputData(input);
+  tessellator->SetSubdivisionLevel(maxLevel);
+  tessellator->SetChordalTolerance(chordal);
+  tessellator->SetAngularTolerance(angular);
+  tessellator->SetSplitSharpEdges(split);
+  tessellator->Update();
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(tessellator->GetOutput());
+  return out;
+}
+
+// Number of triangles at every edge (by point ids): 1 on the boundary, 2 inside when conforming.
+std::map<std::pair<vtkIdType, vtkIdType>, int> EdgeUse(vtkPolyData* pd)
+{
+  std::map<std::pair<vtkIdType, vtkIdType>, int> use;
+  for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType* pts;
+    vtkIdType npts;
+    pd->GetPolys()->GetCellAtId(t, npts, pts);
+    for (int a = 0; a < 3; ++a)
+    {
+      ++use[std::minmax(pts[a], pts[(a + 1) % 3])];
+    }
+  }
+  return use;
+}
+
+// Distance of each triangle's centroid from the spline at the centroid's (u, v).
+std::vector<double> CentroidDeviation(vtkPolyData* pd, vtkDataSet* spline)
+{
+  vtkNew<vtkPolyData> queries;
+  vtkNew<vtkPoints> points;
+  vtkDataArray* uv = pd->GetPointData()->GetArray("UV");
+  std::vector<ctk::Vec3> centroids;
+  for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType* pts;
+    vtkIdType npts;
+    pd->GetPolys()->GetCellAtId(t, npts, pts);
+    ctk::Vec3 x = ctk::Vec3::Zero();
+    double u = 0, v = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      x += Point(pd, pts[a]) / 3.0;
+      u += uv->GetComponent(pts[a], 0) / 3.0;
+      v += uv->GetComponent(pts[a], 1) / 3.0;
+    }
+    centroids.push_back(x);
+    points->InsertNextPoint(u, v, 0.0);
+  }
+  queries->SetPoints(points);
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetInputData(queries);
+  probe->SetSourceData(spline);
+  probe->Update();
+  vtkDataSet* on = probe->GetOutput();
+  std::vector<double> d;
+  for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+  {
+    d.push_back((Point(on, t) - centroids[t]).norm());
+  }
+  return d;
+}
+} // namespace
+
+TEST(vtkBezierTriangleTessellator, AdaptiveIsConformingAndWithinTheChordalTolerance)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke, 6);
+  const double diagonal = spline->GetLength();
+  vtkSmartPointer<vtkPolyData> uniform = Tessellate(spline, 32, false);
+  for (double relative : { 1e-3, 1e-4 })
+  {
+    vtkSmartPointer<vtkPolyData> out = Adaptive(spline, 32, relative, 0.0);
+    // Conforming: every edge has one (boundary) or two triangles, and the boundary is the
+    // uniform tessellation's (6 cells of 4 grid edges per side).
+    int boundary = 0;
+    for (const auto& [edge, count] : EdgeUse(out))
+    {
+      ASSERT_LE(count, 2);
+      boundary += count == 1;
+    }
+    EXPECT_GT(boundary, 0);
+    EXPECT_LT(out->GetNumberOfCells(), uniform->GetNumberOfCells());
+    const std::vector<double> d = CentroidDeviation(out, spline);
+    const double worst = *std::max_element(d.begin(), d.end());
+    // Checked at edge midpoints; centroids of the same triangles deviate a little more.
+    EXPECT_LT(worst, 1.5 * relative * diagonal) << relative;
+    // Every cell's triangles are oriented as the cell: all normals of a triangle's corners
+    // agree with its facet.
+    EXPECT_TRUE(NormalsFollowFacets(out, 1));
+    std::cout << "chordal " << relative << ": " << out->GetNumberOfCells()
+              << " triangles, centroid deviation " << worst / diagonal << " (uniform 32: "
+              << uniform->GetNumberOfCells() << ")\n";
+  }
+  // The tighter tolerance needs more triangles.
+  EXPECT_LT(Adaptive(spline, 32, 1e-3, 0)->GetNumberOfCells(),
+    Adaptive(spline, 32, 1e-4, 0)->GetNumberOfCells());
+}
+
+TEST(vtkBezierTriangleTessellator, AdaptiveAngularTolerance)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> octants = SphereOctants(false);
+  for (double degrees : { 10.0, 3.0 })
+  {
+    vtkSmartPointer<vtkPolyData> out = Adaptive(octants, 64, 0.0, degrees);
+    vtkDataArray* normals = out->GetPointData()->GetNormals();
+    double worst = 0;
+    for (vtkIdType t = 0; t < out->GetNumberOfCells(); ++t)
+    {
+      const vtkIdType* pts;
+      vtkIdType npts;
+      out->GetPolys()->GetCellAtId(t, npts, pts);
+      for (int a = 0; a < 3; ++a)
+      {
+        const double c = Tuple3(normals, pts[a]).dot(Tuple3(normals, pts[(a + 1) % 3]));
+        worst = std::max(worst, vtkMath::DegreesFromRadians(std::acos(std::min(1.0, c))));
+      }
+    }
+    EXPECT_LE(worst, degrees + 1e-9);
+    // A sphere octant spans 90 degrees: at least 90 / degrees segments per edge.
+    const vtkIdType atLeast = static_cast<vtkIdType>(std::pow(90.0 / degrees, 2));
+    EXPECT_GE(out->GetNumberOfCells(), atLeast);
+  }
 }

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "CTSplinesCellPatterns.h"
+
+#include <algorithm>
+
+namespace ctsplines
+{
+SnappedLattice::SnappedLattice(const SamplingLattice& lattice, const std::array<int, 3>& n)
+  : L(lattice.L)
+  , N(n)
+{
+  using P = SamplingLattice::Point;
+  // Distinct points: corners, then each edge's points, then the lattice's interior points.
+  std::array<int, 3> edgeFirst{};
+  for (int a = 0; a < 3; ++a)
+  {
+    P corner;
+    corner.T = ctk::Vec3::Zero();
+    corner.T[a] = 1.0;
+    corner.Kind = P::Corner, corner.Local = static_cast<signed char>(a), corner.Step = 0;
+    this->Points.push_back(corner);
+  }
+  for (int l = 0; l < 3; ++l)
+  {
+    edgeFirst[l] = static_cast<int>(this->Points.size());
+    for (int k = 1; k < n[l]; ++k)
+    {
+      // Edge l runs from corner l to corner l + 1; exact zeros off the edge.
+      P p;
+      p.T = ctk::Vec3::Zero();
+      p.T[(l + 1) % 3] = double(k) / n[l];
+      p.T[l] = double(n[l] - k) / n[l];
+      p.Kind = P::Edge, p.Local = static_cast<signed char>(l), p.Step = k;
+      this->Points.push_back(p);
+    }
+  }
+  const int interiorFirst = static_cast<int>(this->Points.size());
+  // Each lattice point's pattern point: edge steps s of L rounded to k of N[l] (monotone).
+  std::vector<int> of(lattice.Points.size());
+  for (size_t i = 0; i < lattice.Points.size(); ++i)
+  {
+    const P& q = lattice.Points[i];
+    if (q.Kind == P::Corner)
+    {
+      of[i] = q.Local;
+      continue;
+    }
+    if (q.Kind == P::Interior)
+    {
+      of[i] = interiorFirst + q.Step;
+      if (static_cast<int>(this->Points.size()) <= of[i])
+      {
+        this->Points.resize(of[i] + 1);
+      }
+      this->Points[of[i]] = q;
+      continue;
+    }
+    const int l = q.Local;
+    const int k = (2 * q.Step * n[l] + L) / (2 * L);
+    of[i] = k == 0 ? l : k == n[l] ? (l + 1) % 3 : edgeFirst[l] + k - 1;
+  }
+  for (size_t t = 0; t < lattice.Triangles.size(); t += 3)
+  {
+    const int a = of[lattice.Triangles[t]], b = of[lattice.Triangles[t + 1]],
+              c = of[lattice.Triangles[t + 2]];
+    if (a != b && b != c && c != a)
+    {
+      this->Triangles.insert(this->Triangles.end(), { a, b, c });
+    }
+  }
+}
+
+CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& levels)
+  : Cells(cells)
+  , Topology(cells, this->UnitLattice, true)
+{
+  const vtkIdType nCells = cells.NumberOfCells();
+  const vtkIdType nEdges = this->Topology.NumberOfEdges();
+  // Each edge: the finer side's level; each cell: at least its edges' segments.
+  this->EdgeSegments.assign(nEdges, 1);
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      int& n = this->EdgeSegments[this->Topology.EdgeId(c, l)];
+      n = std::max(n, levels[c]);
+    }
+  }
+  this->Of.resize(nCells);
+  this->InteriorStart.resize(nCells + 1);
+  this->TriangleStart.resize(nCells + 1);
+  this->EdgeStart.resize(nEdges + 1);
+  this->EdgeStart[0] = this->Topology.NumberOfCorners();
+  for (vtkIdType e = 0; e < nEdges; ++e)
+  {
+    this->EdgeStart[e + 1] = this->EdgeStart[e] + this->EdgeSegments[e] - 1;
+  }
+  this->InteriorStart[0] = this->EdgeStart[nEdges];
+  this->TriangleStart[0] = 0;
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    std::array<int, 3> n{};
+    int level = levels[c];
+    for (int l = 0; l < 3; ++l)
+    {
+      n[l] = this->EdgeSegments[this->Topology.EdgeId(c, l)];
+      level = std::max(level, n[l]);
+    }
+    const std::array<int, 4> key{ level, n[0], n[1], n[2] };
+    auto found = this->Patterns.find(key);
+    if (found == this->Patterns.end())
+    {
+      const SamplingLattice& lattice =
+        this->Lattices.emplace(level, SamplingLattice(level)).first->second;
+      found = this->Patterns.emplace(key, SnappedLattice(lattice, n)).first;
+    }
+    this->Of[c] = &found->second;
+    const vtkIdType interior = static_cast<vtkIdType>(level - 1) * (level - 2) / 2;
+    this->InteriorStart[c + 1] = this->InteriorStart[c] + interior;
+    this->TriangleStart[c + 1] =
+      this->TriangleStart[c] + static_cast<vtkIdType>(found->second.Triangles.size() / 3);
+  }
+  this->NPoints = this->InteriorStart[nCells];
+}
+
+vtkIdType CellPatterns::OutputId(vtkIdType c, int p, bool& owned) const
+{
+  const SamplingLattice::Point& q = this->Of[c]->Points[p];
+  switch (q.Kind)
+  {
+    case SamplingLattice::Point::Corner:
+      owned = this->Topology.OwnsCorner(c, q.Local);
+      return this->Topology.CornerId(c, q.Local);
+    case SamplingLattice::Point::Edge:
+    {
+      const vtkIdType e = this->Topology.EdgeId(c, q.Local);
+      owned = this->Topology.OwnsEdge(c, q.Local);
+      // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
+      const bool forward = this->Topology.CornerId(c, q.Local) <=
+        this->Topology.CornerId(c, (q.Local + 1) % 3);
+      const int n = this->EdgeSegments[e];
+      return this->EdgeStart[e] + (forward ? q.Step : n - q.Step) - 1;
+    }
+    default:
+      owned = true;
+      return this->InteriorStart[c] + q.Step;
+  }
+}
+
+void CellPatterns::WriteTriangles(
+  vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity, vtkIdType* sourceCell) const
+{
+  const std::vector<int>& triangles = this->Of[c]->Triangles;
+  const vtkIdType first = this->TriangleStart[c];
+  for (size_t m = 0; m < triangles.size() / 3; ++m)
+  {
+    const vtkIdType cell = first + static_cast<vtkIdType>(m);
+    for (int a = 0; a < 3; ++a)
+    {
+      bool owned = false;
+      connectivity[3 * cell + a] = this->OutputId(c, triangles[3 * m + a], owned);
+    }
+    offsets[cell] = 3 * cell;
+    sourceCell[cell] = c;
+  }
+}
+
+} // namespace ctsplines
