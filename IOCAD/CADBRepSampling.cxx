@@ -28,9 +28,12 @@
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec.hxx>
 
+#include <cxxabi.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <mutex>
 #include <numeric>
 #include <typeinfo>
@@ -56,7 +59,10 @@ bool RunGuarded(const std::function<void()>& body, std::string& failure)
   }
   catch (const std::exception& e)
   {
-    failure = std::string(typeid(e).name()) + ": " + e.what();
+    int status = 0;
+    char* name = abi::__cxa_demangle(typeid(e).name(), nullptr, nullptr, &status);
+    failure = std::string(status == 0 && name ? name : typeid(e).name()) + ": " + e.what();
+    std::free(name);
   }
   return false;
 }

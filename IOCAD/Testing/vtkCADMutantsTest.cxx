@@ -4,6 +4,7 @@
 // hang the process; each either converts or fails with RequestData returning 0 and an error
 // message. The one-line changes of gmsh-doc's models that crashed OpenCASCADE's translation are
 // named cases (skipped when the CAD.FetchModels fixture could not fetch the models).
+#include "CADBRepSampling.h"
 #include "CADMutants.h"
 #include "CADTestShapes.h"
 #include "ErrorCapture.h"
@@ -16,17 +17,20 @@
 #include "vtkNew.h"
 
 #include <IGESControl_Controller.hxx>
+#include <Standard_ConstructionError.hxx>
 #include <IGESControl_Writer.hxx>
 #include <STEPControl_Writer.hxx>
 
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -211,6 +215,19 @@ Outcome ConvertChanged(const std::string& name, const std::string& match, const 
 }
 } // namespace
 
+/// Under AddressSanitizer, SIGSEGV is the sanitizer's: RunGuarded's OCCT handler is not set.
+bool SanitizerHandlesSegfaults()
+{
+#if defined(__SANITIZE_ADDRESS__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return true;
+#endif
+#endif
+  return false;
+}
+
 /// Skips the test when the CAD.FetchModels fixture could not fetch `name`.
 #define SKIP_WITHOUT_MODEL(name)                                                                   \
   if (FetchedModel(name).empty())                                                                  \
@@ -230,6 +247,26 @@ TEST(Mutants, Component8)
 {
   SKIP_WITHOUT_MODEL("component8.step");
   RunMutants(FetchedModel("component8.step"), ".step", 20261203, 100);
+}
+
+TEST(Mutants, GuardTurnsOCCTFailuresIntoErrors)
+{
+  std::string failure;
+  EXPECT_TRUE(ctcad::RunGuarded([] {}, failure));
+  EXPECT_FALSE(ctcad::RunGuarded([] { throw Standard_ConstructionError("no such circle"); }, failure));
+  EXPECT_EQ(failure, "Standard_ConstructionError: no such circle");
+  EXPECT_FALSE(ctcad::RunGuarded([] { throw std::range_error("index 7"); }, failure));
+  EXPECT_EQ(failure, "std::range_error: index 7");
+  if (SanitizerHandlesSegfaults())
+  {
+    GTEST_SKIP() << "the sanitizer has SIGSEGV: OCCT keeps off it";
+  }
+  // A segmentation fault inside the guard is OCCT's exception, again and again.
+  for (int k = 0; k < 3; ++k)
+  {
+    EXPECT_FALSE(ctcad::RunGuarded([] { std::raise(SIGSEGV); }, failure));
+    EXPECT_EQ(failure.rfind("OSD_SIGSEGV: ", 0), 0u) << failure;
+  }
 }
 
 TEST(Mutants, OutOfRangeNumberNamesLineAndEntity)
