@@ -118,11 +118,13 @@ std::pair<double, double> GridErrors(const SampledMesh& mesh, Eval&& eval, Analy
 
 TEST(QuarticCloughTocher, QuadraticPrecisionAndC1AfterEveryRound)
 {
-  for (const auto& [name, pm] : MeshSuite())
+  for (const auto& entry : MeshSuite())
   {
+    // A named copy: lambdas may not capture structured bindings in C++17 (clang rejects it).
+    const std::string& name = entry.first;
     for (AnalyticSurface surface : { AnalyticSurface::Quadratic, AnalyticSurface::Franke })
     {
-      const SampledMesh mesh = Sample(name, pm, surface);
+      const SampledMesh mesh = Sample(name, entry.second, surface);
       for (SplitPointRule sp : { SplitPointRule::Bary, SplitPointRule::Inc3 })
       {
         SplineOptions o{ Construction::FO, sp, BoundaryMode::Midpoint, 3 };
