@@ -6,6 +6,7 @@
 #include "SplineDataValidation.h"
 
 #include "vtkAbstractArray.h"
+#include "vtkBitArray.h"
 #include "vtkCellArray.h"
 
 #include "vtkCellData.h"
@@ -633,12 +634,21 @@ void CopyCellDataBySource(
     array->SetName(in->GetName());
     array->SetNumberOfComponents(in->GetNumberOfComponents());
     array->SetNumberOfTuples(outputCells);
-    vtkSMPTools::For(0, outputCells, [&](vtkIdType begin, vtkIdType end) {
+    auto copy = [&](vtkIdType begin, vtkIdType end) {
       for (vtkIdType k = begin; k < end; ++k)
       {
         array->SetTuple(k, sourceCell[k], in);
       }
-    });
+    };
+    // Bits share bytes and strings are not plain data: those are copied on one thread.
+    if (vtkDataArray::SafeDownCast(array) && !vtkBitArray::SafeDownCast(array))
+    {
+      vtkSMPTools::For(0, outputCells, copy);
+    }
+    else
+    {
+      copy(0, outputCells);
+    }
     const int attribute = cd->IsArrayAnAttribute(a);
     if (attribute >= 0)
     {

@@ -13,6 +13,7 @@
 #include "vtkIntArray.h"
 #include "vtkMath.h"
 #include "vtkSMPTools.h"
+#include "vtkStringArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
@@ -629,6 +630,13 @@ TEST(vtkBezierTriangleTessellator, PointAndCellDataAreCarried)
       cellLabel->InsertNextValue(static_cast<int>(7 * c + 1));
     }
     grid->GetCellData()->SetScalars(cellLabel);
+    vtkNew<vtkStringArray> names;
+    names->SetName("CellName");
+    for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+    {
+      names->InsertNextValue("cell " + std::to_string(c));
+    }
+    grid->GetCellData()->AddArray(names);
     vtkSmartPointer<vtkPolyData> out = Tessellate(grid, 5);
     vtkDataArray* position = out->GetPointData()->GetArray("Position");
     ASSERT_NE(position, nullptr);
@@ -644,9 +652,12 @@ TEST(vtkBezierTriangleTessellator, PointAndCellDataAreCarried)
     ASSERT_NE(label, nullptr);
     EXPECT_STREQ(label->GetName(), "CellLabel");
     vtkDataArray* source = out->GetCellData()->GetArray("BezierCellId");
+    auto* outNames = vtkStringArray::SafeDownCast(out->GetCellData()->GetAbstractArray("CellName"));
+    ASSERT_NE(outNames, nullptr);
     for (vtkIdType t = 0; t < out->GetNumberOfCells(); ++t)
     {
       ASSERT_EQ(label->GetComponent(t, 0), 7 * source->GetComponent(t, 0) + 1);
+      ASSERT_EQ(outNames->GetValue(t), "cell " + std::to_string(static_cast<vtkIdType>(source->GetComponent(t, 0))));
     }
     if (!rational)
     {
