@@ -122,7 +122,7 @@ def write_png(window, filename):
 def render_png(surface, array, filename, eye, size=(900, 700)):
     """Offscreen rendering (needs an X display: run under xvfb-run on a headless machine)."""
     from vtkmodules.vtkCommonCore import vtkLookupTable
-    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper, vtkRenderer
+    from vtkmodules.vtkRenderingCore import vtkActor, vtkPolyDataMapper
 
     lut = vtkLookupTable()
     lut.SetNumberOfTableValues(256)
@@ -140,6 +140,15 @@ def render_png(surface, array, filename, eye, size=(900, 700)):
     mapper.ScalarVisibilityOn()
     actor = vtkActor()
     actor.SetMapper(mapper)
+    render_actor(actor, surface, filename, eye, size)
+
+
+def render_actor(actor, surface, filename, eye, size):
+    """PNG of one actor on white, seen from the eye towards the centre of the surface's bounds
+    (z up) and zoomed to fill the image (needs an X display: run under xvfb-run on a headless
+    machine). Returns the filename."""
+    from vtkmodules.vtkRenderingCore import vtkRenderer
+
     renderer = vtkRenderer()
     renderer.AddActor(actor)
     renderer.SetBackground(1.0, 1.0, 1.0)
@@ -151,4 +160,4 @@ def render_png(surface, array, filename, eye, size=(900, 700)):
     camera.SetViewUp(0.0, 0.0, 1.0)
     renderer.ResetCamera()
     fit_view(renderer, window, surface)
-    write_png(window, filename)
+    return write_png(window, filename)
