@@ -11,15 +11,17 @@
 //   approximation error, sampled source), input mode (% 3: the spline filter's output, the same
 //   damaged, the polydata itself), construction (% 10), split point (% 3), boundary mode (% 4),
 //   iterations (% 3), subdivision level (1 + % 6), flags (bit 0 Bézier extraction, 1 boundary
-//   curve points, 2 unstructured-grid input, 3 merge points, 4 match coincident edges, 5 mesh
-//   distance, 6 float points), #P (% 64), #C (% 96),
+//   curve points, 2 unstructured-grid input, 3 merge points / relative chordal tolerance,
+//   4 match coincident edges, 5 mesh distance / adaptive tessellation, 6 float points, 7 split
+//   sharp edges), #P (% 64), #C (% 96),
 //   points (3 #P values), #C cells (type byte: % 8 < 4 triangle, 4 vertex, 5 line, 6 quad,
 //   7 polygon of 3 + type / 8 % 6 points; then point ids, byte % #P),
 //   arrays UV, dFdu, dFdv (point data), EdgeGradients, BoundaryCurvePoints, GlobalIds,
 //   vtkGhostType (cell data), each: present (byte & 1), components (max(1, byte % 24)),
 //   tuple count delta (byte - 8), type (byte % 5: double, float, int, id, unsigned char), then
 //   its values when present,
-//   12 parameter values (probe points, reflection setup, affine map),
+//   12 parameter values (probe points, reflection setup, affine map, tessellator angles and
+//   tolerances, curvature percentile),
 //   damage operations (pairs of bytes) up to the end, in mode 1.
 #include "FuzzVTK.h"
 
@@ -374,6 +376,13 @@ vtkSmartPointer<vtkUnstructuredGrid> Damage(FuzzInput& in, vtkUnstructuredGrid* 
   return grid;
 }
 
+/// A filter property from a fuzzed value: |x|, 0 for NaN or Inf (properties are the caller's
+/// choice; the data is what must be robust).
+double Magnitude(double x)
+{
+  return std::isfinite(x) ? std::abs(x) : 0.0;
+}
+
 vtkSmartPointer<vtkPolyData> ProbePoints(const std::array<double, 12>& param)
 {
   vtkNew<vtkPoints> points;
@@ -416,6 +425,14 @@ void RunDownstream(const Options& opt, vtkDataObject* grid, vtkPolyData* poly,
     {
       vtkNew<vtkBezierTriangleTessellator> tessellator;
       tessellator->SetSubdivisionLevel(opt.Level);
+      tessellator->SetSplitSharpEdges(opt.Flag(7));
+      tessellator->SetFeatureAngle(Magnitude(param[0]));
+      if (opt.Flag(5)) // adaptive
+      {
+        tessellator->SetChordalTolerance(Magnitude(param[1]));
+        tessellator->SetAngularTolerance(Magnitude(param[2]));
+        tessellator->SetRelativeChordalTolerance(opt.Flag(3));
+      }
       tessellator->SetInputData(grid);
       RunChecked(tessellator, finite, "tessellator succeeded with a non-finite point");
       break;
@@ -433,6 +450,7 @@ void RunDownstream(const Options& opt, vtkDataObject* grid, vtkPolyData* poly,
       vtkNew<vtkBezierCurvatureFilter> curvature;
       curvature->SetSubdivisionLevel(opt.Level);
       curvature->SetMergePoints(opt.Flag(3));
+      curvature->SetRobustRangePercentile(Magnitude(param[0]));
       curvature->SetInputData(grid);
       RunChecked(curvature, finite, "curvature filter succeeded with a non-finite point");
       break;

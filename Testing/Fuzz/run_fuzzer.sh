@@ -49,6 +49,8 @@ done
 python3 "$here/make_seed_corpus.py" "$work/seeds" "${step_args[@]}" > /dev/null
 mkdir -p "$work/corpus/$target" "$work/artifacts/$target"
 
+# What OpenCASCADE, VTK and TBB keep until exit is not a leak of ours.
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$root/.ci/lsan.supp}
 echo "== fuzz $target for ${seconds}s ($binary)"
 # -print_final_stats: the closing stat::number_of_executed_units line is the execution count.
 # shellcheck disable=SC2086
