@@ -202,7 +202,7 @@ TEST(QuarticCloughTocher, StopsInsteadOfDivergingOnIrregularMeshes)
   const SplineOptions o{ Construction::FO, SplitPointRule::Bary, BoundaryMode::Midpoint, 8 };
   QuarticSpline s;
   const BuildStatus st = BuildQuarticCloughTocher(mesh.Data(), mesh.Topology, o, s);
-  ASSERT_TRUE(st.Ok);
+  ASSERT_TRUE(st.Ok) << st.Message;
   EXPECT_NE(st.Message.find("diverges"), std::string::npos) << st.Message;
   double largest = 0.0;
   for (const Vec3& p : s.ControlPoints)

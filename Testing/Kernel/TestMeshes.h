@@ -116,7 +116,11 @@ inline ParameterMesh JitteredGrid(int n, double jitter, unsigned seed)
   {
     for (int i = 1; i < n; ++i)
     {
-      m.UV[j * (n + 1) + i] += Vec2(U(rng), U(rng));
+      // Sequenced (the order of function arguments is unspecified): v first, as g++
+      // evaluated Vec2(U(rng), U(rng)), so that every compiler builds the same meshes.
+      const double dv = U(rng);
+      const double du = U(rng);
+      m.UV[j * (n + 1) + i] += Vec2(du, dv);
     }
   }
   std::bernoulli_distribution flip(0.5);
