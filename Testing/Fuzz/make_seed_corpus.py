@@ -160,7 +160,8 @@ def filters_corpus():
     return seeds
 
 
-# CAD target: a one-byte header (bit 0: IGES instead of STEP; bit 1: stitch) then the file. The
+# CAD target: a one-byte header (bit 0: IGES instead of STEP; 1: stitch; 4: read in-process)
+# then the file. The
 # STEP/IGES files come from --step directories (run_fuzzer.sh passes the model the tests write
 # and the ones they fetch); files above 100 kB are left out (seconds per run under ASan).
 def cad_corpus(step_dirs):
@@ -171,6 +172,7 @@ def cad_corpus(step_dirs):
                 iges = 1 if path.suffix.lower() in (".igs", ".iges") else 0
                 seeds[path.stem] = bytes([iges]) + path.read_bytes()
                 seeds[path.stem + "-stitch"] = bytes([iges | 2]) + path.read_bytes()
+                seeds[path.stem + "-in-process"] = bytes([iges | 16]) + path.read_bytes()
     return seeds
 
 
