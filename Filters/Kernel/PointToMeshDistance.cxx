@@ -143,15 +143,24 @@ std::string PointToMeshDistance::CheckCornersAndFrame(
 PointToMeshDistance::Result PointToMeshDistance::Query(const Vec3& p) const
 {
   Result r;
-  if (!IsUsablePoint(p))
+  if (!p.allFinite())
   {
     r.Distance = std::numeric_limits<double>::quiet_NaN();
     r.Closest.setConstant(r.Distance);
     return r;
   }
-  const auto hit = this->Impl->AABB.closest_point_and_primitive(this->Impl->ToUnit(p));
-  r.Closest = this->Impl->FromUnit(hit.first);
-  r.Distance = (r.Closest - p).norm();
+  // A query farther than 1e50 diagonals is moved to 1e50 diagonals in the same direction, so
+  // that CGAL's squared distances stay finite; the distance differs by less than 1e-50 of it.
+  // Differences are scaled by their largest component, so no intermediate overflows.
+  const Tree& tree = *this->Impl;
+  const Vec3 u = p - tree.Center;
+  const double m = u.cwiseAbs().maxCoeff();
+  const Vec3 q = m * tree.Scale > 1e50 ? Vec3(tree.Center + (u / m).normalized() * (1e50 / tree.Scale)) : p;
+  const auto hit = tree.AABB.closest_point_and_primitive(tree.ToUnit(q));
+  r.Closest = tree.FromUnit(hit.first);
+  const Vec3 w = p - r.Closest;
+  const double wm = w.cwiseAbs().maxCoeff();
+  r.Distance = wm > 0 ? std::min(wm * (w / wm).norm(), std::numeric_limits<double>::max()) : 0.0;
   r.Triangle = this->Impl->InputIds[static_cast<size_t>(hit.second - this->Impl->Triangles.cbegin())];
   return r;
 }

@@ -38,8 +38,9 @@ public:
   /// finite or no triangle has a positive area.
   std::string Build(Id numPoints, const double* points, Id numTriangles, const Id* triangles);
 
-  /// Closest point on the mesh. Build must have succeeded. A query that is not finite or beyond
-  /// MaxInputMagnitude gets Triangle -1 and a NaN distance. Queries only read the tree (it is
+  /// Closest point on the mesh. Build must have succeeded. Any finite query has a finite result
+  /// (beyond 1e50 diagonals away, the closest point of a query 1e50 diagonals away in the same
+  /// direction); a non-finite one gets Triangle -1 and a NaN distance. Queries only read the tree (it is
   /// fully built by Build), so any number of threads may query concurrently.
   Result Query(const Vec3& p) const;
 

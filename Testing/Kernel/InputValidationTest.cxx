@@ -230,9 +230,18 @@ TEST(InputValidation, DistanceQueriesCannotOverflow)
   EXPECT_NE(message.find("too large"), std::string::npos) << message;
   const std::vector<double> unit = { 0, 0, 0, 1, 0, 0, 0, 1, 0 };
   ASSERT_EQ(d.Build(3, unit.data(), 1, tri.data()), "");
-  const PointToMeshDistance::Result far = d.Query(Vec3(1e200, 1e200, 0));
-  EXPECT_TRUE(std::isnan(far.Distance));
-  EXPECT_EQ(far.Triangle, -1);
+  // Far queries (squares beyond double range) still get their distance.
+  for (const Vec3& p : { Vec3(1e200, 1e200, 0), Vec3(-1e308, 1e308, 0.5), Vec3(0.25, 0.25, 1e190) })
+  {
+    const PointToMeshDistance::Result far = d.Query(p);
+    ASSERT_TRUE(std::isfinite(far.Distance));
+    EXPECT_EQ(far.Triangle, 0);
+    const double m = p.cwiseAbs().maxCoeff();
+    EXPECT_NEAR(far.Distance / m, (p / m).norm(), 1e-15);
+  }
+  const PointToMeshDistance::Result nan = d.Query(Vec3(std::nan(""), 0, 0));
+  EXPECT_TRUE(std::isnan(nan.Distance));
+  EXPECT_EQ(nan.Triangle, -1);
   EXPECT_NEAR(d.Query(Vec3(0.25, 0.25, 2)).Distance, 2.0, 1e-15);
 }
 
