@@ -175,7 +175,10 @@ struct CADModel::Stages
     std::string label = "edge " + std::to_string(e);
     const int ef = d.EdgeFaces.FindIndex(d.EdgeMap(e + 1));
     std::string faces;
-    for (TopTools_ListIteratorOfListOfShape it(ef > 0 ? d.EdgeFaces(ef) : TopTools_ListOfShape()); it.More(); it.Next())
+    // An lvalue either way: the iterator must not outlive a temporary list.
+    static const TopTools_ListOfShape none;
+    const TopTools_ListOfShape& adjacent = ef > 0 ? d.EdgeFaces(ef) : none;
+    for (TopTools_ListIteratorOfListOfShape it(adjacent); it.More(); it.Next())
     {
       const int f = d.FaceMap.FindIndex(it.Value()) - 1;
       faces += (faces.empty() ? "" : ", ") + (f >= 0 ? FaceLabel(m, f) : std::string("a face"));

@@ -8,6 +8,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -80,7 +81,14 @@ std::string PointToMeshDistance::Build(
       const double* x = points + 3 * triangles[3 * t + a];
       corner[a] = tree->ToUnit(Vec3(x[0], x[1], x[2]));
     }
-    if (CGAL::collinear(corner[0], corner[1], corner[2]))
+    // Collinear and nearly collinear (slivers flatter than 1e-12) triangles are left out: CGAL's
+    // projection onto their plane divides by their area (NaN squared radii inside its queries);
+    // their points lie within 1e-12 of their longest edge, which belongs to their neighbours.
+    const Vec3 a(corner[0].x(), corner[0].y(), corner[0].z());
+    const Vec3 e1 = Vec3(corner[1].x(), corner[1].y(), corner[1].z()) - a;
+    const Vec3 e2 = Vec3(corner[2].x(), corner[2].y(), corner[2].z()) - a;
+    const double longest2 = std::max({ e1.squaredNorm(), e2.squaredNorm(), (e2 - e1).squaredNorm() });
+    if (!(e1.cross(e2).norm() > 1e-12 * longest2) || CGAL::collinear(corner[0], corner[1], corner[2]))
     {
       continue;
     }

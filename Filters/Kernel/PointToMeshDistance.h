@@ -32,8 +32,9 @@ public:
   };
 
   /// Builds the tree over numTriangles triangles of points (row-major #P by 3), triangles[3 t + a]
-  /// being corner a of triangle t. Collinear (zero-area) triangles are left out: their closest
-  /// point is not defined by a projection and, in a mesh, their edges belong to neighbours.
+  /// being corner a of triangle t. Collinear and sliver triangles (area below 1e-12 of the
+  /// longest edge squared) are left out: their closest point is not defined by a projection and,
+  /// in a mesh, their edges belong to neighbours.
   /// Returns an empty string, or a message when an index is out of range, a coordinate is not
   /// finite or no triangle has a positive area.
   std::string Build(Id numPoints, const double* points, Id numTriangles, const Id* triangles);

@@ -273,6 +273,18 @@ TEST(InputValidation, DistanceQueriesSurviveDenormalCoordinates)
       EXPECT_LT(r.Distance, 1e-12);
     }
   }
+  // A sliver beside an ordinary triangle: left out (CGAL divided by its area), queries stay
+  // finite and find the ordinary triangle or the sliver's longest edge within 1e-12.
+  const std::vector<double> sliver = { 0, 0, 0, 1, 0, 0, 0.5, 1e-15, 1e-15, 0, -1, 0 };
+  const std::vector<Id> sliverTris = { 0, 1, 2, 0, 3, 1 };
+  ASSERT_EQ(d.Build(4, sliver.data(), 2, sliverTris.data()), "");
+  EXPECT_EQ(d.GetNumberOfTriangles(), 1);
+  for (const Vec3& p : { Vec3(0.5, 0.3, 0.2), Vec3(0.5, 1e-15, 1e-15), Vec3(0.2, -0.5, 3) })
+  {
+    const PointToMeshDistance::Result r = d.Query(p);
+    ASSERT_TRUE(std::isfinite(r.Distance));
+    EXPECT_EQ(r.Triangle, 1);
+  }
   const std::vector<double> tiny = { 0, 0, 0, 1e-60, 0, 0, 0, 1e-60, 0 };
   EXPECT_NE(d.Build(3, tiny.data(), 1, tris.data()).find("too small"), std::string::npos);
 }
