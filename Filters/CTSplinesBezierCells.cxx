@@ -661,14 +661,16 @@ void CopyCellDataBySource(
   }
 }
 
+std::string GatherBezierCellsAndCellData(vtkDataSet* ds, BezierCells& cells)
+{
+  std::string error = GatherBezierCells(ds, cells);
+  return error.empty() ? CheckCellDataArrays(ds, "") : error;
+}
+
 std::string GatherBezierCellsWithUV(
   vtkDataSet* ds, const std::string& uvName, BezierCells& cells, const char* uvRequiredFor)
 {
-  std::string error = GatherBezierCells(ds, cells);
-  if (error.empty())
-  {
-    error = CheckCellDataArrays(ds, "");
-  }
+  std::string error = GatherBezierCellsAndCellData(ds, cells);
   return error.empty() ? ReadUV(ds, uvName, cells, uvRequiredFor) : error;
 }
 

@@ -96,8 +96,11 @@ std::string GatherBezierCells(vtkDataSet* ds, BezierCells& cells,
 std::string ReadUV(vtkDataSet* ds, const std::string& name, BezierCells& cells,
   const char* requiredFor = nullptr);
 
-/// GatherBezierCells, CheckCellDataArrays, then ReadUV: the common opening of the filters that
-/// read a spline grid.
+/// GatherBezierCells, then CheckCellDataArrays: the common opening of the filters that read a
+/// spline grid.
+std::string GatherBezierCellsAndCellData(vtkDataSet* ds, BezierCells& cells);
+
+/// GatherBezierCellsAndCellData, then ReadUV.
 std::string GatherBezierCellsWithUV(vtkDataSet* ds, const std::string& uvName, BezierCells& cells,
   const char* uvRequiredFor = nullptr);
 

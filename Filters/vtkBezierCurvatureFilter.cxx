@@ -114,11 +114,7 @@ int vtkBezierCurvatureFilter::RequestData(
 
   // 1. Validate and flatten the input so that the parallel part reads plain arrays.
   ctsplines::BezierCells cells;
-  std::string error = ctsplines::GatherBezierCells(input, cells);
-  if (error.empty())
-  {
-    error = ctsplines::CheckCellDataArrays(input, "");
-  }
+  std::string error = ctsplines::GatherBezierCellsAndCellData(input, cells);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
