@@ -93,6 +93,53 @@ def barycentric(corners, x):
     return np.stack([1.0 - l1 - l2, l1, l2], axis=-1)
 
 
+def triangle_quadrature(n):
+    """Collapsed (Duffy) Gauss rule of n x n points on the reference triangle: barycentric
+    points (n^2, 3) and weights summing to 1 (exact for polynomials of degree 2 n - 2)."""
+    g, w = np.polynomial.legendre.leggauss(n)
+    g, w = 0.5 * (g + 1.0), 0.5 * w
+    r = np.repeat(g, n)
+    s = np.tile(g, n) * (1.0 - r)
+    return np.stack([1.0 - r - s, r, s], -1), 2.0 * np.outer(w, w).ravel() * (1.0 - r)
+
+
+def bernstein(exps, lam):
+    """Bernstein polynomials B_e(lam) for exponents exps (n, 3) (zero where an exponent is
+    negative) at barycentric points lam (q, 3): (q, n)."""
+    from math import factorial
+
+    exps = np.asarray(exps)
+    valid = np.all(exps >= 0, -1)
+    e = np.maximum(exps, 0)
+    coef = np.array([factorial(int(k.sum())) / np.prod([factorial(int(i)) for i in k]) for k in e])
+    powers = np.prod(lam[:, None, :] ** e[None], -1)
+    return np.where(valid, coef * powers, 0.0)
+
+
+def bernstein_jets(exps, lam):
+    """Bernstein basis of the exponents exps (n, 3) (one degree) with its first and second
+    derivatives w.r.t. the barycentric coordinates: (q, n), (q, n, 3), (q, n, 3, 3)."""
+    deg = int(np.asarray(exps)[0].sum())
+    unit = np.eye(3, dtype=int)
+    d1 = np.stack([deg * bernstein(exps - unit[a], lam) for a in range(3)], -1)
+    d2 = np.stack([np.stack([deg * (deg - 1) * bernstein(exps - unit[a] - unit[b], lam)
+                             for b in range(3)], -1) for a in range(3)], -2)
+    return bernstein(exps, lam), d1, d2
+
+
+def barycentric_gradients(corners):
+    """(C, 3, 2) gradients of the barycentric coordinates of triangles corners (C, 3, 2)."""
+    e = np.stack([corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]], -1)
+    inv = np.linalg.inv(e)  # rows: grad l1, grad l2
+    return np.concatenate([-(inv[:, 0:1] + inv[:, 1:2]), inv], 1)
+
+
+def triangle_areas(corners):
+    """(C,) areas of triangles corners (C, 3, 2)."""
+    e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
+    return 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
+
+
 def export(grid, path):
     """Writes the extraction of a spline grid in the plain format of this module's docstring."""
     ex = Extraction(grid)

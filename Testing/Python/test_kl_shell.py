@@ -1,0 +1,188 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Kirchhoff-Love shells with the C1 CT space (ctsplines.shell): rigid motions cost no energy,
+flat patch tests are exact, the boundary conditions through the dofs hold along whole boundary
+lines, and the obstacle-course benchmarks converge to their references."""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+from ctsplines import iga, shell
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "Examples", "Python"))
+import kirchhoff_love_shell as kls  # noqa: E402
+
+CONSTRUCTIONS = ("CTi", "KaG", "MGi")
+
+
+def plane(u, v):
+    z = np.zeros_like(u)
+    return np.column_stack([u, v, z]), np.column_stack([z + 1, z, z]), np.column_stack([z, z + 1, z])
+
+
+def field_dofs(mesh, construction, field):
+    """The spline dofs (n_dofs, 3) of a displacement field(u, v) -> (value, d/du, d/dv) on the
+    parameter mesh of `mesh`: the spline of the field as data has them as DegreesOfFreedom."""
+    from ctsplines import arrays
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+
+    uv = vtk_to_numpy(mesh.GetPointData().GetArray("UV"))
+    tris = arrays.triangles(mesh)
+    f, fu, fv = field(uv[:, 0], uv[:, 1])
+    mids = 0.5 * (uv[tris] + uv[np.roll(tris, -1, axis=1)])
+    _, gu, gv = field(mids[..., 0].ravel(), mids[..., 1].ravel())
+    eg = np.concatenate([gu.reshape(-1, 3, 3), gv.reshape(-1, 3, 3)], -1).reshape(-1, 18)
+    return iga.Extraction(shell.spline(arrays.mesh_from_arrays(uv, tris, f, fu, fv, eg), construction)).dofs
+
+
+class RigidMotionTest(unittest.TestCase):
+    def test_stiffness_annihilates_rigid_motions(self):
+        # A doubly curved patch (sphere) exercises every curvature term of the bending strain.
+        mesh = shell.grid_mesh(3, 4, (0.0, 8.0), (0.0, 6.0), shell.sphere(10.0))
+        for construction in CONSTRUCTIONS:
+            model = shell.Shell(shell.spline(mesh, construction), 0.1, 1e7, 0.3)
+            K = model.stiffness()
+            scale = abs(K).max()
+            dofs = model.ex.dofs  # the geometry's own dofs: x = sum_j dofs_j N_j
+            value = np.zeros(model.ex.n_dofs)
+            value[0 : 3 * mesh.GetNumberOfPoints() : 3] = 1.0
+            motions = [np.outer(value, e) for e in np.eye(3)]
+            motions += [np.cross(w, dofs) for w in np.eye(3)]  # u = w x x, exactly in the space
+            for k, d in enumerate(motions):
+                d = d / np.abs(d).max()
+                residual = np.abs(K @ d.ravel()).max() / scale
+                self.assertLess(residual, 1e-10, f"{construction}: rigid motion {k} costs {residual:.2e}")
+            # A non-rigid field does cost energy (the check above can fail).
+            bend = np.zeros_like(dofs)
+            bend[:, 2] = dofs[:, 0] ** 2 * value
+            self.assertGreater(np.abs(K @ bend.ravel()).max() / scale, 1e-3)
+
+
+class FlatPatchTest(unittest.TestCase):
+    """Quadratic fields on a flat plate are in every space: the energy is exact."""
+
+    def energy(self, construction, field):
+        mesh = shell.grid_mesh(3, 2, (0.0, 3.0), (0.0, 2.0), plane)
+        model = shell.Shell(shell.spline(mesh, construction), 0.2, 1e4, 0.25)
+        d = field_dofs(mesh, construction, field).ravel()
+        return 0.5 * d @ (model.stiffness() @ d)
+
+    def test_membrane_and_bending_energy(self):
+        t, E, nu, area, eps, kappa = 0.2, 1e4, 0.25, 6.0, 1e-3, 2e-2
+        zero = lambda u: np.zeros_like(u)  # noqa: E731
+        stretch = lambda u, v: (np.column_stack([eps * u, zero(u), zero(u)]),  # noqa: E731
+                                np.column_stack([zero(u) + eps, zero(u), zero(u)]), np.zeros((len(u), 3)))
+        bend = lambda u, v: (np.column_stack([zero(u), zero(u), 0.5 * kappa * u * u]),  # noqa: E731
+                             np.column_stack([zero(u), zero(u), kappa * u]), np.zeros((len(u), 3)))
+        # Twist w = k u v: k_12 = k, energy t^3/12 E/(1 - nu^2) (1 - nu) / 2 (2 k)^2 A / 2.
+        twist = lambda u, v: (np.column_stack([zero(u), zero(u), kappa * u * v]),  # noqa: E731
+                              np.column_stack([zero(u), zero(u), kappa * v]),
+                              np.column_stack([zero(u), zero(u), kappa * u]))
+        modulus = E / (1 - nu * nu)
+        expected = {
+            "stretch": (stretch, 0.5 * t * modulus * eps**2 * area),
+            "bend": (bend, 0.5 * t**3 / 12 * modulus * kappa**2 * area),
+            "twist": (twist, 0.5 * t**3 / 12 * modulus * (1 - nu) / 2 * (2 * kappa) ** 2 * area),
+        }
+        for construction in CONSTRUCTIONS:
+            for name, (field, exact) in expected.items():
+                self.assertAlmostEqual(self.energy(construction, field) / exact, 1.0, delta=1e-10,
+                                       msg=f"{construction} {name}")
+
+
+class BoundaryConditionTest(unittest.TestCase):
+    """The dofs of line_dofs make the trace / the cross-boundary derivative vanish on whole
+    boundary lines, not only at the vertices."""
+
+    def test_conditions_hold_along_the_line(self):
+        mesh = shell.grid_mesh(4, 3, (0.0, 4.0), (0.0, 3.0), shell.cylinder(5.0))
+        n_vertices = mesh.GetNumberOfPoints()
+        rng = np.random.default_rng(3)
+        lam = np.stack([1.0 - np.linspace(0, 1, 7), np.linspace(0, 1, 7), np.zeros(7)], -1)
+        for construction in CONSTRUCTIONS:
+            ex = iga.Extraction(shell.spline(mesh, construction))
+            B, dB, _ = iga.bernstein_jets(ex.exponents()[0], lam)
+            for axis, value in ((0, 0.0), (0, 4.0), (1, 0.0), (1, 3.0)):
+                for condition in ("trace", "normal"):
+                    d = rng.standard_normal((ex.n_dofs, 3))
+                    d.ravel()[shell.line_dofs(ex, n_vertices, axis, value, 1, condition)] = 0.0
+                    worst = self.worst_on_line(ex, d[:, 1], axis, value, condition, B, dB)
+                    self.assertLess(worst, 1e-12, f"{construction} {condition} on uv[{axis}] = {value}")
+                    # The other components are free: they do not vanish there.
+                    self.assertGreater(self.worst_on_line(ex, d[:, 0], axis, value, condition, B, dB), 1e-3)
+
+    @staticmethod
+    def worst_on_line(ex, d, axis, value, condition, B, dB):
+        """Largest |value| or |normal derivative| at points of the cells' edges 0-1 on the line."""
+        corners = ex.uv[ex.cell_points[:, :3]]
+        on = np.isclose(corners[:, :, axis], value)
+        cells = np.nonzero(on[:, 0] & on[:, 1])[0]
+        assert len(cells), "no cell edge on the line"
+        coef = np.einsum("cij,cj->ci", ex.operators[cells], np.append(d, 0.0)[
+            np.where(ex.cell_dofs[cells] >= 0, ex.cell_dofs[cells], len(d))])
+        if condition == "trace":
+            return np.abs(np.einsum("qi,ci->cq", B, coef)).max()
+        G = iga.barycentric_gradients(corners[cells])
+        grad = np.einsum("qia,cad,ci->cqd", dB, G, coef)
+        return np.abs(grad[..., axis]).max()
+
+
+class BenchmarkTest(unittest.TestCase):
+    def test_scordelis_lo(self):
+        bench = kls.scordelis_lo()
+        values = []
+        for n in (4, 8, 16):
+            unknowns, value, _ = kls.solve(bench, n, "CTi")
+            values.append(value)
+            if n == 8:
+                # Within 1 % of the thin-shell reference with 825 unknowns (measured 0.2985).
+                self.assertLessEqual(unknowns, 2000)
+                self.assertAlmostEqual(value / 0.3006, 1.0, delta=0.01)
+        # Converges from below; successive differences shrink faster than h^2 (measured 3.5).
+        self.assertTrue(values[0] < values[1] < values[2] < 0.3006 * 1.001, values)
+        order = kls.observed_orders(values)[-1]
+        self.assertGreater(order, 2.5)
+        # The full space (MGi) reaches the converged value already at n = 8.
+        self.assertAlmostEqual(kls.solve(bench, 8, "MGi")[1] / 0.3006, 1.0, delta=0.002)
+
+    def test_pinched_hemisphere_and_cylinder(self):
+        hemi = kls.pinched_hemisphere()
+        coarse, fine = (kls.solve(hemi, n, "CTi")[1] for n in (8, 16))
+        self.assertTrue(coarse < fine, (coarse, fine))
+        self.assertAlmostEqual(fine / 0.0924, 1.0, delta=0.06)  # measured 0.957
+        cyl = kls.pinched_cylinder()
+        coarse, fine = (kls.solve(cyl, n, "KaG")[1] for n in (8, 16))
+        self.assertTrue(coarse < fine < 1.8248e-5, (coarse, fine))
+        self.assertAlmostEqual(fine / 1.8248e-5, 1.0, delta=0.04)  # measured 0.976
+
+
+class DisplacementOutputTest(unittest.TestCase):
+    def test_vtu_with_displacement_on_control_points(self):
+        from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
+        from vtkmodules.util.numpy_support import vtk_to_numpy
+
+        bench = kls.scordelis_lo()
+        with tempfile.TemporaryDirectory() as tmp:
+            kls.solve(bench, 4, "CTi", output=tmp)
+            path = os.path.join(tmp, "scordelis_lo_CTi_4.vtu")
+            reader = vtkXMLUnstructuredGridReader()
+            reader.SetFileName(path)
+            reader.Update()
+            grid = reader.GetOutput()
+        disp = vtk_to_numpy(grid.GetPointData().GetArray("Displacement"))
+        ex = iga.Extraction(grid)
+        self.assertEqual(disp.shape, (len(ex.uv), 3))
+        # The control point at the probe vertex carries its displacement; the diaphragm holds.
+        v = shell.vertex_at(ex, 25, (bench.width, 0.0))
+        self.assertAlmostEqual(-disp[v, 2], kls.solve(bench, 4, "CTi")[1], places=12)
+        on_diaphragm = np.isclose(ex.uv[:, 1], bench.height)
+        self.assertLess(np.abs(disp[on_diaphragm][:, [0, 2]]).max(), 1e-14)
+        self.assertGreater(np.abs(disp[:, 2]).max(), 0.1)
+
+
+if __name__ == "__main__":
+    unittest.main()
