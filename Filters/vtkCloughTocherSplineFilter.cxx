@@ -4,8 +4,8 @@
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
 #include "BezierExtraction.h"
-#include "CubicCloughTocher.h"
-#include "QuarticCloughTocher.h"
+#include "CloughTocherSpline.h"
+#include "SplineInput.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -38,10 +38,63 @@ vtkStandardNewMacro(vtkCloughTocherSplineFilter);
 vtkCloughTocherSplineFilter::vtkCloughTocherSplineFilter() = default;
 vtkCloughTocherSplineFilter::~vtkCloughTocherSplineFilter() = default;
 
+// The filter's values are the kernel's (the ParaView XML and Python read them through these).
+static_assert(vtkCloughTocherSplineFilter::CTo == static_cast<int>(ctk::Construction::CTo) &&
+    vtkCloughTocherSplineFilter::KaG == static_cast<int>(ctk::Construction::KaG) &&
+    vtkCloughTocherSplineFilter::Kashyap == static_cast<int>(ctk::Construction::Kashyap) &&
+    vtkCloughTocherSplineFilter::Quartic == static_cast<int>(ctk::Construction::Quartic) &&
+    vtkCloughTocherSplineFilter::Quartic + 1 == ctk::NumberOfConstructions,
+  "vtkCloughTocherSplineFilter::ConstructionType and ctk::Construction differ");
+
+namespace
+{
+const ctk::ConstructionInfo* Row(int c)
+{
+  return ctk::IsConstruction(c) ? &ctk::Info(static_cast<ctk::Construction>(c)) : nullptr;
+}
+} // namespace
+
+int vtkCloughTocherSplineFilter::GetNumberOfConstructions()
+{
+  return ctk::NumberOfConstructions;
+}
+
 const char* vtkCloughTocherSplineFilter::GetConstructionName(int c)
 {
-  return c == Quartic ? "Quartic" : ctk::ToString(static_cast<ctk::Construction>(c));
+  return Row(c) ? Row(c)->Name : "Unknown";
 }
+
+int vtkCloughTocherSplineFilter::GetConstructionValue(const char* name)
+{
+  ctk::Construction c;
+  return name && ctk::FindConstruction(name, c) ? static_cast<int>(c) : -1;
+}
+
+const char* vtkCloughTocherSplineFilter::GetConstructionSummary(int c)
+{
+  return Row(c) ? Row(c)->Summary : "";
+}
+
+int vtkCloughTocherSplineFilter::GetConstructionDegree(int c)
+{
+  return Row(c) ? Row(c)->Degree : 0;
+}
+
+bool vtkCloughTocherSplineFilter::GetConstructionTakesBoundaryCurves(int c)
+{
+  return Row(c) && Row(c)->TakesBoundaryCurves;
+}
+
+bool vtkCloughTocherSplineFilter::GetConstructionCanBeStitched(int c)
+{
+  return Row(c) && ctk::CanBeStitched(Row(c)->Method);
+}
+
+bool vtkCloughTocherSplineFilter::GetConstructionHasBezierExtraction(int c)
+{
+  return Row(c) && Row(c)->HasBezierExtraction;
+}
+
 
 const char* vtkCloughTocherSplineFilter::GetSplitPointName(int s)
 {
@@ -55,8 +108,7 @@ const char* vtkCloughTocherSplineFilter::GetBoundaryModeName(int m)
 
 int vtkCloughTocherSplineFilter::GetRequiredGhostLevels() const
 {
-  const bool local = this->Construction == CTo || this->Construction == MGo;
-  return local && this->Iterations == 0 ? 0 : 2 + this->Iterations;
+  return ctk::RequiredGhostRings(static_cast<ctk::Construction>(this->Construction), this->Iterations);
 }
 
 int vtkCloughTocherSplineFilter::RequestUpdateExtent(
@@ -200,177 +252,135 @@ void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
 }
 } // namespace
 
-int vtkCloughTocherSplineFilter::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+namespace
 {
-  vtkPointSet* input = vtkPointSet::GetData(inputVector[0]);
-  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
-  if (!input || !output)
+// The names of the constructions for which which(value) holds, comma separated.
+std::string ConstructionNames(bool (*which)(int))
+{
+  std::string names;
+  for (int c = 0; c < ctk::NumberOfConstructions; ++c)
   {
-    vtkErrorMacro(<< "missing input or output data object");
-    return 0;
+    if (which(c))
+    {
+      names += (names.empty() ? "" : ", ") + std::string(ctk::ToString(static_cast<ctk::Construction>(c)));
+    }
   }
+  return names;
+}
 
-  // 1. Validate the input and map its arrays to row-major doubles.
-  if (input->GetNumberOfPoints() == 0 || input->GetNumberOfCells() == 0)
+// 1. Validate the input and map its mesh and arrays to the kernel's owning input.
+std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* self,
+  const ctk::SplineOptions& options, ctk::SplineInput& in)
+{
+  const vtkIdType nPoints = input->GetNumberOfPoints(), nCells = input->GetNumberOfCells();
+  if (nPoints == 0 || nCells == 0)
   {
-    vtkErrorMacro(<< "empty input: " << input->GetNumberOfPoints() << " points and "
-                  << input->GetNumberOfCells() << " cells; need a triangle mesh");
-    return 0;
+    return "empty input: " + std::to_string(nPoints) + " points and " + std::to_string(nCells) +
+      " cells; need a triangle mesh";
   }
-  std::vector<ctk::Id> triangles;
-  std::vector<double> F, UV, Fu, Fv, edgeGradients, boundaryCurves;
-  const vtkIdType nPoints = input->GetNumberOfPoints(), nInputCells = input->GetNumberOfCells();
   vtkPolyData* polyInput = vtkPolyData::SafeDownCast(input);
   std::string error = polyInput
-    ? ctsplines::ExtractTriangles(polyInput, triangles)
-    : ctsplines::ExtractTriangles(vtkUnstructuredGrid::SafeDownCast(input), triangles);
+    ? ctsplines::ExtractTriangles(polyInput, in.Triangles)
+    : ctsplines::ExtractTriangles(vtkUnstructuredGrid::SafeDownCast(input), in.Triangles);
   if (error.empty())
   {
-    error = ctsplines::CopyPoints(input->GetPoints(), F);
+    error = ctsplines::CopyPoints(input->GetPoints(), in.F);
   }
   vtkPointData* pd = input->GetPointData();
+  const std::string uvName = self->GetUVArrayName();
   if (error.empty())
   {
-    vtkDataArray* uv = ctsplines::FindArray(pd, this->UVArrayName);
-    std::string what = "point data array '" + this->UVArrayName + "' (parameter coordinates)";
+    vtkDataArray* uv = ctsplines::FindArray(pd, uvName);
+    std::string what = "point data array '" + uvName + "' (parameter coordinates)";
     if (!uv && pd->GetTCoords())
     {
       uv = pd->GetTCoords();
       what = std::string("active texture coordinates '") +
         (uv->GetName() ? uv->GetName() : "") + "' (parameter coordinates)";
     }
-    if (!uv)
-    {
-      error = "no parameter coordinates: point data array '" + this->UVArrayName +
+    error = uv ? ctsplines::CopyArray(uv, what, 2, nPoints, "point", in.UV)
+               : "no parameter coordinates: point data array '" + uvName +
         "' is missing and there are no active texture coordinates";
-    }
-    else
-    {
-      error = ctsplines::CopyArray(uv, what, 2, nPoints, "point", UV);
-    }
+  }
+  const std::string du = self->GetDuArrayName(), dv = self->GetDvArrayName();
+  if (error.empty())
+  {
+    error = ctsplines::CopyArray(ctsplines::FindArray(pd, du),
+      "point data array '" + du + "' (derivative d/du)", 3, nPoints, "point", in.Fu);
   }
   if (error.empty())
   {
-    error = ctsplines::CopyArray(ctsplines::FindArray(pd, this->DuArrayName),
-      "point data array '" + this->DuArrayName + "' (derivative d/du)", 3, nPoints, "point", Fu);
+    error = ctsplines::CopyArray(ctsplines::FindArray(pd, dv),
+      "point data array '" + dv + "' (derivative d/dv)", 3, nPoints, "point", in.Fv);
   }
-  if (error.empty())
-  {
-    error = ctsplines::CopyArray(ctsplines::FindArray(pd, this->DvArrayName),
-      "point data array '" + this->DvArrayName + "' (derivative d/dv)", 3, nPoints, "point", Fv);
-  }
-  ctk::SplineOptions options;
-  const bool quartic = this->Construction == Quartic;
-  // The quartic scheme starts from FO's cubic-precision interpolant.
-  options.Method = quartic ? ctk::Construction::FO : static_cast<ctk::Construction>(this->Construction);
-  options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
-  options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
-  options.Iterations = this->Iterations;
+  const ctk::ConstructionInfo& info = ctk::Info(options.Method);
+  const std::string egName = self->GetEdgeGradientsArrayName();
   if (error.empty() && ctk::UsesEdgeGradients(options))
   {
-    vtkDataArray* eg = ctsplines::FindArray(input->GetCellData(), this->EdgeGradientsArrayName);
-    const std::string what = "cell data array '" + this->EdgeGradientsArrayName +
-      "' (mid-edge gradients, needed by " + GetConstructionName(this->Construction) +
-      " with boundary mode " + GetBoundaryModeName(this->BoundaryMode) + ")";
-    error = ctsplines::CopyArray(eg, what, 18, nInputCells, "cell", edgeGradients);
+    const std::string what = "cell data array '" + egName + "' (mid-edge gradients, needed by " +
+      info.Name + " with boundary mode " +
+      vtkCloughTocherSplineFilter::GetBoundaryModeName(self->GetBoundaryMode()) + ")";
+    error = ctsplines::CopyArray(ctsplines::FindArray(input->GetCellData(), egName), what, 18,
+      nCells, "cell", in.EdgeGradients);
   }
-  if (error.empty() && !this->BoundaryCurvePointsArrayName.empty())
+  const std::string curves = self->GetBoundaryCurvePointsArrayName();
+  if (error.empty() && !curves.empty())
   {
-    const std::string what =
-      "cell data array '" + this->BoundaryCurvePointsArrayName + "' (boundary curve points)";
-    if (this->Construction > KaG)
+    const std::string what = "cell data array '" + curves + "' (boundary curve points)";
+    if (!info.TakesBoundaryCurves)
     {
-      error = what + " is given, but " + GetConstructionName(this->Construction) +
-        " does not take prescribed boundary curves (cubic constructions CTo..KaG do)";
+      error = what + " is given, but " + info.Name + " does not take prescribed boundary curves (" +
+        ConstructionNames(&vtkCloughTocherSplineFilter::GetConstructionTakesBoundaryCurves) +
+        " do)";
     }
-    else if (this->ComputeBezierExtraction)
+    else if (self->GetComputeBezierExtraction())
     {
       error = what + " is given: the Bezier extraction is of the unconstrained spline space";
     }
     else
     {
-      error = ctsplines::CopyArray(
-        ctsplines::FindArray(input->GetCellData(), this->BoundaryCurvePointsArrayName), what, 18,
-        nInputCells, "cell", boundaryCurves, 6);
+      error = ctsplines::CopyArray(ctsplines::FindArray(input->GetCellData(), curves), what, 18,
+        nCells, "cell", in.BoundaryCurvePoints, 6);
     }
   }
-  // Distributed runs: the global cell ids and ghost flags are read per output cell.
-  std::vector<vtkIdType> globalIds;
-  vtkDataArray* globalIdArray = input->GetCellData()->GetGlobalIds();
-  if (error.empty() && globalIdArray)
+  return error;
+}
+
+// Distributed runs: the global cell ids and ghost flags, read per input cell.
+std::string ReadPieceArrays(vtkPointSet* input, std::vector<vtkIdType>& globalIds,
+  vtkDataArray*& globalIdArray, vtkUnsignedCharArray*& ghosts)
+{
+  const vtkIdType nCells = input->GetNumberOfCells();
+  globalIdArray = input->GetCellData()->GetGlobalIds();
+  std::string error;
+  if (globalIdArray)
   {
     error = ctsplines::CopyIdArray(globalIdArray,
       std::string("cell data global ids '") + (globalIdArray->GetName() ? globalIdArray->GetName() : "") + "'",
-      nInputCells, "cell", -1, globalIds);
+      nCells, "cell", -1, globalIds);
   }
-  vtkUnsignedCharArray* ghosts = input->GetCellGhostArray();
+  ghosts = input->GetCellGhostArray();
   if (error.empty() && ghosts)
   {
-    error = ctsplines::CheckTuples(ghosts, "cell ghost array 'vtkGhostType'", nInputCells, "cell");
+    error = ctsplines::CheckTuples(ghosts, "cell ghost array 'vtkGhostType'", nCells, "cell");
   }
-  if (!error.empty())
-  {
-    vtkErrorMacro(<< error);
-    return 0;
-  }
+  return error;
+}
 
-  const ctk::Id nV = input->GetNumberOfPoints();
-  const ctk::Id nT = static_cast<ctk::Id>(triangles.size() / 3);
-  ctk::MeshTopology topology;
-  const ctk::TopologyStatus topo = ctk::BuildMeshTopology(nV, nT, triangles.data(), topology);
-  if (!topo.Ok)
-  {
-    vtkErrorMacro(<< "invalid mesh: " << topo.Message);
-    return 0;
-  }
-  this->UpdateProgress(0.2);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
-
-  // 2. The kernel.
-  ctk::SplineData data;
-  data.NumberOfVertices = nV;
-  data.NumberOfTriangles = nT;
-  data.Triangles = triangles.data();
-  data.UV = UV.data();
-  data.F = F.data();
-  data.Fu = Fu.data();
-  data.Fv = Fv.data();
-  data.EdgeGradients = edgeGradients.empty() ? nullptr : edgeGradients.data();
-  data.BoundaryCurvePoints = boundaryCurves.empty() ? nullptr : boundaryCurves.data();
-  ctk::CubicSpline cubic;
-  ctk::QuarticSpline quarticSpline;
-  const ctk::BuildStatus built = quartic
-    ? ctk::BuildQuarticCloughTocher(data, topology, options, quarticSpline, ctsplines::SMPFor)
-    : ctk::BuildCubicCloughTocher(data, topology, options, cubic, ctsplines::SMPFor);
-  if (!built.Ok)
-  {
-    vtkErrorMacro(<< built.Message);
-    return 0;
-  }
-  if (!built.Message.empty())
-  {
-    vtkWarningMacro(<< built.Message); // e.g. the quartic fairing stopped early
-  }
-  this->UpdateProgress(0.6);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
-
-  // 3. Fill the output: shared control points, three Bézier cells per triangle.
-  const std::vector<ctk::Vec3>& controlPoints = quartic ? quarticSpline.ControlPoints : cubic.ControlPoints;
-  const std::vector<ctk::Vec2>& domainPoints = quartic ? quarticSpline.DomainPoints : cubic.DomainPoints;
+// 3. The output: shared control points with their domain points, three Bézier cells per
+// triangle with MacroTriangleId and MicroTriangleId.
+void FillSplineGrid(const ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
+  const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output)
+{
+  const std::vector<ctk::Vec3>& controlPoints = spline.ControlPoints();
+  const std::vector<ctk::Vec2>& domainPoints = spline.DomainPoints();
   const vtkIdType nP = static_cast<vtkIdType>(controlPoints.size());
   // Output arrays are first touched in the parallel loops below (see AllocateTuples).
   vtkNew<vtkDoubleArray> coords;
   coords->SetNumberOfComponents(3);
   ctsplines::AllocateTuples(coords, nP);
   vtkNew<vtkDoubleArray> uvOut;
-  uvOut->SetName(this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str());
+  uvOut->SetName(uvName);
   uvOut->SetNumberOfComponents(2);
   ctsplines::AllocateTuples(uvOut, nP);
   double* xyz = coords->GetPointer(0);
@@ -383,9 +393,8 @@ int vtkCloughTocherSplineFilter::RequestData(
     }
   });
 
-  const int degree = quartic ? 4 : 3;
-  const vtkIdType perCell = ctk::BezierPointCount(degree);
-  const vtkIdType nCells = 3 * nT;
+  const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
+  const vtkIdType nT = in.NumberOfTriangles(), nCells = 3 * nT;
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   ctsplines::AllocateTuples(offsets, nCells + 1);
   ctsplines::AllocateTuples(connectivity, perCell * nCells);
@@ -397,40 +406,27 @@ int vtkCloughTocherSplineFilter::RequestData(
   vtkNew<vtkSignedCharArray> microIds;
   microIds->SetName("MicroTriangleId");
   ctsplines::AllocateTuples(microIds, nCells);
-  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(degree);
+  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(spline.Degree);
   vtkIdType* off = offsets->GetPointer(0);
   vtkIdType* conn = connectivity->GetPointer(0);
   unsigned char* typeOf = types->GetPointer(0);
   vtkIdType* macroOf = macroIds->GetPointer(0);
   signed char* microOf = microIds->GetPointer(0);
-  auto fillCell = [&](vtkIdType t, int k, const ctk::Id* net) {
-    const vtkIdType c = 3 * t + k;
-    for (vtkIdType a = 0; a < perCell; ++a)
-    {
-      conn[perCell * c + a] = net[vtkOrder[a]];
-    }
-    off[c] = perCell * c;
-    typeOf[c] = VTK_BEZIER_TRIANGLE;
-    macroOf[c] = t;
-    microOf[c] = static_cast<signed char>(k);
-  };
   vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType t = b; t < e; ++t)
     {
-      if (quartic)
-      {
-        for (int k = 0; k < 3; ++k)
-        {
-          fillCell(t, k,
-            ctk::QuarticMicroNet(quarticSpline.Layout, topology, triangles.data(), t, k).data());
-        }
-        continue;
-      }
-      const ctk::MacroElementIds ids =
-        ctk::GetMacroElementIds(cubic.Layout, topology, triangles.data(), t);
       for (int k = 0; k < 3; ++k)
       {
-        fillCell(t, k, ctk::MicroTriangleNet(ids, k).data());
+        const std::array<ctk::Id, 15> net = spline.MicroNet(topology, in.Triangles.data(), t, k);
+        const vtkIdType c = 3 * t + k;
+        for (vtkIdType a = 0; a < perCell; ++a)
+        {
+          conn[perCell * c + a] = net[vtkOrder[a]];
+        }
+        off[c] = perCell * c;
+        typeOf[c] = VTK_BEZIER_TRIANGLE;
+        macroOf[c] = t;
+        microOf[c] = static_cast<signed char>(k);
       }
     }
   });
@@ -445,33 +441,15 @@ int vtkCloughTocherSplineFilter::RequestData(
   output->GetPointData()->AddArray(uvOut);
   output->GetCellData()->AddArray(macroIds);
   output->GetCellData()->AddArray(microIds);
-  vtkFieldData* fd = output->GetFieldData();
-  AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
-  AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
-  AddFieldString(fd, "BoundaryMode", GetBoundaryModeName(this->BoundaryMode));
-  vtkNew<vtkIntArray> iterations;
-  iterations->SetName("Iterations");
-  iterations->InsertNextValue(this->Iterations);
-  fd->AddArray(iterations);
-  if (this->ComputeBezierExtraction)
-  {
-    if (quartic)
-    {
-      vtkErrorMacro(<< "Bézier extraction is available for the cubic constructions only");
-      return 0;
-    }
-    ctk::BezierExtraction extraction;
-    const ctk::BuildStatus ex =
-      ctk::BuildBezierExtraction(data, topology, options, extraction, ctsplines::SMPFor);
-    if (!ex.Ok)
-    {
-      vtkErrorMacro(<< ex.Message);
-      return 0;
-    }
-    AddBezierExtraction(output, data, topology, extraction);
-  }
-  // Distributed runs: global ids of the macro-triangles, then drop the ghost triangles.
-  if (globalIdArray)
+}
+
+// Distributed runs: global ids of the macro-triangles, then the micro-triangles of the ghost
+// triangles dropped.
+void FinishPiece(vtkUnstructuredGrid* output, const std::vector<vtkIdType>& globalIds,
+  bool hasGlobalIds, vtkUnsignedCharArray* ghosts)
+{
+  const vtkIdType nCells = output->GetNumberOfCells();
+  if (hasGlobalIds)
   {
     vtkNew<vtkIdTypeArray> macroGlobal;
     macroGlobal->SetName("MacroTriangleGlobalId");
@@ -496,6 +474,102 @@ int vtkCloughTocherSplineFilter::RequestData(
       KeepCells(output, keep);
     }
   }
+}
+} // namespace
+
+int vtkCloughTocherSplineFilter::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkPointSet* input = vtkPointSet::GetData(inputVector[0]);
+  vtkUnstructuredGrid* output = vtkUnstructuredGrid::GetData(outputVector);
+  if (!input || !output)
+  {
+    vtkErrorMacro(<< "missing input or output data object");
+    return 0;
+  }
+  ctk::SplineOptions options;
+  options.Method = static_cast<ctk::Construction>(this->Construction);
+  options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
+  options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
+  options.Iterations = this->Iterations;
+  const ctk::ConstructionInfo& info = ctk::Info(options.Method);
+
+  // 1. Validate and map.
+  ctk::SplineInput in;
+  std::vector<vtkIdType> globalIds;
+  vtkDataArray* globalIdArray = nullptr;
+  vtkUnsignedCharArray* ghosts = nullptr;
+  std::string error = ReadSplineInput(input, this, options, in);
+  if (error.empty())
+  {
+    error = ReadPieceArrays(input, globalIds, globalIdArray, ghosts);
+  }
+  if (error.empty() && this->ComputeBezierExtraction && !info.HasBezierExtraction)
+  {
+    error = std::string("Bézier extraction is available for ") +
+      ConstructionNames(&GetConstructionHasBezierExtraction) + " only, not for " + info.Name;
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
+    return 0;
+  }
+  ctk::MeshTopology topology;
+  const ctk::TopologyStatus topo =
+    ctk::BuildMeshTopology(in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology);
+  if (!topo.Ok)
+  {
+    vtkErrorMacro(<< "invalid mesh: " << topo.Message);
+    return 0;
+  }
+  this->UpdateProgress(0.2);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // 2. The kernel (which validates the values: finite, no zero-area or folded triangle).
+  const ctk::SplineData data = in.View();
+  ctk::CloughTocherSpline spline;
+  const ctk::BuildStatus built = ctk::BuildCloughTocher(data, topology, options, spline, ctsplines::SMPFor);
+  if (!built.Ok)
+  {
+    vtkErrorMacro(<< built.Message);
+    return 0;
+  }
+  if (!built.Message.empty())
+  {
+    vtkWarningMacro(<< built.Message); // e.g. the quartic fairing stopped early
+  }
+  this->UpdateProgress(0.6);
+  if (this->GetAbortExecute())
+  {
+    return 1;
+  }
+
+  // 3. Fill the output.
+  FillSplineGrid(spline, topology, in, this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output);
+  vtkFieldData* fd = output->GetFieldData();
+  AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
+  AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
+  AddFieldString(fd, "BoundaryMode", GetBoundaryModeName(this->BoundaryMode));
+  vtkNew<vtkIntArray> iterations;
+  iterations->SetName("Iterations");
+  iterations->InsertNextValue(this->Iterations);
+  fd->AddArray(iterations);
+  if (this->ComputeBezierExtraction)
+  {
+    ctk::BezierExtraction extraction;
+    const ctk::BuildStatus ex =
+      ctk::BuildBezierExtraction(data, topology, options, extraction, ctsplines::SMPFor);
+    if (!ex.Ok)
+    {
+      vtkErrorMacro(<< ex.Message);
+      return 0;
+    }
+    AddBezierExtraction(output, data, topology, extraction);
+  }
+  FinishPiece(output, globalIds, globalIdArray != nullptr, ghosts);
   this->UpdateProgress(1.0);
   return 1;
 }

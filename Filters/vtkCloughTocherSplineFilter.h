@@ -46,7 +46,9 @@ public:
   vtkTypeMacro(vtkCloughTocherSplineFilter, vtkUnstructuredGridAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
-  /// Constructions of the study (values match the kernel's ctk::Construction).
+  /// Constructions of the two papers: the rows of the kernel's construction table
+  /// (Filters/Kernel/Constructions.h; values match ctk::Construction, which a static_assert
+  /// checks). docs/constructions.md says what each gives.
   enum ConstructionType
   {
     CTo = 0,
@@ -144,7 +146,8 @@ public:
   /// across the interior macro-edges at a boundary vertex C1 needs the prescribed points to agree
   /// with that vertex's derivatives (T - V = J (U_j - U_i) / 3, eq. 11) and is lost by their
   /// mismatch otherwise. This is how vtkWatertightSplineStitcher gives neighbouring CAD faces one
-  /// boundary (the sampler's `EdgeCurvePoints`). Cubic constructions CTo..KaG, without the Bézier
+  /// boundary (the sampler's `EdgeCurvePoints`). The constructions that take boundary curves
+  /// (GetConstructionTakesBoundaryCurves: the cubic ones but Kashyap), without the Bézier
   /// extraction; default empty (none).
   vtkSetStdStringFromCharMacro(BoundaryCurvePointsArrayName);
   vtkGetCharFromStdStringMacro(BoundaryCurvePointsArrayName);
@@ -164,13 +167,28 @@ public:
   vtkBooleanMacro(ComputeBezierExtraction, bool);
   ///@}
 
-  /// Ghost levels the construction needs around a piece to reproduce the serial result on it:
-  /// 0 for CTo and MGo, else 2 + Iterations (neighbours' data, one more layer per iteration,
-  /// one for the final C1 smoothing of Kashyap's scheme).
+  /// Ghost levels the construction needs around a piece to reproduce the serial result on it
+  /// (ctk::RequiredGhostRings): 0 for the local constructions (CTo, MGo) without iterations,
+  /// else 2 + Iterations (neighbours' data, one more layer per iteration).
   int GetRequiredGhostLevels() const;
 
-  /// Name of a construction, split point or boundary mode value ("CTi", "Inc3", ...).
+  ///@{
+  /// The construction table (Filters/Kernel/Constructions.h), for wrappers, the CAD classes and
+  /// Python: the number of constructions (values 0 .. N-1), a construction's name ("Unknown"
+  /// outside) and value by name (-1 when none), its one-line summary, output degree (3 or 4),
+  /// whether it takes prescribed boundary curves (BoundaryCurvePointsArrayName), whether a CAD
+  /// model can be stitched with it, whether it has a Bézier extraction.
+  static int GetNumberOfConstructions();
   static const char* GetConstructionName(int construction);
+  static int GetConstructionValue(const char* name);
+  static const char* GetConstructionSummary(int construction);
+  static int GetConstructionDegree(int construction);
+  static bool GetConstructionTakesBoundaryCurves(int construction);
+  static bool GetConstructionCanBeStitched(int construction);
+  static bool GetConstructionHasBezierExtraction(int construction);
+  ///@}
+
+  /// Name of a split point or boundary mode value ("Inc3", "Midpoint", ...).
   static const char* GetSplitPointName(int splitPoint);
   static const char* GetBoundaryModeName(int mode);
 

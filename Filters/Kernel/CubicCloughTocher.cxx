@@ -14,32 +14,6 @@
 
 namespace ctk
 {
-const char* ToString(Construction c)
-{
-  switch (c)
-  {
-    case Construction::CTo:
-      return "CTo";
-    case Construction::CTi:
-      return "CTi";
-    case Construction::Fa:
-      return "Fa";
-    case Construction::FO:
-      return "FO";
-    case Construction::Ka:
-      return "Ka";
-    case Construction::MGo:
-      return "MGo";
-    case Construction::MGi:
-      return "MGi";
-    case Construction::KaG:
-      return "KaG";
-    case Construction::Kashyap:
-      return "Kashyap";
-  }
-  return "Unknown";
-}
-
 const char* ToString(BoundaryMode m)
 {
   switch (m)
@@ -63,19 +37,16 @@ bool IsGradientMode(BoundaryMode m)
   return m == BoundaryMode::GradientPerpendicular || m == BoundaryMode::GradientToSplitPoint;
 }
 
-// Constructions whose central points at an interior macro-edge come from both sides' data.
-bool IsEdgeBased(Construction c)
-{
-  return c == Construction::Fa || c == Construction::FO || c == Construction::Ka ||
-    c == Construction::KaG || c == Construction::Kashyap;
-}
 } // namespace
 
 BoundaryMode EffectiveBoundaryMode(const SplineOptions& o)
 {
   // KaG is Ka with mid-edge gradients on boundary edges; MGi, which has them on every edge,
   // uses them there too.
-  if ((o.Method == Construction::KaG || o.Method == Construction::MGi) && !IsGradientMode(o.Boundary))
+  const ConstructionInfo& c = Info(o.Method);
+  const bool gradientsByDefault = c.EdgeGradients == EdgeGradientUse::BoundaryEdges ||
+    (c.EdgeGradients == EdgeGradientUse::AllEdges && !c.Local);
+  if (gradientsByDefault && !IsGradientMode(o.Boundary))
   {
     return BoundaryMode::GradientToSplitPoint;
   }
@@ -84,8 +55,9 @@ BoundaryMode EffectiveBoundaryMode(const SplineOptions& o)
 
 bool UsesEdgeGradients(const SplineOptions& o)
 {
-  return o.Method == Construction::MGo || o.Method == Construction::MGi ||
-    (o.Method != Construction::CTo && IsGradientMode(EffectiveBoundaryMode(o)));
+  const ConstructionInfo& c = Info(o.Method);
+  return c.EdgeGradients == EdgeGradientUse::AllEdges ||
+    (!c.Local && IsGradientMode(EffectiveBoundaryMode(o)));
 }
 
 void SerialFor(Id n, const std::function<void(Id, Id)>& body)
@@ -380,7 +352,7 @@ void Builder::ForInteriorEdges(Body&& body)
 void Builder::Step2()
 {
   // Rules that read one side only (every edge of the local constructions, boundary edges).
-  const bool edgeBased = IsEdgeBased(this->Options.Method);
+  const bool edgeBased = Info(this->Options.Method).EdgeBased;
   this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
     for (Id t = begin; t < end; ++t)
     {
@@ -424,10 +396,7 @@ void Builder::InitialEdgeCentres(Id t0, int l0, Id t1, int l1)
     return;
   }
   // FO (eq. 22), Ka and KaG (eq. 23); Kashyap's scheme starts from FO's cubic precision.
-  const MacroEdgeRule rule = this->Options.Method == Construction::FO ||
-      this->Options.Method == Construction::Kashyap
-    ? MacroEdgeRule::FoleyOpitz
-    : MacroEdgeRule::Kashyap;
+  const MacroEdgeRule rule = Info(this->Options.Method).EdgeRule;
   std::array<Vec3, 10> macro0 = MacroNet(ids0, P, Vec3::Zero());
   std::array<Vec3, 10> macro1 = MacroNet(ids1, P, Vec3::Zero());
   macro0[CubicCentre] = MacroEdgeQ(rule, macro0.data(), A, macro1.data(), B);
@@ -481,6 +450,13 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
   {
     status.Ok = false;
     status.Message = "Iterations must be >= 0";
+    return status;
+  }
+  if (!IsConstruction(static_cast<int>(options.Method)) || Info(options.Method).Degree != 3)
+  {
+    status.Ok = false;
+    status.Message = std::string("construction ") + ToString(options.Method) +
+      " is not a cubic construction (BuildCloughTocher builds every degree)";
     return status;
   }
   if (UsesEdgeGradients(options) && !data.EdgeGradients)

@@ -2,14 +2,15 @@
 // The cubic C1 Clough-Tocher spline of a parametrised triangle mesh (study section 3): Step 1
 // (eq. 11-12), Step 2 by the chosen construction, Step 3 (eq. 13-14), on shared control points.
 //
-// Constructions: CTo, CTi (eq. 15-17), MGo, MGi (eq. 24-25), Fa (eq. 18-21), FO (eq. 22),
-// Ka (eq. 23), KaG (Ka with mid-edge gradients on boundary edges) and Kashyap's cubic fairing
-// scheme (quartic paper section 3); boundary edges of the non-local ones follow BoundaryMode
+// Constructions (Constructions.h has their table): CTo, CTi (eq. 15-17), MGo, MGi (eq. 24-25),
+// Fa (eq. 18-21), FO (eq. 22), Ka (eq. 23), KaG (Ka with mid-edge gradients on boundary edges)
+// and Kashyap's cubic fairing scheme (quartic paper section 3); Quartic is QuarticCloughTocher.h's; boundary edges of the non-local ones follow BoundaryMode
 // (section 3.8). Iterations: IM steps (section 3.7) after any construction but Kashyap, for
 // which it counts exterior + interior fairing rounds.
 #ifndef CTSplines_Kernel_CubicCloughTocher_h
 #define CTSplines_Kernel_CubicCloughTocher_h
 
+#include "Constructions.h"
 #include "CubicMacroElement.h"
 #include "MeshTopology.h"
 #include "SplitPoint.h"
@@ -22,18 +23,6 @@
 
 namespace ctk
 {
-enum class Construction
-{
-  CTo = 0,
-  CTi = 1,
-  Fa = 2,
-  FO = 3,
-  Ka = 4,
-  MGo = 5,
-  MGi = 6,
-  KaG = 7,
-  Kashyap = 8
-};
 
 enum class BoundaryMode
 {
@@ -43,7 +32,6 @@ enum class BoundaryMode
   GradientToSplitPoint = 3  // eq. (25), v_eps from Z to the edge midpoint
 };
 
-const char* ToString(Construction c);
 const char* ToString(BoundaryMode m);
 
 /// Input of a spline construction; arrays are row-major and owned by the caller.

@@ -18,7 +18,7 @@ Vec3 MacroEdgeQ(MacroEdgeRule rule, const Vec3* macroT, const Vec2* A, const Vec
     net[CubicCentre] = X;
     RuleAResiduals(3, net, A, macroTbar, B, 2, out);
   };
-  return SolveAffineResiduals(residuals, 2, rule == MacroEdgeRule::FoleyOpitz);
+  return SolveAffineResiduals(residuals, 2, rule == MacroEdgeRule::ZeroResidualSum);
 }
 
 } // namespace ctk

@@ -10,17 +10,13 @@
 #define CTSplines_Kernel_MacroEdgeCubicPrecision_h
 
 #include "BezierTriangle.h"
+#include "Constructions.h" // MacroEdgeRule
 
 namespace ctk
 {
-enum class MacroEdgeRule
-{
-  FoleyOpitz, // eq. (22)
-  Kashyap     // eq. (23)
-};
-
 /// macroT, macroTbar: cubic macro nets (canonical order) over domains A (T's vertices) and B
-/// (Tbar's vertices, any order); their central points are ignored. Returns T's Q.
+/// (Tbar's vertices, any order); their central points are ignored. Returns T's Q by rule
+/// (ZeroResidualSum or LeastSquares).
 Vec3 MacroEdgeQ(MacroEdgeRule rule, const Vec3* macroT, const Vec2* A, const Vec3* macroTbar,
   const Vec2* B);
 

@@ -340,7 +340,7 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
   const QuarticObserver& observer)
 {
   SplineOptions start = options;
-  start.Method = Construction::FO;
+  start.Method = Info(Construction::Quartic).StartsFrom; // FO
   start.Iterations = 0;
   CubicSpline cubic;
   BuildStatus status = BuildCubicCloughTocher(data, topo, start, cubic, parallelFor);

@@ -214,6 +214,6 @@ TEST(CubicConstructions, FOAgreesWithThePrintedClosedForm)
                          t0 * t0 * T20 + T31 - t1 * t1 * T01 - 2 * t1 * t2 * T10 -
                          2 * t0 * t2 * T12 - t2 * t2 * V1 - t0 * t0 * T21) /
     (2 * t0 * (t1 + t2));
-  const Vec3 ours = MacroEdgeQ(MacroEdgeRule::FoleyOpitz, macroT, A, macroTbar, B);
+  const Vec3 ours = MacroEdgeQ(MacroEdgeRule::ZeroResidualSum, macroT, A, macroTbar, B);
   EXPECT_LT((ours - printed).norm(), 1e-12 * printed.norm());
 }

@@ -5,7 +5,8 @@
 #define CTSplines_Testing_TestMeshes_h
 
 #include "AnalyticSurfaces.h"
-#include "CubicCloughTocher.h"
+#include "CloughTocherSpline.h"
+#include "SplineInput.h"
 
 #include <Eigen/Dense>
 
@@ -17,27 +18,13 @@ namespace ctk_test
 {
 using namespace ctk;
 
-/// Owns the arrays behind a SplineData.
-struct SampledMesh
+/// A named test input with its topology (SplineInput owns the arrays behind a SplineData).
+struct SampledMesh : SplineInput
 {
   std::string Name;
-  std::vector<Id> Triangles;
-  std::vector<double> UV, F, Fu, Fv, EdgeGradients;
   MeshTopology Topology;
 
-  SplineData Data() const
-  {
-    SplineData d;
-    d.NumberOfVertices = static_cast<Id>(UV.size() / 2);
-    d.NumberOfTriangles = static_cast<Id>(Triangles.size() / 3);
-    d.Triangles = Triangles.data();
-    d.UV = UV.data();
-    d.F = F.data();
-    d.Fu = Fu.data();
-    d.Fv = Fv.data();
-    d.EdgeGradients = EdgeGradients.data();
-    return d;
-  }
+  SplineData Data() const { return this->View(); }
 };
 
 /// Affine reparameterisation U' = A U + t (gradients map by A^{-T}: J' = J A^{-1}).
@@ -155,35 +142,14 @@ inline std::vector<std::pair<std::string, ParameterMesh>> MeshSuite()
   return suite;
 }
 
-/// Evaluates the spline at parameter X inside macro-triangle t (picks the micro-triangle).
+/// Evaluates the spline at parameter X inside macro-triangle t.
 inline ParametricJet EvaluateSpline(
   const SampledMesh& mesh, const CubicSpline& spline, Id t, const Vec2& X, int order = 1)
 {
-  const MacroElementIds ids =
-    GetMacroElementIds(spline.Layout, mesh.Topology, mesh.Triangles.data(), t);
-  const Vec3& tau = spline.SplitTau[t];
-  Vec2 U[3];
-  for (int i = 0; i < 3; ++i)
-  {
-    U[i] = Vec2(mesh.UV[2 * mesh.Triangles[3 * t + i]], mesh.UV[2 * mesh.Triangles[3 * t + i] + 1]);
-  }
-  const Vec2 Z = tau[0] * U[0] + tau[1] * U[1] + tau[2] * U[2];
-  for (int k = 0; k < 3; ++k)
-  {
-    const Vec2 &A0 = U[(k + 1) % 3], &A1 = U[(k + 2) % 3];
-    const Vec3 b = Barycentric(A0, A1, Z, X);
-    if (b.minCoeff() >= -1e-12 || k == 2)
-    {
-      const std::array<Id, 10> net = MicroTriangleNet(ids, k);
-      Vec3 P[10];
-      for (int a = 0; a < 10; ++a)
-      {
-        P[a] = spline.ControlPoints[net[a]];
-      }
-      return EvaluateOverDomain(3, P, nullptr, A0, A1, Z, b, order);
-    }
-  }
-  return {};
+  const Id* tri = mesh.Triangles.data() + 3 * t;
+  const Vec3 tau = Barycentric(spline.DomainPoints[tri[0]], spline.DomainPoints[tri[1]],
+    spline.DomainPoints[tri[2]], X);
+  return ctk::EvaluateSpline(spline, mesh.Topology, mesh.Triangles.data(), t, tau, order);
 }
 
 } // namespace ctk_test

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "SplineInput.h"
+
+#include "SplineDataValidation.h"
+
+namespace ctk
+{
+namespace
+{
+template <typename T>
+const T* OrNull(const std::vector<T>& v)
+{
+  return v.empty() ? nullptr : v.data();
+}
+
+bool SizeIs(BuildStatus& status, const char* name, size_t size, size_t expected, bool optional)
+{
+  if (size == expected || (optional && size == 0))
+  {
+    return true;
+  }
+  status.Ok = false;
+  status.Message = std::string(name) + " has " + std::to_string(size) + " values, expected " +
+    std::to_string(expected) + (optional ? " (or none)" : "");
+  return false;
+}
+} // namespace
+
+SplineData SplineInput::View() const
+{
+  SplineData d;
+  d.NumberOfVertices = this->NumberOfVertices();
+  d.NumberOfTriangles = this->NumberOfTriangles();
+  d.Triangles = OrNull(this->Triangles);
+  d.UV = OrNull(this->UV);
+  d.F = OrNull(this->F);
+  d.Fu = OrNull(this->Fu);
+  d.Fv = OrNull(this->Fv);
+  d.EdgeGradients = OrNull(this->EdgeGradients);
+  d.BoundaryCurvePoints = OrNull(this->BoundaryCurvePoints);
+  d.SplitTau = OrNull(this->SplitTau);
+  return d;
+}
+
+BuildStatus SplineInput::Validate(const MeshTopology& topology) const
+{
+  BuildStatus status;
+  const size_t nV = static_cast<size_t>(this->NumberOfVertices());
+  const size_t nT = static_cast<size_t>(this->NumberOfTriangles());
+  if (!SizeIs(status, "Triangles", this->Triangles.size(), 3 * nT, false) ||
+    !SizeIs(status, "UV", this->UV.size(), 2 * nV, false) ||
+    !SizeIs(status, "F", this->F.size(), 3 * nV, false) ||
+    !SizeIs(status, "Fu", this->Fu.size(), 3 * nV, false) ||
+    !SizeIs(status, "Fv", this->Fv.size(), 3 * nV, false) ||
+    !SizeIs(status, "EdgeGradients", this->EdgeGradients.size(), 18 * nT, true) ||
+    !SizeIs(status, "BoundaryCurvePoints", this->BoundaryCurvePoints.size(), 18 * nT, true) ||
+    !SizeIs(status, "SplitTau", this->SplitTau.size(), nT, true))
+  {
+    return status;
+  }
+  if (topology.TriangleEdges.size() != nT)
+  {
+    status.Ok = false;
+    status.Message = "the topology has " + std::to_string(topology.TriangleEdges.size()) +
+      " triangles, the input " + std::to_string(nT);
+    return status;
+  }
+  return ValidateSplineData(this->View(), topology);
+}
+
+} // namespace ctk

@@ -1,0 +1,33 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The owning form of a construction's input: the arrays behind a SplineData, for callers that
+// gather their data (the VTK filter, the CAD face mesher, the Bézier extraction's probes, tests).
+#ifndef CTSplines_Kernel_SplineInput_h
+#define CTSplines_Kernel_SplineInput_h
+
+#include "CubicCloughTocher.h"
+
+#include <vector>
+
+namespace ctk
+{
+struct SplineInput
+{
+  std::vector<Id> Triangles;     // #T by 3
+  std::vector<double> UV;        // #V by 2
+  std::vector<double> F, Fu, Fv; // #V by 3 each
+  std::vector<double> EdgeGradients;       // empty or #T by 18
+  std::vector<double> BoundaryCurvePoints; // empty or #T by 18
+  std::vector<Vec3> SplitTau;              // empty or #T
+
+  Id NumberOfVertices() const { return static_cast<Id>(this->UV.size() / 2); }
+  Id NumberOfTriangles() const { return static_cast<Id>(this->Triangles.size() / 3); }
+  /// The non-owning view the constructions read (empty optional arrays become nullptr).
+  SplineData View() const;
+  /// Array sizes consistent with the vertex and triangle counts (naming the array that is not),
+  /// then ValidateSplineData: finite values, no zero-area or folded triangle.
+  BuildStatus Validate(const MeshTopology& topology) const;
+};
+
+} // namespace ctk
+
+#endif
