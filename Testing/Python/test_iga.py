@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Bézier extraction from Python: the global matrix reproduces the control points, the export
 format round-trips, and the Galerkin example converges at the spaces' rates."""
+import json
 import os
 import sys
 import tempfile
@@ -57,6 +58,60 @@ class ExtractionTest(unittest.TestCase):
             np.testing.assert_array_equal(op, ex.operators[c, :, :k])
             # Each element reproduces its control points from the degrees of freedom.
             np.testing.assert_allclose(op @ ex.dofs[dofs], ex.points[ids], atol=1e-12)
+
+    def test_json_round_trip(self):
+        grid = franke_spline("MGi")
+        ex = iga.Extraction(grid)
+        sets = {"corner": [0, 1, 2]}
+        for layout in ("coreform", "ctsplines"):
+            with tempfile.TemporaryDirectory() as d:
+                path = os.path.join(d, "spline.json")
+                iga.export_json(grid, path, layout=layout, dof_sets=sets)
+                back = iga.read_json(path)
+            self.assertEqual(back["n_dofs"], ex.n_dofs, layout)
+            np.testing.assert_array_equal(back["points"], ex.points)
+            np.testing.assert_array_equal(back["uv"], ex.uv)
+            np.testing.assert_array_equal(back["dofs"], ex.dofs)
+            np.testing.assert_array_equal(back["dof_sets"]["corner"], [0, 1, 2])
+            self.assertEqual(len(back["elements"]), len(ex.cell_points))
+            for c, (ids, dofs, op) in enumerate(back["elements"]):
+                np.testing.assert_array_equal(ids, ex.cell_points[c])
+                k = len(dofs)
+                np.testing.assert_array_equal(dofs, ex.cell_dofs[c, :k])
+                # Bit-exact for the per-element layout; the global matrix of the ctsplines layout
+                # stores each shared control point once, so the cells must agree on it.
+                np.testing.assert_allclose(op, ex.operators[c, :, :k], rtol=0, atol=1e-13,
+                                           err_msg=f"{layout} element {c}")
+                np.testing.assert_allclose(op @ back["dofs"][dofs], back["points"][ids], atol=1e-12)
+
+    def test_json_bad_input_is_reported(self):
+        grid = franke_spline("CTi")
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "spline.json")
+            with self.assertRaisesRegex(ValueError, "unknown layout"):
+                iga.export_json(grid, path, layout="bext")
+            with self.assertRaisesRegex(ValueError, "outside"):
+                iga.export_json(grid, path, dof_sets={"bad": [10**9]})
+            for layout in ("coreform", "ctsplines"):
+                iga.export_json(grid, path, layout=layout)
+                with open(path) as f:
+                    data = json.load(f)
+                if layout == "coreform":
+                    data["elements"]["element_blocks"][0]["elements"][5]["control_point_ids"][0] = 10**9
+                else:
+                    data["cell_dofs"][5][0] = 10**9
+                with open(path, "w") as f:
+                    json.dump(data, f)
+                with self.assertRaisesRegex(ValueError, "element 5|malformed"):
+                    iga.read_json(path)
+            with open(path, "w") as f:
+                f.write("{not json")
+            with self.assertRaisesRegex(ValueError, "not JSON"):
+                iga.read_json(path)
+            with open(path, "w") as f:
+                json.dump({"format": "something else"}, f)
+            with self.assertRaisesRegex(ValueError, "not a ctsplines-bezier-extraction"):
+                iga.read_json(path)
 
     def test_missing_extraction_is_reported(self):
         with self.assertRaises(ValueError):

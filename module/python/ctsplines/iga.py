@@ -18,7 +18,24 @@ File format written by :func:`export` (plain text, whitespace separated, '#' sta
     elements <E>                     then per element three lines:
       <10 point ids, VTK order> ; <k> <k dof ids>
       <10 x k coefficients, row-major>
+
+JSON files written by :func:`export_json` (read back by :func:`read_json`), two layouts:
+
+``layout="coreform"``: modelled on Coreform Cubit's Bézier-extraction JSON (top-level objects
+``control_points``, ``elements`` in ``element_blocks``, ``extraction_coefficients`` with
+``dense_coefficient_vectors``; 0-based), with element type ``BERNSTEIN_TRIANGLE`` (Cubit's own
+blocks are tensor-product): the global "control points" are the degrees of freedom (their
+coordinates are the geometry's dofs, some of them tangent vectors, weights 1), and element e
+lists ``control_point_ids`` and, per id, the index of its coefficient vector (its 10 Bernstein
+coefficients in the block's ``bernstein_exponents`` order): N_j|e = sum_i c_i B_i.
+
+``layout="ctsplines"``: the Bernstein mesh (``bezier_mesh``: uv, points, cells of 10 point ids),
+the global extraction matrix (points x dofs, CSR ``indptr``/``indices``/``data``), the dofs
+(``coordinates``, ``num_vertices``, ``edge_dofs``), each cell's dof ids, and named ``dof_sets``.
+See docs/iga.md.
 """
+import json
+
 import numpy as np
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
@@ -179,3 +196,117 @@ def read(path):
         elements.append((ids, np.array(dofs, dtype=np.int64), op))
     return {"degree": degree, "n_dofs": n_dofs, "uv": pts[:, :2], "points": pts[:, 2:],
             "elements": elements}
+
+
+JSON_FORMAT = "ctsplines-bezier-extraction"
+
+
+def export_json(grid, path, layout="ctsplines", dof_sets=None):
+    """Writes the extraction of a spline grid as JSON (layouts: this module's docstring).
+    dof_sets: optional {name: dof ids} (boundary sets, say), stored with either layout."""
+    ex = Extraction(grid)
+    sets = {str(k): [int(i) for i in v] for k, v in (dof_sets or {}).items()}
+    for name, ids in sets.items():
+        if ids and (min(ids) < 0 or max(ids) >= ex.n_dofs):
+            raise ValueError(f"dof set {name!r} has ids outside 0..{ex.n_dofs - 1}")
+    head = {"format": JSON_FORMAT, "layout": layout, "version": 1, "degree": 3,
+            "bernstein_exponents": ex.exponents()[0].tolist() if len(ex.cell_points) else [],
+            "bezier_points": {"uv": ex.uv.tolist(), "coordinates": ex.points.tolist()},
+            "dof_sets": sets}
+    if layout == "coreform":
+        body = _coreform_body(ex)
+    elif layout == "ctsplines":
+        M = ex.global_matrix()
+        body = {"bezier_mesh": {"cells": ex.cell_points.tolist()},
+                "extraction": {"shape": list(M.shape), "indptr": M.indptr.tolist(),
+                               "indices": M.indices.tolist(), "data": M.data.tolist()},
+                "dofs": {"num_dofs": ex.n_dofs, "coordinates": ex.dofs.tolist(),
+                         "num_vertices": int((ex.n_dofs - np.count_nonzero(ex.edge_dofs[:, 2] >= 0)) // 3),
+                         "edge_dofs": ex.edge_dofs.tolist()},
+                "cell_dofs": [dofs.tolist() for dofs, _ in ex.element_matrices()]}
+    else:
+        raise ValueError(f"unknown layout {layout!r}: 'coreform' or 'ctsplines'")
+    with open(path, "w") as f:
+        json.dump({**head, **body}, f)
+
+
+def _coreform_body(ex):
+    elements, vectors = [], []
+    for c, (dofs, op) in enumerate(ex.element_matrices()):
+        elements.append({"id": c, "bezier_point_ids": ex.cell_points[c].tolist(),
+                         "control_point_ids": dofs.tolist(),
+                         "extraction_coefficient_ids": list(range(len(vectors), len(vectors) + len(dofs)))})
+        vectors.extend(op.T.tolist())
+    return {"control_points": {"num_control_points": ex.n_dofs, "coordinates": ex.dofs.tolist(),
+                               "weights": [1.0] * ex.n_dofs},
+            "elements": {"num_elements": len(elements), "element_blocks": [
+                {"element_type": "BERNSTEIN_TRIANGLE", "degree": 3, "num_elements": len(elements),
+                 "elements": elements}]},
+            "extraction_coefficients": {"dense_coefficient_vectors": vectors}}
+
+
+def read_json(path):
+    """Reads :func:`export_json`'s files (either layout): dict with degree, n_dofs, uv, points,
+    dofs (the geometry's dof coordinates), dof_sets, and elements as a list of (point ids,
+    dof ids, operator 10 x k). ValueError naming the problem for malformed files."""
+    with open(path) as f:
+        try:
+            d = json.load(f)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{path}: not JSON ({e})") from None
+    if not isinstance(d, dict) or d.get("format") != JSON_FORMAT or d.get("version") != 1:
+        raise ValueError(f"{path}: not a {JSON_FORMAT} file of version 1")
+    try:
+        uv = np.asarray(d["bezier_points"]["uv"], dtype=float).reshape(-1, 2)
+        points = np.asarray(d["bezier_points"]["coordinates"], dtype=float).reshape(-1, 3)
+        if d["layout"] == "coreform":
+            n_dofs, coords, elements = _read_coreform(d)
+        elif d["layout"] == "ctsplines":
+            n_dofs, coords, elements = _read_ctsplines(d, len(points))
+        else:
+            raise ValueError(f"unknown layout {d['layout']!r}")
+    except (KeyError, TypeError, IndexError) as e:
+        raise ValueError(f"{path}: malformed ({type(e).__name__}: {e})") from None
+    for c, (ids, dofs, op) in enumerate(elements):
+        if len(ids) != 10 or ids.min() < 0 or ids.max() >= len(points):
+            raise ValueError(f"{path}: element {c} has point ids outside 0..{len(points) - 1} or not 10")
+        if len(dofs) and (dofs.min() < 0 or dofs.max() >= n_dofs):
+            raise ValueError(f"{path}: element {c} has dof ids outside 0..{n_dofs - 1}")
+    return {"degree": int(d["degree"]), "n_dofs": n_dofs, "uv": uv, "points": points, "dofs": coords,
+            "dof_sets": {k: np.asarray(v, dtype=np.int64) for k, v in d.get("dof_sets", {}).items()},
+            "elements": elements}
+
+
+def _read_coreform(d):
+    cp = d["control_points"]
+    n_dofs = int(cp["num_control_points"])
+    coords = np.asarray(cp["coordinates"], dtype=float).reshape(n_dofs, 3)
+    vectors = d["extraction_coefficients"]["dense_coefficient_vectors"]
+    elements = []
+    for block in d["elements"]["element_blocks"]:
+        if block["element_type"] != "BERNSTEIN_TRIANGLE" or int(block["degree"]) != 3:
+            raise ValueError(f"unsupported element block {block['element_type']} of degree {block['degree']}")
+        for e in block["elements"]:
+            dofs = np.asarray(e["control_point_ids"], dtype=np.int64)
+            op = np.array([vectors[i] for i in e["extraction_coefficient_ids"]], dtype=float).reshape(len(dofs), 10)
+            elements.append((np.asarray(e["bezier_point_ids"], dtype=np.int64), dofs, op.T.copy()))
+    return n_dofs, coords, elements
+
+
+def _read_ctsplines(d, n_points):
+    import scipy.sparse as sp
+
+    x = d["extraction"]
+    M = sp.csr_matrix((x["data"], x["indices"], x["indptr"]), shape=tuple(x["shape"]))
+    n_dofs = int(d["dofs"]["num_dofs"])
+    if M.shape != (n_points, n_dofs):
+        raise ValueError(f"extraction matrix of shape {M.shape}, expected ({n_points}, {n_dofs})")
+    coords = np.asarray(d["dofs"]["coordinates"], dtype=float).reshape(n_dofs, 3)
+    cells = d["bezier_mesh"]["cells"]
+    if len(cells) != len(d["cell_dofs"]):
+        raise ValueError(f"{len(cells)} cells but {len(d['cell_dofs'])} cell dof lists")
+    elements = []
+    for c, (ids, dofs) in enumerate(zip(cells, d["cell_dofs"])):
+        ids, dofs = np.asarray(ids, dtype=np.int64), np.asarray(dofs, dtype=np.int64)
+        elements.append((ids, dofs, M[ids][:, dofs].toarray()))
+    return n_dofs, coords, elements
