@@ -4,9 +4,7 @@
 #include "BezierTriangle.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
-
-#include <Eigen/Eigenvalues> // for GeneralizedSelfAdjointEigenSolver
-#include <Eigen/Geometry>    // for cross
+#include "SurfaceCurvatures.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -40,37 +38,6 @@ int vtkBezierCurvatureFilter::FillInputPortInformation(int, vtkInformation* info
 
 namespace
 {
-struct Curvatures
-{
-  double K, H, Max, Min;
-  ctk::Vec3 Normal, MaxDirection, MinDirection;
-};
-
-// Curvatures from the fundamental forms of x(r, s); see the class comment for the sign of H.
-Curvatures FromJet(const ctk::ParametricJet& jet)
-{
-  Curvatures k;
-  const ctk::Vec3 cross = jet.Du.cross(jet.Dv);
-  k.Normal = cross.normalized();
-  Eigen::Matrix2d I, II;
-  I << jet.Du.dot(jet.Du), jet.Du.dot(jet.Dv), jet.Du.dot(jet.Dv), jet.Dv.dot(jet.Dv);
-  II << jet.Duu.dot(k.Normal), jet.Duv.dot(k.Normal), jet.Duv.dot(k.Normal),
-    jet.Dvv.dot(k.Normal);
-  // det I = |x_r x x_s|^2 exactly, without cancellation.
-  const double detI = cross.squaredNorm();
-  k.K = II.determinant() / detI;
-  k.H = -(I(0, 0) * II(1, 1) - 2 * I(0, 1) * II(0, 1) + I(1, 1) * II(0, 0)) / (2 * detI);
-  // Principal curvatures and directions: II v = lambda I v with kappa = -lambda, so the smallest
-  // lambda gives the largest curvature. The symmetric eigenproblem stays accurate at umbilics,
-  // where H +- sqrt(H^2 - K) would lose half the digits.
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix2d> eig(II, I);
-  k.Max = -eig.eigenvalues()[0];
-  k.Min = -eig.eigenvalues()[1];
-  const Eigen::Vector2d vMax = eig.eigenvectors().col(0), vMin = eig.eigenvectors().col(1);
-  k.MaxDirection = (vMax.x() * jet.Du + vMax.y() * jet.Dv).normalized();
-  k.MinDirection = (vMin.x() * jet.Du + vMin.y() * jet.Dv).normalized();
-  return k;
-}
 // The p-th and (100 - p)-th percentiles of a one-component array (nearest rank, O(n)), as a
 // 2-component field data array named after it.
 vtkSmartPointer<vtkDoubleArray> RobustRange(vtkDoubleArray* a, double p)
@@ -93,6 +60,55 @@ vtkSmartPointer<vtkDoubleArray> RobustRange(vtkDoubleArray* a, double p)
   range->InsertNextTuple(lohi);
   return range;
 }
+
+vtkSmartPointer<vtkDoubleArray> MakeArray(const char* name, int components, vtkIdType tuples)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(tuples);
+  return a;
+}
+
+// The curvature point data of the output; each point is written by exactly one cell.
+struct CurvatureArrays
+{
+  explicit CurvatureArrays(vtkIdType nPoints)
+    : Normals(MakeArray("Normals", 3, nPoints))
+    , Gauss(MakeArray("Gauss_Curvature", 1, nPoints))
+    , Mean(MakeArray("Mean_Curvature", 1, nPoints))
+    , Max(MakeArray("Maximum_Curvature", 1, nPoints))
+    , Min(MakeArray("Minimum_Curvature", 1, nPoints))
+    , MaxDirection(MakeArray("Maximum_Curvature_Direction", 3, nPoints))
+    , MinDirection(MakeArray("Minimum_Curvature_Direction", 3, nPoints))
+  {
+  }
+  void Write(vtkIdType id, const ctk::SurfaceCurvatures& k)
+  {
+    Normals->SetTypedTuple(id, k.Normal.data());
+    Gauss->SetValue(id, k.Gauss);
+    Mean->SetValue(id, k.Mean);
+    Max->SetValue(id, k.Max);
+    Min->SetValue(id, k.Min);
+    MaxDirection->SetTypedTuple(id, k.MaxDirection.data());
+    MinDirection->SetTypedTuple(id, k.MinDirection.data());
+  }
+  // The arrays as point data, the robust ranges of the scalars as field data.
+  void AddTo(vtkPointData* pd, vtkFieldData* fd, double percentile) const
+  {
+    pd->SetNormals(Normals);
+    for (vtkDoubleArray* a : { Gauss.Get(), Mean.Get(), Max.Get(), Min.Get(), MaxDirection.Get(),
+           MinDirection.Get() })
+    {
+      pd->AddArray(a);
+    }
+    for (vtkDoubleArray* a : { Gauss.Get(), Mean.Get(), Max.Get(), Min.Get() })
+    {
+      fd->AddArray(RobustRange(a, percentile));
+    }
+  }
+  vtkSmartPointer<vtkDoubleArray> Normals, Gauss, Mean, Max, Min, MaxDirection, MinDirection;
+};
 } // namespace
 
 int vtkBezierCurvatureFilter::RequestData(
@@ -136,21 +152,8 @@ int vtkBezierCurvatureFilter::RequestData(
   const vtkIdType nOutCells = nCells * trianglesPerCell;
 
   // 2. Output arrays; each point is written by exactly one cell.
-  auto makeArray = [nOutPoints](const char* name, int components) {
-    vtkSmartPointer<vtkDoubleArray> a = vtkSmartPointer<vtkDoubleArray>::New();
-    a->SetName(name);
-    a->SetNumberOfComponents(components);
-    a->SetNumberOfTuples(nOutPoints);
-    return a;
-  };
-  auto coords = makeArray(nullptr, 3);
-  auto normals = makeArray("Normals", 3);
-  auto gauss = makeArray("Gauss_Curvature", 1);
-  auto mean = makeArray("Mean_Curvature", 1);
-  auto kmax = makeArray("Maximum_Curvature", 1);
-  auto kmin = makeArray("Minimum_Curvature", 1);
-  auto dmax = makeArray("Maximum_Curvature_Direction", 3);
-  auto dmin = makeArray("Minimum_Curvature_Direction", 3);
+  auto coords = MakeArray(nullptr, 3, nOutPoints);
+  CurvatureArrays curvatures(nOutPoints);
   vtkNew<vtkIdTypeArray> offsets, connectivity, bezierCellId;
   offsets->SetNumberOfTuples(nOutCells + 1);
   connectivity->SetNumberOfTuples(3 * nOutCells);
@@ -160,8 +163,6 @@ int vtkBezierCurvatureFilter::RequestData(
   vtkIdType* conn = connectivity->GetPointer(0);
   vtkIdType* source = bezierCellId->GetPointer(0);
 
-  // The cell's own parametrisation (r, s): domain (0,0), (1,0), (0,1), t = (1 - r - s, r, s).
-  const ctk::Vec2 R0(0, 0), R1(1, 0), R2(0, 1);
   auto evaluate = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
@@ -184,18 +185,8 @@ int vtkBezierCurvatureFilter::RequestData(
           continue;
         }
         const ctk::Vec3& t = lattice.Points[li].T;
-        const ctk::ParametricJet exact = ctk::EvaluateOverDomain(n, R, wp, R0, R1, R2, t, 2);
         coords->SetTypedTuple(id, ctk::EvaluateBezierTriangle(n, P, wp, t, 0).Value.data());
-        const Curvatures k = ctk::IsSingularTangentPlane(exact.Du, exact.Dv)
-          ? FromJet(ctk::EvaluateOverDomain(n, R, wp, R0, R1, R2, ctk::NudgeInside(t), 2))
-          : FromJet(exact);
-        normals->SetTypedTuple(id, k.Normal.data());
-        gauss->SetValue(id, k.K);
-        mean->SetValue(id, k.H);
-        kmax->SetValue(id, k.Max);
-        kmin->SetValue(id, k.Min);
-        dmax->SetTypedTuple(id, k.MaxDirection.data());
-        dmin->SetTypedTuple(id, k.MinDirection.data());
+        curvatures.Write(id, ctk::BezierTriangleCurvatures(n, R, wp, t));
         data.Write(n, nets.data(), wp, t, id);
       }
       numbering.WriteTriangles(c, off, conn, source);
@@ -215,20 +206,10 @@ int vtkBezierCurvatureFilter::RequestData(
   polys->SetData(offsets, connectivity);
   output->SetPoints(points);
   output->SetPolys(polys);
-  vtkPointData* outPD = output->GetPointData();
-  outPD->SetNormals(normals);
-  for (vtkDoubleArray* a : { gauss.Get(), mean.Get(), kmax.Get(), kmin.Get(), dmax.Get(),
-         dmin.Get() })
-  {
-    outPD->AddArray(a);
-  }
-  data.AddTo(outPD);
+  curvatures.AddTo(output->GetPointData(), output->GetFieldData(), this->RobustRangePercentile);
+  data.AddTo(output->GetPointData());
   ctsplines::CopyCellDataBySource(input, output->GetCellData(), source, nOutCells);
   output->GetCellData()->AddArray(bezierCellId);
-  for (vtkDoubleArray* a : { gauss.Get(), mean.Get(), kmax.Get(), kmin.Get() })
-  {
-    output->GetFieldData()->AddArray(RobustRange(a, this->RobustRangePercentile));
-  }
   this->UpdateProgress(1.0);
   return 1;
 }

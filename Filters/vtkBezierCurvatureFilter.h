@@ -11,7 +11,7 @@
  * vtkBezierTriangleTessellator does, and at every sample the curvatures are computed from the
  * first and second fundamental forms of the cell's own parametrisation x(r, s) (exact second
  * derivatives of the kernel's Bézier evaluation, rational when the cell is), never from the
- * tessellation.
+ * tessellation: the kernel's ctk::BezierTriangleCurvatures (Filters/Kernel/SurfaceCurvatures.h).
  *
  * Output: vtkPolyData of SubdivisionLevel^2 triangles per cell, with point data
  * - `Gauss_Curvature` K, `Mean_Curvature` H,

@@ -4,10 +4,8 @@
 #include "BezierTriangle.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
+#include "EdgeContinuity.h"
 #include "MeshTopology.h"
-#include "RuleA.h"
-
-#include <Eigen/Geometry> // for cross
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -28,7 +26,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -148,40 +145,254 @@ std::vector<ctk::Id> CornerKeys(const ctsplines::BezierCells& cells, double radi
   return corners;
 }
 
-// B's parameter triangle expressed in A's parameters: unchanged when the shared corners have the
-// same (u, v) on both sides, else moved by the similarity (with a reflection if needed) that maps
-// B's copy of the edge onto A's and puts B's apex on the other side.
-void CommonDomain(const ctk::Vec2* DA, int pa, int qa, ctk::Vec2* DB, int pb, int qb)
+// The input, validated and flattened so that the parallel part reads plain arrays.
+struct ContinuityInput
 {
-  const ctk::Vec2 Ap = DA[pa], Aq = DA[qa], Bp = DB[pb], Bq = DB[qb];
-  const double scale = (Aq - Ap).norm();
-  if ((Bp - Ap).norm() <= 1e-9 * scale && (Bq - Aq).norm() <= 1e-9 * scale)
+  ctsplines::BezierCells Cells;
+  std::vector<vtkIdType> MacroIds, FaceIds; // empty: no such array
+};
+
+// Rule A compares polynomial nets: rational weights must be constant per cell.
+std::string CheckPolynomial(const ctsplines::BezierCells& cells)
+{
+  for (vtkIdType c = 0; c < cells.NumberOfCells() && !cells.Weights.empty(); ++c)
   {
-    return;
+    const vtkIdType* ids = cells.CellIds(c);
+    const double w0 = cells.Weights[ids[0]];
+    for (int p = 1; p < ctk::BezierPointCount(cells.Degree[c]); ++p)
+    {
+      if (std::abs(cells.Weights[ids[p]] - w0) > 1e-14 * std::abs(w0))
+      {
+        return "cell " + std::to_string(c) +
+          " is rational (its weights are not all equal); the continuity filter compares "
+          "polynomial Bezier nets";
+      }
+    }
   }
-  using C = std::complex<double>;
-  auto z = [](const ctk::Vec2& v) { return C(v.x(), v.y()); };
-  const C ap = z(Ap), bp = z(Bp);
-  const C direct = (z(Aq) - ap) / (z(Bq) - bp), mirror = (z(Aq) - ap) / std::conj(z(Bq) - bp);
-  const int apexA = 3 - pa - qa, apexB = 3 - pb - qb;
-  const C apex = ap + direct * (z(DB[apexB]) - bp);
-  // B's apex must end up on the side of the edge opposite A's apex.
-  const bool reflect = ctk::Cross2(Aq - Ap, DA[apexA] - Ap) *
-      ctk::Cross2(Aq - Ap, ctk::Vec2(apex.real(), apex.imag()) - Ap) > 0;
-  for (int i = 0; i < 3; ++i)
+  return std::string();
+}
+
+std::string ReadInput(vtkDataSet* input, const std::string& uvName, const std::string& macroName,
+  const std::string& faceName, ContinuityInput& in)
+{
+  std::string error = ctsplines::GatherBezierCellsWithUV(input, uvName, in.Cells,
+    "the domain point (u, v) of each control point, needed by Rule A");
+  if (error.empty())
   {
-    const C d = reflect ? ap + mirror * std::conj(z(DB[i]) - bp) : ap + direct * (z(DB[i]) - bp);
-    DB[i] = ctk::Vec2(d.real(), d.imag());
+    error = CheckPolynomial(in.Cells);
+  }
+  auto readIds = [&](const std::string& name, std::vector<vtkIdType>& out) {
+    vtkDataArray* a = ctsplines::FindArray(input->GetCellData(), name);
+    if (!a || !error.empty())
+    {
+      return;
+    }
+    error = ctsplines::CopyIdArray(
+      a, "cell data array '" + name + "'", in.Cells.NumberOfCells(), "cell", -1, out);
+  };
+  readIds(macroName, in.MacroIds);
+  readIds(faceName, in.FaceIds);
+  return error;
+}
+
+// The edges of the cells, by corner keys (point ids, merged by coordinates when radius >= 0).
+struct EdgeMatching
+{
+  std::vector<ctk::Id> Corners; // 3 corner keys per cell
+  std::vector<vtkIdType> KeyPoint; // a point id of each key
+  ctk::MeshTopology Topology;
+};
+
+std::string MatchEdges(const ctsplines::BezierCells& cells, bool coincident, double tolerance,
+  EdgeMatching& edges)
+{
+  double radius = -1;
+  if (coincident)
+  {
+    Eigen::AlignedBox3d box;
+    for (vtkIdType c = 0; c < cells.NumberOfCells(); ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        box.extend(cells.Points[cells.CellIds(c)[a]]);
+      }
+    }
+    radius = tolerance * box.diagonal().norm();
+  }
+  vtkIdType nKeys = 0;
+  edges.Corners = CornerKeys(cells, radius, nKeys, edges.KeyPoint);
+  const ctk::TopologyStatus status = ctk::BuildMeshTopology(
+    nKeys, cells.NumberOfCells(), edges.Corners.data(), edges.Topology);
+  return status.Ok ? std::string()
+                   : "cannot match the cells' edges (corners numbered after merging coincident "
+                     "points): " +
+      status.Message;
+}
+
+int KindOf(const ContinuityInput& in, vtkIdType A, vtkIdType B)
+{
+  if (B < 0)
+  {
+    return vtkSplineContinuityFilter::Boundary;
+  }
+  if (!in.FaceIds.empty() && in.FaceIds[A] != in.FaceIds[B])
+  {
+    return vtkSplineContinuityFilter::Interface;
+  }
+  return !in.MacroIds.empty() && in.MacroIds[A] == in.MacroIds[B] ? vtkSplineContinuityFilter::Micro
+                                                                  : vtkSplineContinuityFilter::Macro;
+}
+
+// The kernel's measures of interior edge e (cells A < B). P holds MaxBezierPoints per side.
+ctk::EdgeContinuity MeasureEdge(const ContinuityInput& in, const EdgeMatching& edges, vtkIdType e,
+  int kind, int samples, ctk::Vec3* PA, ctk::Vec3* PB)
+{
+  const ctsplines::BezierCells& cells = in.Cells;
+  const ctk::MeshTopology& topology = edges.Topology;
+  const vtkIdType A = topology.EdgeTriangles[e][0], B = topology.EdgeTriangles[e][1];
+  ctk::EdgePatch sideA, sideB;
+  // Corners of the edge in both cells: A's local edge la joins corners la, la + 1.
+  const int la = topology.EdgeLocalIndex[e][0];
+  sideA.EdgeCorners = { la, (la + 1) % 3 };
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int i = 0; i < 2; ++i)
+    {
+      if (edges.Corners[3 * B + a] == edges.Corners[3 * A + sideA.EdgeCorners[i]])
+      {
+        sideB.EdgeCorners[i] = a;
+      }
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    const vtkIdType ia = cells.CellIds(A)[a], ib = cells.CellIds(B)[a];
+    sideA.Domain[a] = ctk::Vec2(cells.UV[2 * ia], cells.UV[2 * ia + 1]);
+    sideB.Domain[a] = ctk::Vec2(cells.UV[2 * ib], cells.UV[2 * ib + 1]);
+  }
+  // Weights, if any, are constant per cell (checked): the nets are polynomial.
+  double w[ctk::MaxBezierPoints];
+  cells.Net(A, PA, w);
+  cells.Net(B, PB, w);
+  sideA.Degree = cells.Degree[A];
+  sideB.Degree = cells.Degree[B];
+  sideA.Points = PA;
+  sideB.Points = PB;
+  ctk::EdgeContinuityOptions options;
+  options.G1Samples = samples;
+  options.Eq7 = kind == vtkSplineContinuityFilter::Macro;
+  return ctk::MeasureEdgeContinuity(sideA, sideB, options);
+}
+
+// The per-edge output: EdgeKind, Cells and the measures, each edge written by one task.
+struct EdgeArrays
+{
+  explicit EdgeArrays(vtkIdType nEdges)
+  {
+    for (int m = 0; m < NumberOfMeasures; ++m)
+    {
+      this->Measures[m] = vtkSmartPointer<vtkDoubleArray>::New();
+      this->Measures[m]->SetName(MeasureNames[m]);
+      this->Measures[m]->SetNumberOfTuples(nEdges);
+    }
+    this->Kinds->SetName("EdgeKind");
+    this->Kinds->SetNumberOfTuples(nEdges);
+    this->Cells->SetName("Cells");
+    this->Cells->SetNumberOfComponents(2);
+    this->Cells->SetNumberOfTuples(nEdges);
+  }
+  void Write(vtkIdType e, vtkIdType A, vtkIdType B, int kind, const double* value)
+  {
+    this->Cells->SetTypedComponent(e, 0, A);
+    this->Cells->SetTypedComponent(e, 1, B);
+    this->Kinds->SetValue(e, static_cast<unsigned char>(kind));
+    for (int m = 0; m < NumberOfMeasures; ++m)
+    {
+      this->Measures[m]->SetValue(e, value[m]);
+    }
+  }
+  vtkSmartPointer<vtkDoubleArray> Measures[NumberOfMeasures];
+  vtkNew<vtkUnsignedCharArray> Kinds;
+  vtkNew<vtkIdTypeArray> Cells;
+};
+
+// One point per corner key, one line per edge, and the per-edge cell data.
+void FillGeometry(const ctsplines::BezierCells& cells, const EdgeMatching& edges,
+  const EdgeArrays& arrays, vtkPolyData* output)
+{
+  const vtkIdType nKeys = static_cast<vtkIdType>(edges.KeyPoint.size());
+  const vtkIdType nEdges = static_cast<vtkIdType>(edges.Topology.Edges.size());
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(nKeys);
+  for (vtkIdType k = 0; k < nKeys; ++k)
+  {
+    points->SetPoint(k, cells.Points[edges.KeyPoint[k]].data());
+  }
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(nEdges + 1);
+  connectivity->SetNumberOfTuples(2 * nEdges);
+  for (vtkIdType e = 0; e <= nEdges; ++e)
+  {
+    offsets->SetValue(e, 2 * e);
+  }
+  for (vtkIdType e = 0; e < nEdges; ++e)
+  {
+    connectivity->SetValue(2 * e, edges.Topology.Edges[e][0]);
+    connectivity->SetValue(2 * e + 1, edges.Topology.Edges[e][1]);
+  }
+  vtkNew<vtkCellArray> lines;
+  lines->SetData(offsets, connectivity);
+  output->SetPoints(points);
+  output->SetLines(lines);
+  vtkCellData* cd = output->GetCellData();
+  cd->AddArray(arrays.Kinds);
+  cd->AddArray(arrays.Cells);
+  for (int m = 0; m < NumberOfMeasures; ++m)
+  {
+    cd->AddArray(arrays.Measures[m]);
   }
 }
 
-void Elevate(int from, int to, ctk::Vec3* P)
+// Summary per kind, in edge order (deterministic): K_EdgeCount, K_<measure>_Max and _Mean.
+void Summarise(const EdgeArrays& arrays, vtkFieldData* fd)
 {
-  ctk::Vec3 tmp[ctk::MaxBezierPoints];
-  for (int n = from; n < to; ++n)
+  double sum[NumberOfKinds][NumberOfMeasures] = {}, max[NumberOfKinds][NumberOfMeasures] = {};
+  vtkIdType count[NumberOfKinds] = {};
+  for (vtkIdType e = 0; e < arrays.Kinds->GetNumberOfTuples(); ++e)
   {
-    ctk::ElevateDegree(n, P, tmp);
-    std::copy_n(tmp, ctk::BezierPointCount(n + 1), P);
+    const int kind = arrays.Kinds->GetValue(e);
+    ++count[kind];
+    for (int m = 0; m < NumberOfMeasures; ++m)
+    {
+      const double v = arrays.Measures[m]->GetValue(e);
+      if (!std::isnan(v))
+      {
+        sum[kind][m] += v;
+        max[kind][m] = std::max(max[kind][m], v);
+      }
+    }
+  }
+  auto addValue = [fd](const std::string& name, double v) {
+    vtkNew<vtkDoubleArray> a;
+    a->SetName(name.c_str());
+    a->InsertNextValue(v);
+    fd->AddArray(a);
+  };
+  for (int kind = 0; kind < NumberOfKinds; ++kind)
+  {
+    const std::string prefix =
+      std::string(vtkSplineContinuityFilter::GetEdgeKindName(kind)) + "_";
+    addValue(prefix + "EdgeCount", static_cast<double>(count[kind]));
+    for (int m = 0; m < NumberOfMeasures; ++m)
+    {
+      if (m == 4 && kind != vtkSplineContinuityFilter::Macro)
+      {
+        continue;
+      }
+      addValue(prefix + MeasureNames[m] + "_Max", max[kind][m]);
+      addValue(prefix + MeasureNames[m] + "_Mean", count[kind] ? sum[kind][m] / count[kind] : 0);
+    }
   }
 }
 
@@ -197,187 +408,51 @@ int vtkSplineContinuityFilter::RequestData(
     vtkErrorMacro(<< "missing input or output data object");
     return 0;
   }
-  const vtkIdType nCells = input->GetNumberOfCells();
-  if (nCells == 0)
+  if (input->GetNumberOfCells() == 0)
   {
     vtkErrorMacro(<< "empty input: no VTK_BEZIER_TRIANGLE cells to measure continuity of");
     return 0;
   }
 
-  // 1. Validate and flatten the input.
-  ctsplines::BezierCells cells;
-  std::string error = ctsplines::GatherBezierCellsWithUV(input, this->UVArrayName, cells,
-    "the domain point (u, v) of each control point, needed by Rule A");
-  const std::vector<double>& uv = cells.UV;
-  for (vtkIdType c = 0; c < nCells && error.empty() && !cells.Weights.empty(); ++c)
+  // 1. Validate and flatten the input; 2. edges by corner keys.
+  ContinuityInput in;
+  EdgeMatching edges;
+  std::string error = ReadInput(
+    input, this->UVArrayName, this->MacroTriangleIdArrayName, this->FaceIdArrayName, in);
+  if (error.empty())
   {
-    const vtkIdType* ids = cells.CellIds(c);
-    const double w0 = cells.Weights[ids[0]];
-    for (int p = 1; p < ctk::BezierPointCount(cells.Degree[c]); ++p)
-    {
-      if (std::abs(cells.Weights[ids[p]] - w0) > 1e-14 * std::abs(w0))
-      {
-        error = "cell " + std::to_string(c) +
-          " is rational (its weights are not all equal); the continuity filter compares "
-          "polynomial Bezier nets";
-        break;
-      }
-    }
+    error = MatchEdges(in.Cells, this->MatchCoincidentEdges, this->Tolerance, edges);
   }
-  auto readIds = [&](const std::string& name, std::vector<vtkIdType>& out) {
-    vtkDataArray* a = ctsplines::FindArray(input->GetCellData(), name);
-    if (!a || !error.empty())
-    {
-      return;
-    }
-    error = ctsplines::CopyIdArray(a, "cell data array '" + name + "'", nCells, "cell", -1, out);
-  };
-  std::vector<vtkIdType> macroIds, faceIds;
-  readIds(this->MacroTriangleIdArrayName, macroIds);
-  readIds(this->FaceIdArrayName, faceIds);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
     return 0;
   }
-
-  // 2. Edges by corner keys (point ids, merged by coordinates when asked).
-  double radius = -1;
-  if (this->MatchCoincidentEdges)
-  {
-    Eigen::AlignedBox3d box;
-    for (vtkIdType c = 0; c < nCells; ++c)
-    {
-      for (int a = 0; a < 3; ++a)
-      {
-        box.extend(cells.Points[cells.CellIds(c)[a]]);
-      }
-    }
-    radius = this->Tolerance * box.diagonal().norm();
-  }
-  vtkIdType nKeys = 0;
-  std::vector<vtkIdType> keyPoint;
-  const std::vector<ctk::Id> corners = CornerKeys(cells, radius, nKeys, keyPoint);
-  ctk::MeshTopology topology;
-  const ctk::TopologyStatus status = ctk::BuildMeshTopology(nKeys, nCells, corners.data(), topology);
-  if (!status.Ok)
-  {
-    vtkErrorMacro(<< "cannot match the cells' edges (corners numbered after merging coincident "
-                     "points): "
-                  << status.Message);
-    return 0;
-  }
   this->UpdateProgress(0.1);
 
-  // 3. Every edge measured by one task.
-  const vtkIdType nEdges = static_cast<vtkIdType>(topology.Edges.size());
-  auto makeArray = [nEdges](const char* name, int components) {
-    vtkSmartPointer<vtkDoubleArray> a = vtkSmartPointer<vtkDoubleArray>::New();
-    a->SetName(name);
-    a->SetNumberOfComponents(components);
-    a->SetNumberOfTuples(nEdges);
-    return a;
-  };
-  vtkSmartPointer<vtkDoubleArray> measures[NumberOfMeasures];
-  for (int m = 0; m < NumberOfMeasures; ++m)
-  {
-    measures[m] = makeArray(MeasureNames[m], 1);
-  }
-  vtkNew<vtkUnsignedCharArray> kinds;
-  kinds->SetName("EdgeKind");
-  kinds->SetNumberOfTuples(nEdges);
-  vtkNew<vtkIdTypeArray> edgeCells;
-  edgeCells->SetName("Cells");
-  edgeCells->SetNumberOfComponents(2);
-  edgeCells->SetNumberOfTuples(nEdges);
+  // 3. Every edge measured by the kernel, in one task.
+  const vtkIdType nEdges = static_cast<vtkIdType>(edges.Topology.Edges.size());
+  EdgeArrays arrays(nEdges);
+  std::vector<unsigned char> failed(nEdges, 0);
   const int samples = this->G1Samples;
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-
   auto measure = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 PA[ctk::MaxBezierPoints], PB[ctk::MaxBezierPoints];
-    double w[ctk::MaxBezierPoints];
     for (vtkIdType e = begin; e < end; ++e)
     {
-      const vtkIdType A = topology.EdgeTriangles[e][0], B = topology.EdgeTriangles[e][1];
-      edgeCells->SetTypedComponent(e, 0, A);
-      edgeCells->SetTypedComponent(e, 1, B);
-      double value[NumberOfMeasures] = { 0, 0, 0, 0, nan };
-      int kind = Boundary;
+      const vtkIdType A = edges.Topology.EdgeTriangles[e][0];
+      const vtkIdType B = edges.Topology.EdgeTriangles[e][1];
+      const int kind = KindOf(in, A, B);
+      // Boundary edges have zero jumps and angle.
+      double value[NumberOfMeasures] = { 0, 0, 0, 0, std::numeric_limits<double>::quiet_NaN() };
       if (B >= 0)
       {
-        if (!faceIds.empty() && faceIds[A] != faceIds[B])
-        {
-          kind = Interface;
-        }
-        else
-        {
-          kind = !macroIds.empty() && macroIds[A] == macroIds[B] ? Micro : Macro;
-        }
-        // Corners of the edge in both cells: A's local edge la joins corners la, la + 1.
-        const int la = topology.EdgeLocalIndex[e][0];
-        const int pa = la, qa = (la + 1) % 3, apexA = (la + 2) % 3;
-        int pb = 0, qb = 0;
-        for (int a = 0; a < 3; ++a)
-        {
-          pb = corners[3 * B + a] == corners[3 * A + pa] ? a : pb;
-          qb = corners[3 * B + a] == corners[3 * A + qa] ? a : qb;
-        }
-        ctk::Vec2 DA[3], DB[3];
-        for (int a = 0; a < 3; ++a)
-        {
-          const vtkIdType ia = cells.CellIds(A)[a], ib = cells.CellIds(B)[a];
-          DA[a] = ctk::Vec2(uv[2 * ia], uv[2 * ia + 1]);
-          DB[a] = ctk::Vec2(uv[2 * ib], uv[2 * ib + 1]);
-        }
-        CommonDomain(DA, pa, qa, DB, pb, qb);
-        const int nA = cells.Degree[A], nB = cells.Degree[B], n = std::max(nA, nB);
-        // Weights, if any, are constant per cell (checked above): the nets are polynomial.
-        cells.Net(A, PA, w);
-        cells.Net(B, PB, w);
-        Elevate(nA, n, PA);
-        Elevate(nB, n, PB);
-        double jumps[3] = { 0, 0, 0 };
-        ctk::RuleAJumps(n, PA, DA, PB, DB, std::min(n, 2), jumps);
-        std::copy_n(jumps, 3, value);
-        double angle = 0;
-        ctk::Vec3 RA[ctk::MaxBezierPoints], RB[ctk::MaxBezierPoints];
-        ctk::RelativeNet(n, PA, RA);
-        ctk::RelativeNet(n, PB, RB);
-        for (int k = 1; k <= samples; ++k)
-        {
-          const double s = double(k) / (samples + 1);
-          ctk::Vec3 tA = ctk::Vec3::Zero(), tB = ctk::Vec3::Zero();
-          tA[pa] = 1 - s, tA[qa] = s;
-          tB[pb] = 1 - s, tB[qb] = s;
-          const double cosine =
-            ctk::PatchNormal(n, RA, nullptr, tA).dot(ctk::PatchNormal(n, RB, nullptr, tB));
-          angle = std::max(angle, std::acos(std::max(-1.0, std::min(1.0, cosine))));
-        }
-        value[3] = angle * 180.0 / M_PI;
-        if (kind == Macro && n == 3)
-        {
-          // Eq. (7): both sides' blossoms at (Ui, U2, U3), U2 and U3 the two apexes.
-          const int apexB = 3 - pb - qb;
-          double eq7 = 0;
-          for (int i : { pa, qa })
-          {
-            const ctk::Vec2 U[3] = { DA[i], DA[apexA], DB[apexB] };
-            ctk::Vec3 argsA[3], argsB[3];
-            for (int a = 0; a < 3; ++a)
-            {
-              argsA[a] = ctk::Barycentric(DA[0], DA[1], DA[2], U[a]);
-              argsB[a] = ctk::Barycentric(DB[0], DB[1], DB[2], U[a]);
-            }
-            eq7 = std::max(eq7, (ctk::Blossom(3, PA, argsA) - ctk::Blossom(3, PB, argsB)).norm());
-          }
-          value[4] = eq7;
-        }
+        const ctk::EdgeContinuity m = MeasureEdge(in, edges, e, kind, samples, PA, PB);
+        failed[e] = !m.Error.empty();
+        const double measured[NumberOfMeasures] = { m.C0Gap, m.C1Jump, m.C2Jump, m.G1Angle,
+          m.C2JumpEq7 };
+        std::copy_n(measured, NumberOfMeasures, value);
       }
-      kinds->SetValue(e, static_cast<unsigned char>(kind));
-      for (int m = 0; m < NumberOfMeasures; ++m)
-      {
-        measures[m]->SetValue(e, value[m]);
-      }
+      arrays.Write(e, A, B, kind, value);
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.
@@ -386,77 +461,24 @@ int vtkSplineContinuityFilter::RequestData(
     output->Initialize();
     return 1;
   }
-
-  // 4. Geometry: one point per corner key, one line per edge.
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(nKeys);
-  for (vtkIdType k = 0; k < nKeys; ++k)
+  // The first failed edge, measured again for its message (deterministic).
+  const auto first = std::find(failed.begin(), failed.end(), 1);
+  if (first != failed.end())
   {
-    points->SetPoint(k, cells.Points[keyPoint[k]].data());
-  }
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  offsets->SetNumberOfTuples(nEdges + 1);
-  connectivity->SetNumberOfTuples(2 * nEdges);
-  for (vtkIdType e = 0; e <= nEdges; ++e)
-  {
-    offsets->SetValue(e, 2 * e);
-  }
-  for (vtkIdType e = 0; e < nEdges; ++e)
-  {
-    connectivity->SetValue(2 * e, topology.Edges[e][0]);
-    connectivity->SetValue(2 * e + 1, topology.Edges[e][1]);
-  }
-  vtkNew<vtkCellArray> lines;
-  lines->SetData(offsets, connectivity);
-  output->SetPoints(points);
-  output->SetLines(lines);
-  vtkCellData* cd = output->GetCellData();
-  cd->AddArray(kinds);
-  cd->AddArray(edgeCells);
-  for (int m = 0; m < NumberOfMeasures; ++m)
-  {
-    cd->AddArray(measures[m]);
+    const vtkIdType e = first - failed.begin();
+    const vtkIdType A = edges.Topology.EdgeTriangles[e][0];
+    const vtkIdType B = edges.Topology.EdgeTriangles[e][1];
+    ctk::Vec3 PA[ctk::MaxBezierPoints], PB[ctk::MaxBezierPoints];
+    vtkErrorMacro(<< "cannot measure the edge between cells " << A << " (side A) and " << B
+                  << " (side B): "
+                  << MeasureEdge(in, edges, e, KindOf(in, A, B), samples, PA, PB).Error);
+    output->Initialize();
+    return 0;
   }
 
-  // 5. Summary per kind, in edge order (deterministic).
-  double sum[NumberOfKinds][NumberOfMeasures] = {}, max[NumberOfKinds][NumberOfMeasures] = {};
-  vtkIdType count[NumberOfKinds] = {};
-  for (vtkIdType e = 0; e < nEdges; ++e)
-  {
-    const int kind = kinds->GetValue(e);
-    ++count[kind];
-    for (int m = 0; m < NumberOfMeasures; ++m)
-    {
-      const double v = measures[m]->GetValue(e);
-      if (!std::isnan(v))
-      {
-        sum[kind][m] += v;
-        max[kind][m] = std::max(max[kind][m], v);
-      }
-    }
-  }
-  vtkFieldData* fd = output->GetFieldData();
-  auto addValue = [fd](const std::string& name, double v) {
-    vtkNew<vtkDoubleArray> a;
-    a->SetName(name.c_str());
-    a->InsertNextValue(v);
-    fd->AddArray(a);
-  };
-  for (int kind = 0; kind < NumberOfKinds; ++kind)
-  {
-    const std::string prefix = std::string(GetEdgeKindName(kind)) + "_";
-    addValue(prefix + "EdgeCount", static_cast<double>(count[kind]));
-    for (int m = 0; m < NumberOfMeasures; ++m)
-    {
-      if (m == 4 && kind != Macro)
-      {
-        continue;
-      }
-      addValue(prefix + MeasureNames[m] + "_Max", max[kind][m]);
-      addValue(prefix + MeasureNames[m] + "_Mean", count[kind] ? sum[kind][m] / count[kind] : 0);
-    }
-  }
+  // 4. Geometry and cell data; 5. summary per kind.
+  FillGeometry(in.Cells, edges, arrays, output);
+  Summarise(arrays, output->GetFieldData());
   this->UpdateProgress(1.0);
   return 1;
 }

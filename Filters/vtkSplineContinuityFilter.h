@@ -36,10 +36,14 @@
  * Boundary, Interface: `K_EdgeCount` and `K_<measure>_Max`, `K_<measure>_Mean` for C0Gap,
  * C1Jump, C2Jump, G1Angle (and C2JumpEq7 for Macro); 0 when a kind has no edges.
  *
+ * The measures of an edge are the kernel's ctk::MeasureEdgeContinuity (Filters/Kernel/
+ * EdgeContinuity.h); the filter finds the edges, maps cells to its inputs and fills the output.
+ *
  * Each edge is computed and written by one task, so results do not depend on the number of
  * threads. Bad input (an empty data set, non-Bézier cells, a missing or malformed UV array,
- * non-constant rational weights, edges shared by three cells) is reported with vtkErrorMacro
- * naming the problem, and RequestData returns 0.
+ * non-constant rational weights, edges shared by three cells, a cell at an interior edge whose
+ * corners' UV span no area) is reported with vtkErrorMacro naming the problem and the cells,
+ * and RequestData returns 0.
  */
 #ifndef vtkSplineContinuityFilter_h
 #define vtkSplineContinuityFilter_h
