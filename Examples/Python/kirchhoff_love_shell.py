@@ -23,9 +23,13 @@ Prints, per benchmark and construction, the value, its ratio to the reference an
 order from three successive levels (p = log2(|q_h - q_h/2| / |q_h/2 - q_h/4|), independent of
 the reference). With -o writes each benchmark's finest solution as a .vtu with a Displacement
 point array on the Bézier control points (ParaView: Warp By Vector shows the deformed shell).
+With --cad STEP the pinched hemisphere runs again on the quarter written to STEP by OpenCASCADE
+and sampled by the CAD pipeline (vtkCADFaceSampler: an unstructured mesh of the face, refined by
+MaxEdgeLength = 1/n of the diagonal, exact derivatives from the CAD surface).
 
     /usr/bin/python3 Examples/Python/kirchhoff_love_shell.py [--quick] [-o DIR]
         [--constructions CTi,KaG,MGi] [--benchmarks scordelis_lo,pinched_cylinder,pinched_hemisphere]
+        [--cad hemisphere_quarter.step]
 """
 import argparse
 import math
@@ -63,6 +67,12 @@ class Benchmark:
     pinned: list = field(default_factory=list)
     levels: tuple = (4, 8, 16)
     quick_levels: tuple = (4, 8)
+    mesher: object = None  # n -> parametrised mesh; None: the n x n grid of the rectangle
+
+    def mesh(self, n):
+        if self.mesher is not None:
+            return self.mesher(n)
+        return shell.grid_mesh(n, n, (0.0, self.width), (0.0, self.height), self.surface)
 
 
 def scordelis_lo():
@@ -90,9 +100,32 @@ def pinched_cylinder():
                      levels=(8, 16, 32), quick_levels=(8, 16))
 
 
-def pinched_hemisphere():
+def cad_face_mesher(path):
+    """n -> the CAD pipeline's sampling (vtkCADFaceSampler) of the one face of a STEP/IGES
+    model, with edges at most 1/n of the bounding-box diagonal: UV, exact dFdu, dFdv and
+    mid-edge gradients from the CAD surface."""
+    from ctsplines import io
+
+    def mesh(n):
+        messages = io.VTKMessages()
+        sampler = io.cad_sampler(path, messages)
+        sampler.SetMaxEdgeLength(1.0 / n)
+        sampler.Update()
+        errors = messages.take_errors()
+        faces = sampler.GetOutputDataObject(0)
+        if errors or faces.GetNumberOfBlocks() != 1:
+            raise ValueError(f"{path}: expected one sampled face, got {faces.GetNumberOfBlocks()} "
+                             f"blocks{': ' + '; '.join(errors) if errors else ''}")
+        return faces.GetBlock(0)
+    return mesh
+
+
+def pinched_hemisphere(cad=None):
+    """cad: optional STEP/IGES file holding the quarter as one spherical face in OCCT's
+    parameters (u longitude 0..pi/2, v latitude 0..72 deg, radians)."""
     R = 10.0
-    w, h = R * math.pi / 2, R * math.radians(72.0)
+    scale = 1.0 if cad else R  # the analytic surface uses arc-length parameters
+    w, h = scale * math.pi / 2, scale * math.radians(72.0)
     # u: longitude from the plane y = 0, v: latitude from the equator to the 18 deg hole.
     cond = [(0, 0.0, 1, "trace"), (0, 0.0, 0, "normal"), (0, 0.0, 2, "normal"),
             (0, w, 0, "trace"), (0, w, 1, "normal"), (0, w, 2, "normal")]
@@ -100,7 +133,8 @@ def pinched_hemisphere():
     return Benchmark("pinched_hemisphere", shell.sphere(R), w, h, 0.04, 6.825e7, 0.3, 0.0924,
                      ((0.0, 0.0), (1.0, 0.0, 0.0)), cond,
                      loads=[((0.0, 0.0), (1.0, 0.0, 0.0)), ((w, 0.0), (0.0, -1.0, 0.0))],
-                     pinned=[((0.0, 0.0), 2)], levels=(8, 16, 32), quick_levels=(8, 16))
+                     pinned=[((0.0, 0.0), 2)], levels=(8, 16, 32), quick_levels=(8, 16),
+                     mesher=cad_face_mesher(cad) if cad else None)
 
 
 BENCHMARKS = {b.__name__: b for b in (scordelis_lo, pinched_cylinder, pinched_hemisphere)}
@@ -109,7 +143,7 @@ BENCHMARKS = {b.__name__: b for b in (scordelis_lo, pinched_cylinder, pinched_he
 def solve(bench, n, construction, output=None):
     """Solves one benchmark on the n x n grid: (unknowns, measured displacement, seconds)."""
     start = time.time()
-    mesh = shell.grid_mesh(n, n, (0.0, bench.width), (0.0, bench.height), bench.surface)
+    mesh = bench.mesh(n)
     n_vertices = mesh.GetNumberOfPoints()
     grid = shell.spline(mesh, construction)
     model = shell.Shell(grid, bench.thickness, bench.young, bench.poisson)
@@ -164,6 +198,8 @@ def main(argv=None):
     ap.add_argument("--constructions", default="CTi,KaG,MGi")
     ap.add_argument("--benchmarks", default=",".join(BENCHMARKS))
     ap.add_argument("--levels", help="grid sizes n (comma separated) instead of each benchmark's")
+    ap.add_argument("--cad", metavar="STEP", help="also run the pinched hemisphere on this CAD model "
+                    "of its quarter (one spherical face), sampled by the CAD pipeline")
     args = ap.parse_args(argv)
     names = args.benchmarks.split(",")
     unknown = [n for n in names if n not in BENCHMARKS]
@@ -173,8 +209,11 @@ def main(argv=None):
         os.makedirs(args.output, exist_ok=True)
     print("| benchmark | space | n | unknowns | displacement | / reference | observed order | s |")
     print("|---|---|---|---|---|---|---|---|")
-    for name in names:
-        bench = BENCHMARKS[name]()
+    runs = [BENCHMARKS[name]() for name in names]
+    if args.cad:
+        runs.append(pinched_hemisphere(args.cad))
+        runs[-1].name = "pinched_hemisphere_cad"
+    for bench in runs:
         levels = tuple(map(int, args.levels.split(","))) if args.levels else (
             bench.quick_levels if args.quick else bench.levels)
         for construction in args.constructions.split(","):
