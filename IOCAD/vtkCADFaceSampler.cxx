@@ -400,6 +400,22 @@ void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double face
   fd->AddArray(times);
 }
 
+void vtkCADFaceSampler::SetConstruction(int construction)
+{
+  if (!vtkCloughTocherSplineFilter::GetConstructionCanBeStitched(construction))
+  {
+    vtkErrorMacro(<< "construction " << construction << " ("
+                  << vtkCloughTocherSplineFilter::GetConstructionName(construction)
+                  << ") cannot be stitched: it takes no prescribed boundary curves");
+    return;
+  }
+  if (this->Construction != construction)
+  {
+    this->Construction = construction;
+    this->Modified();
+  }
+}
+
 void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

@@ -58,6 +58,7 @@
 #define vtkCADFaceSampler_h
 
 #include "CTSplinesIOCADModule.h" // For export macro
+#include "vtkCloughTocherSplineFilter.h" // for the construction values
 #include "vtkMultiBlockDataSetAlgorithm.h"
 
 #include <memory> // for std::unique_ptr
@@ -127,11 +128,14 @@ public:
   vtkSetMacro(RefineStitchedSpline, bool);
   vtkGetMacro(RefineStitchedSpline, bool);
   vtkBooleanMacro(RefineStitchedSpline, bool);
-  vtkSetClampMacro(Construction, int, 0, 7);
+  /// Constructions that cannot be stitched (vtkCloughTocherSplineFilter::
+  /// GetConstructionCanBeStitched) are reported and leave the value unchanged.
+  virtual void SetConstruction(int construction);
   vtkGetMacro(Construction, int);
-  vtkSetClampMacro(SplitPoint, int, 0, 2);
+  vtkSetClampMacro(SplitPoint, int, vtkCloughTocherSplineFilter::Bary, vtkCloughTocherSplineFilter::Inc3);
   vtkGetMacro(SplitPoint, int);
-  vtkSetClampMacro(BoundaryMode, int, 0, 3);
+  vtkSetClampMacro(BoundaryMode, int, vtkCloughTocherSplineFilter::Perpendicular,
+    vtkCloughTocherSplineFilter::GradientToSplitPoint);
   vtkGetMacro(BoundaryMode, int);
   ///@}
 
@@ -172,9 +176,9 @@ protected:
   int MaxRounds = 60;
   vtkIdType MaxTrianglesPerFace = 500000;
   bool RefineStitchedSpline = true;
-  int Construction = 7;
-  int SplitPoint = 0;
-  int BoundaryMode = 1;
+  int Construction = vtkCloughTocherSplineFilter::KaG;
+  int SplitPoint = vtkCloughTocherSplineFilter::Bary;
+  int BoundaryMode = vtkCloughTocherSplineFilter::Midpoint;
   bool RestoreG1 = false;
   double G1Threshold = 10;
 

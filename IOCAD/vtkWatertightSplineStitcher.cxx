@@ -570,6 +570,22 @@ int vtkWatertightSplineStitcher::RequestData(
   return 1;
 }
 
+void vtkWatertightSplineStitcher::SetConstruction(int construction)
+{
+  if (!vtkCloughTocherSplineFilter::GetConstructionCanBeStitched(construction))
+  {
+    vtkErrorMacro(<< "construction " << construction << " ("
+                  << vtkCloughTocherSplineFilter::GetConstructionName(construction)
+                  << ") cannot be stitched: it takes no prescribed boundary curves");
+    return;
+  }
+  if (this->Construction != construction)
+  {
+    this->Construction = construction;
+    this->Modified();
+  }
+}
+
 void vtkWatertightSplineStitcher::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);

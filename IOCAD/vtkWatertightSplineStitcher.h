@@ -37,6 +37,7 @@
 #define vtkWatertightSplineStitcher_h
 
 #include "CTSplinesIOCADModule.h" // For export macro
+#include "vtkCloughTocherSplineFilter.h" // for the construction values
 #include "vtkMultiBlockDataSetAlgorithm.h"
 
 class vtkCADFaceSampler;
@@ -49,17 +50,21 @@ public:
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
-  /// Cubic construction (vtkCloughTocherSplineFilter's values CTo..KaG). Default KaG, the
+  /// Construction of every face (vtkCloughTocherSplineFilter's values; those that take
+  /// prescribed boundary curves can be stitched). Default KaG, the
   /// study's recommendation (uses the sampler's exact boundary mid-edge gradients).
-  vtkSetClampMacro(Construction, int, 0, 7);
+  /// Constructions that cannot be stitched (vtkCloughTocherSplineFilter::
+  /// GetConstructionCanBeStitched) are reported and leave the value unchanged.
+  virtual void SetConstruction(int construction);
   vtkGetMacro(Construction, int);
   ///@}
 
   ///@{
   /// Split point (Bary, Inc2, Inc3) and boundary rule, as in vtkCloughTocherSplineFilter.
-  vtkSetClampMacro(SplitPoint, int, 0, 2);
+  vtkSetClampMacro(SplitPoint, int, vtkCloughTocherSplineFilter::Bary, vtkCloughTocherSplineFilter::Inc3);
   vtkGetMacro(SplitPoint, int);
-  vtkSetClampMacro(BoundaryMode, int, 0, 3);
+  vtkSetClampMacro(BoundaryMode, int, vtkCloughTocherSplineFilter::Perpendicular,
+    vtkCloughTocherSplineFilter::GradientToSplitPoint);
   vtkGetMacro(BoundaryMode, int);
   vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(Iterations, int);
@@ -87,9 +92,9 @@ protected:
   int RequestDataObject(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
-  int Construction = 7;
-  int SplitPoint = 0;
-  int BoundaryMode = 1;
+  int Construction = vtkCloughTocherSplineFilter::KaG;
+  int SplitPoint = vtkCloughTocherSplineFilter::Bary;
+  int BoundaryMode = vtkCloughTocherSplineFilter::Midpoint;
   int Iterations = 0;
   int DeviationSamples = 4;
   vtkCADFaceSampler* SurfaceSource = nullptr;

@@ -64,12 +64,12 @@ def find_model(quick):
 def convert(model, folder):
     """The CLI's CAD conversion with its defaults; returns the summary (a dict) and a reader of
     the merged grid."""
-    from ctsplines import cad
+    from ctsplines import cad, constructions
     from ctsplines.io import Progress, VTKMessages
     from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridReader
 
     options = {"tolerance": 1e-4, "aspect_ratio": 0.0, "max_edge_length": 0.0,
-               "construction": ex.CUBIC.index("KaG"), "split_point": 0, "boundary_mode": 0,
+               "construction": constructions.value("KaG"), "split_point": 0, "boundary_mode": 0,
                "iterations": 0}
     with VTKMessages() as messages:
         summary = cad.convert(model, os.path.join(folder, "model.vtm"), options, messages,

@@ -22,10 +22,10 @@ from vtkmodules.vtkCommonCore import vtkIdTypeArray  # noqa: F401  (VTK types fi
 from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataWriter, vtkXMLUnstructuredGridWriter
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
-from ctsplines import (vtkCADFaceSampler, vtkCloughTocherSplineFilter,
+from ctsplines import (constructions, vtkCADFaceSampler, vtkCloughTocherSplineFilter,
                        vtkWatertightSplineStitcher)
 
-CUBIC = ["CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG"]
+CUBIC = constructions.stitched()  # the constructions a CAD model can be stitched with
 
 
 def field(data, name, i=0):
@@ -136,7 +136,7 @@ def main():
     sampler.SetFileName(args.model)
     sampler.SetTolerance(args.tolerance)
     sampler.SetAspectRatio(args.aspect_ratio)
-    sampler.SetConstruction(CUBIC.index(args.construction))  # refined for the stitched spline
+    sampler.SetConstruction(constructions.value(args.construction))  # refined for the stitched spline
     sampler.SetRestoreG1(args.g1)
     sampler.Update()
     faces = sampler.GetOutput()
@@ -145,7 +145,7 @@ def main():
         return 1
     stitcher = vtkWatertightSplineStitcher()
     stitcher.SetInputConnection(sampler.GetOutputPort())
-    stitcher.SetConstruction(CUBIC.index(args.construction))
+    stitcher.SetConstruction(constructions.value(args.construction))
     stitcher.SetSurfaceSource(sampler)
     stitcher.Update()
     total = time.perf_counter() - t0
@@ -158,7 +158,7 @@ def main():
     for f in range(faces.GetNumberOfBlocks()):
         ct = vtkCloughTocherSplineFilter()
         ct.SetInputData(faces.GetBlock(f))
-        ct.SetConstruction(CUBIC.index(args.construction))
+        ct.SetConstruction(constructions.value(args.construction))
         ct.Update()
         unstitched.SetBlock(f, ct.GetOutput())
 

@@ -10,10 +10,14 @@ import sys
 import numpy as np
 
 import ctsplines
+import ctsplines.constructions
 from ctsplines.arrays import point_array, points  # noqa: F401  (used by the examples)
 from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
 
-CUBIC = ["CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG"]
+# The study's cubic constructions CTo..KaG (those that take boundary curves, from the kernel's
+# construction table).
+CUBIC = ctsplines.constructions.stitched()
+CONSTRUCTIONS = ctsplines.constructions.names()
 
 
 def parse_args(name, description, extra=None):

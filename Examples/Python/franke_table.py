@@ -26,7 +26,7 @@ import numpy as np  # noqa: E402
 
 import example_common as ex  # noqa: E402
 
-CONSTRUCTIONS = ex.CUBIC[:7] + ["KaG", "Kashyap", "Quartic"]
+CONSTRUCTIONS = ex.CONSTRUCTIONS  # every row of the construction table
 SPLITS = ["Bary", "Inc2", "Inc3"]
 FAIRING_ROUNDS = 5  # Kashyap and Quartic, as in the quartic paper
 

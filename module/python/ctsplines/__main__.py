@@ -208,9 +208,9 @@ def _bezier_order(data):
 
 def _cad_usage(args):
     """Checks the options of a CAD conversion; argparse's error() exits with 2."""
-    from .cad import STITCHED_CONSTRUCTIONS
+    from . import constructions
 
-    cubic = args._choices[0][:STITCHED_CONSTRUCTIONS]
+    cubic = constructions.stitched()
     if args.construction not in cubic:
         args._parser.error(f"a CAD model takes one of the cubic constructions {', '.join(cubic)}"
                            " (the faces are stitched through their cubic boundary curves)")

@@ -6,10 +6,6 @@ import time
 
 from .io import FilterError, InputError, cad_sampler, write
 
-# The cubic constructions vtkWatertightSplineStitcher accepts (values 0..7 of
-# vtkCloughTocherSplineFilter); the fairing schemes after them have no C0 stitching.
-STITCHED_CONSTRUCTIONS = 8
-
 # Errors of vtkCADFaceSampler that mean the file itself could not be used (exit code 3: also a
 # malformed file on which OpenCASCADE's translation crashed or did not end within the read
 # timeout); the others (an edge without pcurve, a face that cannot be meshed) are the model's
