@@ -50,16 +50,42 @@ class RigidMotionTest(unittest.TestCase):
             dofs = model.ex.dofs  # the geometry's own dofs: x = sum_j dofs_j N_j
             value = np.zeros(model.ex.n_dofs)
             value[0 : 3 * mesh.GetNumberOfPoints() : 3] = 1.0
-            motions = [np.outer(value, e) for e in np.eye(3)]
-            motions += [np.cross(w, dofs) for w in np.eye(3)]  # u = w x x, exactly in the space
-            for k, d in enumerate(motions):
+            motions = model.rigid_motions()
+            self.assertEqual(motions.shape, (model.n_unknowns, 6))
+            np.testing.assert_array_equal(motions[:, 0].reshape(-1, 3), np.outer(value, [1, 0, 0]))
+            for k, d in enumerate(motions.T):
                 d = d / np.abs(d).max()
-                residual = np.abs(K @ d.ravel()).max() / scale
+                residual = np.abs(K @ d).max() / scale
                 self.assertLess(residual, 1e-10, f"{construction}: rigid motion {k} costs {residual:.2e}")
             # A non-rigid field does cost energy (the check above can fail).
             bend = np.zeros_like(dofs)
             bend[:, 2] = dofs[:, 0] ** 2 * value
             self.assertGreater(np.abs(K @ bend.ravel()).max() / scale, 1e-3)
+
+
+class BadInputTest(unittest.TestCase):
+    def test_errors_name_the_problem(self):
+        mesh = shell.grid_mesh(2, 2, (0.0, 1.0), (0.0, 1.0), plane)
+        grid = shell.spline(mesh, "CTi")
+        for args in ((0.0, 1.0, 0.3), (0.1, -1.0, 0.3), (0.1, 1.0, 0.5)):
+            with self.assertRaisesRegex(ValueError, "thickness > 0"):
+                shell.Shell(grid, *args)
+        model = shell.Shell(grid, 0.1, 1.0, 0.3)
+        with self.assertRaisesRegex(ValueError, "no vertex on the line"):
+            shell.line_dofs(model.ex, 9, 0, 0.25, 0, "trace")
+        with self.assertRaisesRegex(ValueError, "condition must be"):
+            shell.line_dofs(model.ex, 9, 0, 0.0, 0, "clamped")
+        with self.assertRaisesRegex(ValueError, "no vertex at parameter"):
+            shell.vertex_at(model.ex, 9, (0.25, 0.25))
+        # Only one edge supported: the plate can still rotate about it.
+        fixed = [shell.line_dofs(model.ex, 9, 0, 0.0, c, "trace") for c in range(3)]
+        with self.assertRaisesRegex(ValueError, "rigid-body motion free"):
+            model.solve(model.stiffness(), model.surface_load((0, 0, -1.0)), np.concatenate(fixed))
+        # A surface without a normal somewhere (a degenerate map: every point on one line).
+        line = lambda u, v: (np.column_stack([u + v, 0 * u, 0 * u]),  # noqa: E731
+                             np.column_stack([1 + 0 * u, 0 * u, 0 * u]), np.column_stack([1 + 0 * u, 0 * u, 0 * u]))
+        with self.assertRaisesRegex(ValueError, "singular .* in cell 0"):
+            shell.Shell(shell.spline(shell.grid_mesh(2, 2, (0.0, 1.0), (0.0, 1.0), line), "CTi"), 0.1, 1.0, 0.3)
 
 
 class FlatPatchTest(unittest.TestCase):

@@ -120,13 +120,18 @@ class Shell:
     """Linear Kirchhoff-Love shell on a spline grid with Bézier extraction."""
 
     def __init__(self, grid, thickness, young, poisson, quadrature=5):
+        if not (thickness > 0 and young > 0 and -1.0 < poisson < 0.5):
+            raise ValueError(f"need thickness > 0, Young's modulus > 0 and -1 < Poisson's ratio < 0.5, "
+                             f"got {thickness}, {young}, {poisson}")
         self.ex = iga.Extraction(grid)
         ex = self.ex
-        if not np.all(ex.exponents() == ex.exponents()[:1]):
-            raise ValueError("cells do not share one VTK Bézier point order")
+        exps = ex.exponents()
+        odd = np.nonzero(np.any(exps != exps[:1], axis=(1, 2)))[0]
+        if len(odd):
+            raise ValueError(f"cell {odd[0]} does not have the VTK Bézier point order of cell 0")
         self.thickness, self.young, self.poisson = thickness, young, poisson
         lam, w = iga.triangle_quadrature(quadrature)
-        B, dB, ddB = iga.bernstein_jets(ex.exponents()[0], lam)  # (q,10), (q,10,3), (q,10,3,3)
+        B, dB, ddB = iga.bernstein_jets(exps[0], lam)  # (q,10), (q,10,3), (q,10,3,3)
         corners = ex.uv[ex.cell_points[:, :3]]
         G = iga.barycentric_gradients(corners)  # (C, 3, 2)
         area = iga.triangle_areas(corners)
@@ -137,6 +142,9 @@ class Shell:
         self.aa = np.einsum("cqide,cik->cqdek", ddBx, X)  # (C, q, 2, 2, 3) x_,ab
         n = np.cross(self.a[:, :, 0], self.a[:, :, 1])
         self.jac = np.linalg.norm(n, axis=-1)  # |a_1 x a_2|
+        flat = np.nonzero(self.jac.min(axis=1) <= 1e-12 * max(self.jac.max(), 1e-300))[0]
+        if len(flat):
+            raise ValueError(f"the surface is singular (a_1 x a_2 = 0) in cell {flat[0]}: no normal there")
         self.a3 = n / self.jac[..., None]
         self.weights = w[None, :] * area[:, None] * self.jac  # dA
         Cop = ex.operators
@@ -227,8 +235,22 @@ class Shell:
         fixed = np.unique(np.asarray(fixed, dtype=np.int64))
         free = np.setdiff1d(np.arange(self.n_unknowns), fixed)
         x = np.zeros(self.n_unknowns)
+        R = self.rigid_motions()[fixed]
+        R /= np.maximum(np.linalg.norm(self.rigid_motions(), axis=0), 1e-300)
+        if len(fixed) < 6 or np.linalg.svd(R, compute_uv=False)[-1] < 1e-10:
+            raise ValueError("the conditions leave a rigid-body motion free (the stiffness is singular)")
         x[free] = spla.spsolve(K[free][:, free].tocsc(), b[free])
         return x.reshape(-1, 3)
+
+    def rigid_motions(self):
+        """(unknowns, 6): the translations along x, y, z and the infinitesimal rotations about
+        them (u = w x x), exactly in the space: the rotations' dofs are w x the geometry's."""
+        ex = self.ex
+        n_vertices = (ex.n_dofs - np.count_nonzero(ex.edge_dofs[:, 2] >= 0)) // 3
+        value = np.zeros(ex.n_dofs)
+        value[0 : 3 * n_vertices : 3] = 1.0
+        motions = [np.outer(value, e) for e in np.eye(3)] + [np.cross(w, ex.dofs) for w in np.eye(3)]
+        return np.stack([m.ravel() for m in motions], -1)
 
     def vertex_displacement(self, d, vertex):
         """The displacement at an input vertex (its value dof)."""
