@@ -5,6 +5,7 @@
 #include "CTSplinesSMP.h"
 #include "BezierExtraction.h"
 #include "CloughTocherSpline.h"
+#include "DerivativeEstimation.h"
 #include "SplineInput.h"
 
 #include "vtkCellArray.h"
@@ -45,6 +46,12 @@ static_assert(vtkCloughTocherSplineFilter::CTo == static_cast<int>(ctk::Construc
     vtkCloughTocherSplineFilter::Quartic == static_cast<int>(ctk::Construction::Quartic) &&
     vtkCloughTocherSplineFilter::Quartic + 1 == ctk::NumberOfConstructions,
   "vtkCloughTocherSplineFilter::ConstructionType and ctk::Construction differ");
+static_assert(vtkCloughTocherSplineFilter::NoEstimation == static_cast<int>(ctk::DerivativeEstimation::None) &&
+    vtkCloughTocherSplineFilter::LocalQuadratic ==
+      static_cast<int>(ctk::DerivativeEstimation::LocalQuadratic) &&
+    vtkCloughTocherSplineFilter::MinimumEnergy ==
+      static_cast<int>(ctk::DerivativeEstimation::MinimumEnergy),
+  "vtkCloughTocherSplineFilter::DerivativeEstimationType and ctk::DerivativeEstimation differ");
 
 namespace
 {
@@ -106,9 +113,17 @@ const char* vtkCloughTocherSplineFilter::GetBoundaryModeName(int m)
   return ctk::ToString(static_cast<ctk::BoundaryMode>(m));
 }
 
+const char* vtkCloughTocherSplineFilter::GetDerivativeEstimationName(int method)
+{
+  return method >= NoEstimation && method <= MinimumEnergy
+    ? ctk::ToString(static_cast<ctk::DerivativeEstimation>(method))
+    : "Unknown";
+}
+
 int vtkCloughTocherSplineFilter::GetRequiredGhostLevels() const
 {
-  return ctk::RequiredGhostRings(static_cast<ctk::Construction>(this->Construction), this->Iterations);
+  return ctk::RequiredGhostRings(static_cast<ctk::Construction>(this->Construction), this->Iterations) +
+    (this->DerivativeEstimation != NoEstimation ? ctk::MaxEstimationRings : 0);
 }
 
 int vtkCloughTocherSplineFilter::RequestUpdateExtent(
@@ -268,7 +283,15 @@ std::string ConstructionNames(bool (*which)(int))
   return names;
 }
 
-// 1. Validate the input and map its mesh and arrays to the kernel's owning input.
+// Whether the derivatives are estimated: asked for, and dFdu or dFdv missing.
+bool EstimatesDerivatives(vtkPointData* pd, vtkCloughTocherSplineFilter* self)
+{
+  return self->GetDerivativeEstimation() != vtkCloughTocherSplineFilter::NoEstimation &&
+    (!ctsplines::FindArray(pd, self->GetDuArrayName()) || !ctsplines::FindArray(pd, self->GetDvArrayName()));
+}
+
+// 1. Validate the input and map its mesh and arrays to the kernel's owning input (the
+// derivatives stay empty when they are to be estimated).
 std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* self,
   const ctk::SplineOptions& options, ctk::SplineInput& in)
 {
@@ -303,16 +326,22 @@ std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* sel
         "' is missing and there are no active texture coordinates";
   }
   const std::string du = self->GetDuArrayName(), dv = self->GetDvArrayName();
-  if (error.empty())
-  {
-    error = ctsplines::CopyArray(ctsplines::FindArray(pd, du),
-      "point data array '" + du + "' (derivative d/du)", 3, nPoints, "point", in.Fu);
-  }
-  if (error.empty())
-  {
-    error = ctsplines::CopyArray(ctsplines::FindArray(pd, dv),
-      "point data array '" + dv + "' (derivative d/dv)", 3, nPoints, "point", in.Fv);
-  }
+  const bool estimate = EstimatesDerivatives(pd, self);
+  auto readDerivative = [&](const std::string& name, const char* what, std::vector<double>& values) {
+    if (!error.empty() || estimate)
+    {
+      return;
+    }
+    vtkDataArray* a = ctsplines::FindArray(pd, name);
+    error = ctsplines::CopyArray(
+      a, "point data array '" + name + "' (derivative " + what + ")", 3, nPoints, "point", values);
+    if (!a)
+    {
+      error += " (DerivativeEstimation LocalQuadratic or MinimumEnergy estimates the derivatives)";
+    }
+  };
+  readDerivative(du, "d/du", in.Fu);
+  readDerivative(dv, "d/dv", in.Fv);
   const ctk::ConstructionInfo& info = ctk::Info(options.Method);
   const std::string egName = self->GetEdgeGradientsArrayName();
   if (error.empty() && ctk::UsesEdgeGradients(options))
@@ -522,6 +551,20 @@ int vtkCloughTocherSplineFilter::RequestData(
     vtkErrorMacro(<< "invalid mesh: " << topo.Message);
     return 0;
   }
+  const bool estimated = EstimatesDerivatives(input->GetPointData(), this);
+  if (estimated)
+  {
+    in.Fu.assign(in.F.size(), 0.0);
+    in.Fv.assign(in.F.size(), 0.0);
+    const ctk::BuildStatus est = ctk::EstimateDerivatives(in.View(), topology,
+      static_cast<ctk::DerivativeEstimation>(this->DerivativeEstimation), in.Fu.data(), in.Fv.data(),
+      ctsplines::SMPFor);
+    if (!est.Ok)
+    {
+      vtkErrorMacro(<< est.Message);
+      return 0;
+    }
+  }
   this->UpdateProgress(0.2);
   if (this->GetAbortExecute())
   {
@@ -553,6 +596,8 @@ int vtkCloughTocherSplineFilter::RequestData(
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
   AddFieldString(fd, "BoundaryMode", GetBoundaryModeName(this->BoundaryMode));
+  AddFieldString(fd, "DerivativeEstimation",
+    GetDerivativeEstimationName(estimated ? this->DerivativeEstimation : NoEstimation));
   vtkNew<vtkIntArray> iterations;
   iterations->SetName("Iterations");
   iterations->InsertNextValue(this->Iterations);
@@ -582,6 +627,8 @@ void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundaryMode: " << GetBoundaryModeName(this->BoundaryMode) << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "ComputeBezierExtraction: " << this->ComputeBezierExtraction << "\n";
+  os << indent << "DerivativeEstimation: " << GetDerivativeEstimationName(this->DerivativeEstimation)
+     << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
   os << indent << "DuArrayName: " << this->DuArrayName << "\n";
   os << indent << "DvArrayName: " << this->DvArrayName << "\n";

@@ -9,6 +9,8 @@
  * `dFdv` (3 components each). The MG constructions, KaG and the gradient boundary modes also
  * read the cell data `EdgeGradients` (18 components: for the local edges (p0,p1), (p1,p2),
  * (p2,p0) in that order, f_u then f_v at the edge midpoint). Array names are settable.
+ * Meshes without dFdu/dFdv (a scan, an exported mesh with texture coordinates) are accepted
+ * when DerivativeEstimation is set: the derivatives are then estimated from the positions.
  *
  * Output: vtkUnstructuredGrid with three cubic (quartic for the Quartic construction)
  * VTK_BEZIER_TRIANGLE cells per input triangle (the Clough-Tocher micro-triangles),
@@ -125,6 +127,33 @@ public:
   vtkGetMacro(Iterations, int);
   ///@}
 
+  /// How dFdu and dFdv are obtained when the input lacks them (values match
+  /// ctk::DerivativeEstimation; Filters/Kernel/DerivativeEstimation.h).
+  enum DerivativeEstimationType
+  {
+    NoEstimation = 0,   // "None": the arrays are required (missing ones are an error)
+    LocalQuadratic = 1, // per vertex, least-squares quadratic over its rings
+    MinimumEnergy = 2   // global, least thin-plate energy of the CTo spline (matplotlib's min_E)
+  };
+
+  ///@{
+  /// Estimation of the derivatives, used when dFdu or dFdv (DuArrayName, DvArrayName) is
+  /// missing: both are then estimated from the positions and (u, v), and the output's field
+  /// data `DerivativeEstimation` names the method ("None" when the input's arrays were used).
+  /// Given arrays are always used as they are. Default NoEstimation (named "None"): the arrays
+  /// are required, and a missing one is an error naming it. LocalQuadratic is exact for
+  /// quadratic surfaces and invariant to affine reparameterisation (gradient error O(h^2));
+  /// MinimumEnergy is exact for planes and smoother, but global (O(h) at the boundary, O(h^2)
+  /// inside); in distributed runs each piece gets the minimum over the piece and its ghosts.
+  vtkSetClampMacro(DerivativeEstimation, int, NoEstimation, MinimumEnergy);
+  vtkGetMacro(DerivativeEstimation, int);
+  void SetDerivativeEstimationToNone() { this->SetDerivativeEstimation(NoEstimation); }
+  void SetDerivativeEstimationToLocalQuadratic() { this->SetDerivativeEstimation(LocalQuadratic); }
+  void SetDerivativeEstimationToMinimumEnergy() { this->SetDerivativeEstimation(MinimumEnergy); }
+  /// "None", "LocalQuadratic", "MinimumEnergy" ("Unknown" outside).
+  static const char* GetDerivativeEstimationName(int method);
+  ///@}
+
   ///@{
   /// Names of the input arrays. Defaults: "UV", "dFdu", "dFdv", "EdgeGradients".
   vtkSetStdStringFromCharMacro(UVArrayName);
@@ -169,7 +198,8 @@ public:
 
   /// Ghost levels the construction needs around a piece to reproduce the serial result on it
   /// (ctk::RequiredGhostRings): 0 for the local constructions (CTo, MGo) without iterations,
-  /// else 2 + Iterations (neighbours' data, one more layer per iteration).
+  /// else 2 + Iterations (neighbours' data, one more layer per iteration); with
+  /// DerivativeEstimation, ctk::MaxEstimationRings (4) more for the rings the estimate reads.
   int GetRequiredGhostLevels() const;
 
   ///@{
@@ -205,6 +235,7 @@ protected:
   int BoundaryMode = Midpoint;
   int Iterations = 0;
   bool ComputeBezierExtraction = false;
+  int DerivativeEstimation = NoEstimation;
   std::string UVArrayName = "UV";
   std::string DuArrayName = "dFdu";
   std::string DvArrayName = "dFdv";

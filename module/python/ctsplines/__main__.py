@@ -93,35 +93,35 @@ def _uv_of(mesh, name):
     return uv if uv is not None and uv.GetNumberOfComponents() == 2 else None
 
 
-def _with_estimated_derivatives(mesh, args, log):
-    """A shallow copy of the mesh with dFdu, dFdv (under the configured names) estimated from
-    the positions by local quadratic least squares (arrays.estimate_derivatives)."""
-    from vtkmodules.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+DERIVATIVE_METHODS = {"local-quadratic": "LocalQuadratic", "minimum-energy": "MinimumEnergy"}
+_DERIVATIVE_NOTES = {"LocalQuadratic": "local quadratic least squares: exact for quadratic surfaces",
+                     "MinimumEnergy": "minimum bending energy: exact for planes"}
 
-    from .arrays import estimate_derivatives, triangles
-    from .io import FilterError
 
-    uv = _uv_of(mesh, args.uv_array)
-    if uv is None:
-        return mesh  # the filter reports the missing parameter values itself
-    try:
-        tri = triangles(mesh)
-    except ValueError:
-        return mesh  # non-triangles: the filter names the offending cell
-    try:
-        fu, fv = estimate_derivatives(vtk_to_numpy(uv), tri,
-                                      vtk_to_numpy(mesh.GetPoints().GetData()))
-    except ValueError as e:
-        raise FilterError(f"cannot estimate derivatives: {e}")
-    out = mesh.NewInstance()
-    out.ShallowCopy(mesh)
-    for name, values in ((args.du_array, fu), (args.dv_array, fv)):
-        a = numpy_to_vtk(values, deep=True)
-        a.SetName(name)
-        out.GetPointData().AddArray(a)
-    log(f"note: estimated {args.du_array} and {args.dv_array} from the positions (local "
-        "quadratic least squares: exact for quadratic surfaces)")
-    return out
+def _estimate_derivatives(spline, mesh, args):
+    """Sets the spline filter's DerivativeEstimation from --derivatives and --derivative-method
+    (the filter estimates dFdu, dFdv when the mesh lacks them); returns the mesh to convert:
+    for --derivatives estimate a shallow copy without the file's derivative arrays."""
+    if args.derivatives == "file":
+        spline.SetDerivativeEstimationToNone()
+        return mesh
+    spline.SetDerivativeEstimation(getattr(spline, DERIVATIVE_METHODS[args.derivative_method]))
+    if args.derivatives == "estimate":
+        out = mesh.NewInstance()
+        out.ShallowCopy(mesh)
+        for name in (args.du_array, args.dv_array):
+            out.GetPointData().RemoveArray(name)
+        return out
+    return mesh
+
+
+def _log_estimated_derivatives(result, args, log):
+    from .arrays import field_values
+
+    method = field_values(result).get("DerivativeEstimation", "None")
+    if method != "None":
+        log(f"note: estimated {args.du_array} and {args.dv_array} from the positions "
+            f"({_DERIVATIVE_NOTES[method]})")
 
 
 def _needs_derivatives(mesh, args):
@@ -292,9 +292,6 @@ def _convert(args):
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
         mesh = as_polydata(read(args.input, messages))
-        if args.derivatives == "estimate" or (
-                args.derivatives == "auto" and _needs_derivatives(mesh, args)):
-            mesh = _with_estimated_derivatives(mesh, args, log)
         reference = None
         if args.reference:
             reference = as_polydata(read(args.reference, messages))
@@ -302,8 +299,9 @@ def _convert(args):
         spline = messages.watch(vtkCloughTocherSplineFilter())
         progress.watch(spline, "spline")
         _configure_spline(spline, args)
-        spline.SetInputData(mesh)
+        spline.SetInputData(_estimate_derivatives(spline, mesh, args))
         result = _run(spline, messages, f"{args.input} is not valid input")
+        _log_estimated_derivatives(result, args, log)
         write(result, args.output, messages)
         orders = _bezier_order(result) or ["?"]
         print(f"spline: {args.output} ({result.GetNumberOfCells()} Bézier triangles of order "
@@ -574,8 +572,14 @@ def build_parser():
     convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
                          help="auto: use the file's derivative arrays, estimate them when "
                          "missing; file: only the file's (missing ones are an error); "
-                         "estimate: always estimate by local quadratic least squares over "
-                         "each vertex's two ring (default %(default)s)")
+                         "estimate: always estimate, ignoring the file's (default %(default)s)")
+    convert.add_argument("--derivative-method", choices=list(DERIVATIVE_METHODS),
+                         default="local-quadratic",
+                         help="how derivatives are estimated: local-quadratic fits a quadratic "
+                         "over each vertex's neighbour rings (exact for quadratic surfaces, "
+                         "affine invariant); minimum-energy minimises the spline's bending "
+                         "energy per coordinate (exact for planes, smoother, global) "
+                         "(default %(default)s)")
     out = convert.add_argument_group("outputs and analysis")
     out.add_argument("--tessellate", "-t", type=_positive, metavar="LEVEL",
                      help="also write the tessellation with LEVEL segments per cell edge "
