@@ -261,6 +261,102 @@ class Shell:
         return self.ex.global_matrix() @ d
 
 
+def _vertex_count(ex):
+    return (ex.n_dofs - np.count_nonzero(ex.edge_dofs[:, 2] >= 0)) // 3
+
+
+def interface_map(exA, exB, tol=1e-9):
+    """Couples patch B to patch A along the edges they share (vertices at the same points):
+    returns (slaves, S) with B's interface dofs d_B[slaves] = S @ d_A (S sparse), per component.
+
+    The patches' parameters may differ: at a shared vertex J = dU_A/dU_B solves
+    [x_uB x_vB] = [x_uA x_vA] J (exact where the tangent planes agree, a G1 join), and
+    value_B = value_A, grad_B = J^T grad_A. A shared boundary edge's dof on B (its midpoint
+    normal derivative along n_B, boundary mode GradientPerpendicular on both) is
+    grad_A . (J n_B) at the midpoint (J the mean of the ends'), with grad_A from A's edge dof
+    (along n_A) and the derivative of A's boundary cubic along the edge. For an affine
+    parameter transition this makes the coupled space C1 across the interface."""
+    import scipy.sparse as sp
+
+    nA, nB = _vertex_count(exA), _vertex_count(exB)
+    pA, pB = exA.dofs[0 : 3 * nA : 3], exB.dofs[0 : 3 * nB : 3]
+    scale = tol * max(1.0, np.abs(pA).max())
+    dist = np.linalg.norm(pB[:, None] - pA[None], axis=-1)
+    match = {int(b): int(np.argmin(dist[b])) for b in np.nonzero(dist.min(1) <= scale)[0]}
+    if not match:
+        raise ValueError("the patches share no vertex")
+    rows, cols, vals, J = [], [], [], {}
+    for b, a in match.items():
+        GA, GB = exA.dofs[[3 * a + 1, 3 * a + 2]].T, exB.dofs[[3 * b + 1, 3 * b + 2]].T
+        J[b] = np.linalg.lstsq(GA, GB, rcond=None)[0]
+        rows += [3 * b, 3 * b + 1, 3 * b + 1, 3 * b + 2, 3 * b + 2]
+        cols += [3 * a, 3 * a + 1, 3 * a + 2, 3 * a + 1, 3 * a + 2]
+        vals += [1.0, J[b][0, 0], J[b][1, 0], J[b][0, 1], J[b][1, 1]]
+    edgesA = {frozenset((int(a1), int(a2))): (int(a1), int(a2), int(d)) for a1, a2, d in exA.edge_dofs}
+    for b1, b2, dB in exB.edge_dofs:
+        if dB < 0 or b1 not in match or b2 not in match:
+            continue
+        a1, a2, dA = edgesA.get(frozenset((match[b1], match[b2])), (0, 0, -1))
+        if dA < 0:
+            raise ValueError(f"edge ({b1}, {b2}) of patch B is on the interface but patch A's has no edge dof")
+        eB = exB.uv[b2] - exB.uv[b1]
+        nvec = np.array([-eB[1], eB[0]]) / np.linalg.norm(eB)
+        w = 0.5 * (J[b1] + J[b2]) @ nvec  # n_B in A's parameters
+        eA = exA.uv[a2] - exA.uv[a1]
+        L = np.linalg.norm(eA)
+        tA, nA_ = eA / L, np.array([-eA[1], eA[0]]) / L
+        wt = (w @ tA) / L  # along the edge: d/ds of A's boundary cubic at s = 1/2, over L
+        rows += [dB] * 7
+        cols += [dA, 3 * a2, 3 * a1, 3 * a1 + 1, 3 * a1 + 2, 3 * a2 + 1, 3 * a2 + 2]
+        vals += [w @ nA_, 1.5 * wt, -1.5 * wt] + list(-0.25 * wt * np.concatenate([eA, eA]))
+    S = sp.csr_matrix((vals, (rows, cols)), shape=(exB.n_dofs, exA.n_dofs))
+    slaves = np.unique(rows)
+    return slaves, S[slaves]
+
+
+def couple(shellA, shellB, tol=1e-9):
+    """T (sparse, unknowns of A then B by reduced unknowns) with full = T @ reduced: every
+    unknown of A and the unknowns of B off the interface are kept, B's interface unknowns follow
+    A's by :func:`interface_map` (the same map for the three components). Returns (T, slaves)
+    with slaves in the full numbering."""
+    import scipy.sparse as sp
+
+    slaves, S = interface_map(shellA.ex, shellB.ex, tol)
+    nA, nB = shellA.n_unknowns, shellB.n_unknowns
+    S3 = sp.kron(S, sp.identity(3)).tocoo()  # unknown 3 j + c
+    slave_unknowns = (3 * slaves[:, None] + np.arange(3)).ravel()
+    keepB = np.setdiff1d(np.arange(nB), slave_unknowns)
+    rows = np.concatenate([np.arange(nA), nA + keepB, nA + slave_unknowns[S3.row]])
+    cols = np.concatenate([np.arange(nA), nA + np.arange(len(keepB)), S3.col])
+    vals = np.concatenate([np.ones(nA + len(keepB)), S3.data])
+    T = sp.csr_matrix((vals, (rows, cols)), shape=(nA + nB, nA + len(keepB)))
+    return T, nA + slave_unknowns
+
+
+def solve_coupled(shellA, shellB, K, b, fixed, tol=1e-9):
+    """Solves the two coupled patches: K, b over the unknowns of A then B (block diagonal and
+    stacked), fixed in that numbering. A condition on a slave unknown must follow from the
+    fixed unknowns of A (e.g. the same support on both sides); otherwise ValueError. Returns the
+    displacement dofs of A and of B."""
+    T, slaves = couple(shellA, shellB, tol)
+    fixed = np.unique(np.asarray(fixed, dtype=np.int64))
+    master_of = np.full(T.shape[0], -1)
+    kept = np.setdiff1d(np.arange(T.shape[0]), slaves)
+    master_of[kept] = np.arange(len(kept))
+    on_master = fixed[master_of[fixed] >= 0]
+    fixed_reduced = master_of[on_master]
+    for f in fixed[master_of[fixed] < 0]:
+        used = T[f].indices[np.abs(T[f].data) > 1e-14]
+        if not np.isin(used, fixed_reduced).all():
+            raise ValueError(f"the condition on interface unknown {f} does not follow from patch A's")
+    Kr, br = (T.T @ K @ T).tocsr(), T.T @ b
+    free = np.setdiff1d(np.arange(T.shape[1]), fixed_reduced)
+    r = np.zeros(T.shape[1])
+    r[free] = spla.spsolve(Kr[free][:, free].tocsc(), br[free])
+    x = T @ r
+    return x[: shellA.n_unknowns].reshape(-1, 3), x[shellA.n_unknowns:].reshape(-1, 3)
+
+
 def vertex_at(ex, n_vertices, uv, tol=1e-9):
     """The input vertex at parameter uv (ValueError if none)."""
     dist = np.linalg.norm(ex.uv[:n_vertices] - np.asarray(uv, float), axis=1)
