@@ -195,7 +195,7 @@ std::string ReadInput(vtkDataSet* input, const std::string& uvName, const std::s
   return error;
 }
 
-// The edges of the cells, by corner keys (point ids, merged by coordinates when radius >= 0).
+// The edges of the cells, by corner keys (point ids, merged by coordinates when asked).
 struct EdgeMatching
 {
   std::vector<ctk::Id> Corners; // 3 corner keys per cell
@@ -239,11 +239,11 @@ int KindOf(const ContinuityInput& in, vtkIdType A, vtkIdType B)
   {
     return vtkSplineContinuityFilter::Interface;
   }
-  return !in.MacroIds.empty() && in.MacroIds[A] == in.MacroIds[B] ? vtkSplineContinuityFilter::Micro
-                                                                  : vtkSplineContinuityFilter::Macro;
+  const bool sameMacroTriangle = !in.MacroIds.empty() && in.MacroIds[A] == in.MacroIds[B];
+  return sameMacroTriangle ? vtkSplineContinuityFilter::Micro : vtkSplineContinuityFilter::Macro;
 }
 
-// The kernel's measures of interior edge e (cells A < B). P holds MaxBezierPoints per side.
+// The kernel's measures of interior edge e (cells A < B); PA and PB receive the two nets.
 ctk::EdgeContinuity MeasureEdge(const ContinuityInput& in, const EdgeMatching& edges, vtkIdType e,
   int kind, int samples, ctk::Vec3* PA, ctk::Vec3* PB)
 {

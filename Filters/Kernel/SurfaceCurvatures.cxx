@@ -31,7 +31,8 @@ SurfaceCurvatures CurvaturesFromJet(const ParametricJet& jet)
   return k;
 }
 
-SurfaceCurvatures BezierTriangleCurvatures(int n, const Vec3* P, const double* weights, const Vec3& t)
+SurfaceCurvatures BezierTriangleCurvatures(
+  int n, const Vec3* P, const double* weights, const Vec3& t)
 {
   // The patch's own parametrisation (r, s): domain (0,0), (1,0), (0,1).
   const Vec2 R0(0, 0), R1(1, 0), R2(0, 1);

@@ -39,7 +39,8 @@ SurfaceCurvatures CurvaturesFromJet(const ParametricJet& jet);
 /// fundamental forms refer to (r, s). Where the tangent plane is singular (IsSingularTangentPlane),
 /// the limit from inside (Limit is set). Curvatures do not depend on the position of the net:
 /// pass a RelativeNet for accuracy on small patches far from the origin.
-SurfaceCurvatures BezierTriangleCurvatures(int n, const Vec3* P, const double* weights, const Vec3& t);
+SurfaceCurvatures BezierTriangleCurvatures(
+  int n, const Vec3* P, const double* weights, const Vec3& t);
 
 } // namespace ctk
 

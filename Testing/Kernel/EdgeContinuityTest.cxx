@@ -33,7 +33,8 @@ std::vector<Vec3> RandomCubic(unsigned seed)
 }
 
 // F's net of degree n >= 3 over the triangle (W0, W1, W2).
-std::vector<Vec3> Over(const std::vector<Vec3>& F, int n, const Vec2& W0, const Vec2& W1, const Vec2& W2)
+std::vector<Vec3> Over(
+  const std::vector<Vec3>& F, int n, const Vec2& W0, const Vec2& W1, const Vec2& W2)
 {
   std::vector<Vec3> P(BezierPointCount(n));
   SubTriangle(3, F.data(), Barycentric(T0, T1, T2, W0), Barycentric(T0, T1, T2, W1),
@@ -246,7 +247,8 @@ TEST(EdgeContinuity, ReportsBadInput)
   EXPECT_EQ(error(pair.A, degree), "side B: degree 11 is not in 1..10");
   EdgePatch corners = pair.A;
   corners.EdgeCorners = { 2, 2 };
-  EXPECT_EQ(error(corners, pair.B), "side A: edge corners (2, 2) are not two distinct corners 0..2");
+  EXPECT_EQ(
+    error(corners, pair.B), "side A: edge corners (2, 2) are not two distinct corners 0..2");
   EdgePatch none = pair.B;
   none.Points = nullptr;
   EXPECT_EQ(error(pair.A, none), "side B: no control points");

@@ -84,7 +84,8 @@ Net Paraboloid(int n, double d = Qd, double e = Qe)
   // Exactly a quadratic: interpolated at degree 2, then degree-elevated to n.
   Net net = Interpolate(2, GraphDomain, false, [d, e](const Vec2& p) {
     const double x = p.x(), y = p.y();
-    return Eigen::Vector4d(x, y, 0.5 * (Qa * x * x + 2 * Qb * x * y + Qc * y * y) + d * x + e * y, 1);
+    const double z = 0.5 * (Qa * x * x + 2 * Qb * x * y + Qc * y * y) + d * x + e * y;
+    return Eigen::Vector4d(x, y, z, 1);
   });
   for (int k = 2; k < n; ++k)
   {
