@@ -97,7 +97,7 @@ class ExtractionTest(unittest.TestCase):
                 with open(path) as f:
                     data = json.load(f)
                 if layout == "coreform":
-                    data["elements"]["element_blocks"][0]["elements"][5]["control_point_ids"][0] = 10**9
+                    data["elements"]["element_blocks"][5]["node_ids"][0] = 10**9
                 else:
                     data["cell_dofs"][5][0] = 10**9
                 with open(path, "w") as f:
@@ -107,6 +107,14 @@ class ExtractionTest(unittest.TestCase):
             with open(path, "w") as f:
                 f.write("{not json")
             with self.assertRaisesRegex(ValueError, "not JSON"):
+                iga.read_json(path)
+            iga.export_json(grid, path, layout="coreform")
+            with open(path) as f:
+                data = json.load(f)
+            data["nodes"][0][3] = 0.5
+            with open(path, "w") as f:
+                json.dump(data, f)
+            with self.assertRaisesRegex(ValueError, "rational"):
                 iga.read_json(path)
             with open(path, "w") as f:
                 json.dump({"format": "something else"}, f)

@@ -21,13 +21,14 @@ File format written by :func:`export` (plain text, whitespace separated, '#' sta
 
 JSON files written by :func:`export_json` (read back by :func:`read_json`), two layouts:
 
-``layout="coreform"``: modelled on Coreform Cubit's Bézier-extraction JSON (top-level objects
-``control_points``, ``elements`` in ``element_blocks``, ``extraction_coefficients`` with
-``dense_coefficient_vectors``; 0-based), with element type ``BERNSTEIN_TRIANGLE`` (Cubit's own
-blocks are tensor-product): the global "control points" are the degrees of freedom (their
-coordinates are the geometry's dofs, some of them tangent vectors, weights 1), and element e
-lists ``control_point_ids`` and, per id, the index of its coefficient vector (its 10 Bernstein
-coefficients in the block's ``bernstein_exponents`` order): N_j|e = sum_i c_i B_i.
+``layout="coreform"``: the field names of the Bézier-extraction JSON Coreform Cubit exports
+(``nodes`` as x y z w, ``elements.element_blocks`` with one entry per element: ``us_cid``,
+``node_ids``, ``coeff_vector_ids``; ``coefficients.dense_coefficient_vectors`` of
+``components``; 0-based), with element type ``BERNSTEIN_TRIANGLE`` in ``element_block_info``
+(Cubit's elements are tensor-product): the global "nodes" are the degrees of freedom (their
+coordinates the geometry's dofs, some of them tangent vectors, weights 1), and the coefficient
+vector of node ``node_ids[n]`` of an element holds its 10 Bernstein coefficients in the order
+``bernstein_exponents``: N_j|e = sum_i c_i B_i.
 
 ``layout="ctsplines"``: the Bernstein mesh (``bezier_mesh``: uv, points, cells of 10 point ids),
 the global extraction matrix (points x dofs, CSR ``indptr``/``indices``/``data``), the dofs
@@ -231,18 +232,27 @@ def export_json(grid, path, layout="ctsplines", dof_sets=None):
 
 
 def _coreform_body(ex):
+    """The field names of the JSON that Coreform Cubit exports (``nodes`` x y z w,
+    ``elements.element_blocks`` one entry per element with ``us_cid``, ``node_ids``,
+    ``coeff_vector_ids``, ``coefficients.dense_coefficient_vectors[i].components``)."""
     elements, vectors = [], []
     for c, (dofs, op) in enumerate(ex.element_matrices()):
-        elements.append({"id": c, "bezier_point_ids": ex.cell_points[c].tolist(),
-                         "control_point_ids": dofs.tolist(),
-                         "extraction_coefficient_ids": list(range(len(vectors), len(vectors) + len(dofs)))})
-        vectors.extend(op.T.tolist())
-    return {"control_points": {"num_control_points": ex.n_dofs, "coordinates": ex.dofs.tolist(),
-                               "weights": [1.0] * ex.n_dofs},
-            "elements": {"num_elements": len(elements), "element_blocks": [
-                {"element_type": "BERNSTEIN_TRIANGLE", "degree": 3, "num_elements": len(elements),
-                 "elements": elements}]},
-            "extraction_coefficients": {"dense_coefficient_vectors": vectors}}
+        elements.append({"us_cid": c, "node_ids": dofs.tolist(),
+                         "coeff_vector_ids": list(range(len(vectors), len(vectors) + len(dofs))),
+                         "bezier_point_ids": ex.cell_points[c].tolist()})
+        vectors.extend({"components": row} for row in op.T.tolist())
+    corners = np.unique(ex.cell_points[:, :3])
+    return {"is_rational": False, "num_nodes": ex.n_dofs, "num_vertices": len(corners),
+            "num_elems": len(elements), "dim": 2, "num_coeff_vecs": len(vectors), "patch_id": 0,
+            "nodes": np.column_stack([ex.dofs, np.ones(ex.n_dofs)]).tolist(),
+            "vertex_connectivity": ex.cell_points[:, :3].tolist(),
+            "block_elem_map": [{"block_name": "spline", "block_id": 1, "elem_ids": list(range(len(elements)))}],
+            "elements": {"element_block_info": [{"element_type": "BERNSTEIN_TRIANGLE", "deg_s": 3, "deg_t": 3,
+                                                 "num_elems": len(elements)}],
+                         "element_blocks": elements},
+            "coefficients": {"num_dense_coeff_blocks": 1, "dense_coefficient_vectors": vectors,
+                             "dense_vector_info": [], "num_sparse_coeff_blocks": 0,
+                             "sparse_coefficient_vectors": [], "sparse_vector_info": []}}
 
 
 def read_json(path):
@@ -278,19 +288,20 @@ def read_json(path):
 
 
 def _read_coreform(d):
-    cp = d["control_points"]
-    n_dofs = int(cp["num_control_points"])
-    coords = np.asarray(cp["coordinates"], dtype=float).reshape(n_dofs, 3)
-    vectors = d["extraction_coefficients"]["dense_coefficient_vectors"]
+    n_dofs = int(d["num_nodes"])
+    nodes = np.asarray(d["nodes"], dtype=float).reshape(n_dofs, 4)
+    if d["is_rational"] or not np.all(nodes[:, 3] == 1.0):
+        raise ValueError("rational extraction (weights other than 1) is not a CT spline")
+    for info in d["elements"]["element_block_info"]:
+        if info["element_type"] != "BERNSTEIN_TRIANGLE" or int(info["deg_s"]) != 3:
+            raise ValueError(f"unsupported element block {info['element_type']} of degree {info['deg_s']}")
+    vectors = d["coefficients"]["dense_coefficient_vectors"]
     elements = []
-    for block in d["elements"]["element_blocks"]:
-        if block["element_type"] != "BERNSTEIN_TRIANGLE" or int(block["degree"]) != 3:
-            raise ValueError(f"unsupported element block {block['element_type']} of degree {block['degree']}")
-        for e in block["elements"]:
-            dofs = np.asarray(e["control_point_ids"], dtype=np.int64)
-            op = np.array([vectors[i] for i in e["extraction_coefficient_ids"]], dtype=float).reshape(len(dofs), 10)
-            elements.append((np.asarray(e["bezier_point_ids"], dtype=np.int64), dofs, op.T.copy()))
-    return n_dofs, coords, elements
+    for e in d["elements"]["element_blocks"]:
+        dofs = np.asarray(e["node_ids"], dtype=np.int64)
+        op = np.array([vectors[i]["components"] for i in e["coeff_vector_ids"]], dtype=float)
+        elements.append((np.asarray(e["bezier_point_ids"], dtype=np.int64), dofs, op.reshape(len(dofs), 10).T.copy()))
+    return n_dofs, nodes[:, :3], elements
 
 
 def _read_ctsplines(d, n_points):
