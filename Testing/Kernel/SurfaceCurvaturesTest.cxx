@@ -143,6 +143,8 @@ TEST(SurfaceCurvatures, ExactOnParaboloid)
       EXPECT_NEAR(k.Max, H + std::sqrt(H * H - K), 1e-12) << "n " << n;
       EXPECT_NEAR(k.Min, H - std::sqrt(H * H - K), 1e-12) << "n " << n;
       EXPECT_NEAR((k.Normal - Vec3(-fx, -fy, 1) / std::sqrt(W2)).norm(), 0, 1e-13);
+      // The kernel's other home of the normal gives the same one.
+      EXPECT_NEAR((k.Normal - PatchNormal(n, net.Points.data(), nullptr, t)).norm(), 0, 1e-15);
       // Principal directions: unit tangents, orthogonal, with normal curvatures Max and Min.
       EXPECT_NEAR(k.MaxDirection.norm(), 1, 1e-14);
       EXPECT_NEAR(k.MaxDirection.dot(k.Normal), 0, 1e-13);
@@ -346,6 +348,7 @@ TEST(SurfaceCurvatures, SingularCornerGivesLimitFromInside)
   EXPECT_EQ(k.Gauss, inside.Gauss);
   EXPECT_EQ(k.Mean, inside.Mean);
   EXPECT_EQ(k.Normal, inside.Normal);
+  EXPECT_NEAR((k.Normal - PatchNormal(3, net.Points.data(), nullptr, corner)).norm(), 0, 1e-15);
   // The other corners are regular.
   EXPECT_FALSE(At(net, Vec3(0, 1, 0)).Limit);
   EXPECT_FALSE(At(net, Vec3(0, 0, 1)).Limit);
