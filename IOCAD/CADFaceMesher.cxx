@@ -2,7 +2,8 @@
 // CGAL side of the CAD import (never include OpenCASCADE here: its Handle macro breaks CGAL).
 #include "CADFaceMesher.h"
 
-#include "CubicCloughTocher.h"
+#include "CloughTocherSpline.h"
+#include "SplineInput.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -243,38 +244,50 @@ const LoopSegment* FaceSegment(const CDT& cdt, const CDT::Face_handle f, int l,
   return it->second.Segment;
 }
 
-/// Row-major input of a kernel spline over points of the face mesh (kernel point k is the k-th
-/// point added) and its build, topology included.
-struct FaceSplineInput
+/// e = |value - surface(X)| at parameter X of the face; false (with error) when not finite.
+bool DeviationAt(const SurfaceFunction& surface, const ctk::Vec2& X, const ctk::Vec3& value,
+  double& e, std::string& error)
 {
-  std::vector<ctk::Id> Triangles;
-  std::vector<double> UV, F, Fu, Fv;
-  std::vector<double> EdgeGradients, Curves; // optional, #T by 18
-  ctk::Id NumberOfPoints = 0;
+  Point3 S, Ds, Dt;
+  surface(X.x(), X.y(), S.data(), Ds.data(), Dt.data());
+  e = (value - ctk::Vec3(S[0], S[1], S[2])).norm();
+  if (!std::isfinite(e))
+  {
+    error = "non-finite surface or spline value at (" + std::to_string(X.x()) + ", " +
+      std::to_string(X.y()) + ") of the face's parameter plane";
+    return false;
+  }
+  return true;
+}
 
+/// The kernel input of a spline over points of the face mesh (kernel point k is the k-th point
+/// added) and its build, topology included.
+struct FaceSplineInput : ctk::SplineInput
+{
   ctk::Id AddPoint(const FaceMesh& mesh, Id p)
   {
     this->UV.insert(this->UV.end(), mesh.UV[p].begin(), mesh.UV[p].end());
     this->F.insert(this->F.end(), mesh.F[p].begin(), mesh.F[p].end());
     this->Fu.insert(this->Fu.end(), mesh.Fs[p].begin(), mesh.Fs[p].end());
     this->Fv.insert(this->Fv.end(), mesh.Ft[p].begin(), mesh.Ft[p].end());
-    return this->NumberOfPoints++;
+    return this->NumberOfVertices() - 1;
   }
-  ctk::Vec2 PointUV(ctk::Id k) const { return ctk::Vec2(this->UV[2 * k], this->UV[2 * k + 1]); }
+  /// The parameter point of barycentric coordinates tau in triangle t.
+  ctk::Vec2 ParameterAt(ctk::Id t, const ctk::Vec3& tau) const
+  {
+    ctk::Vec2 X = ctk::Vec2::Zero();
+    for (int i = 0; i < 3; ++i)
+    {
+      const ctk::Id v = this->Triangles[3 * t + i];
+      X += tau[i] * ctk::Vec2(this->UV[2 * v], this->UV[2 * v + 1]);
+    }
+    return X;
+  }
 
   bool Build(const ctk::SplineOptions& options, ctk::MeshTopology& topo, ctk::CubicSpline& spline,
     std::string& error) const
   {
-    ctk::SplineData data;
-    data.NumberOfVertices = this->NumberOfPoints;
-    data.NumberOfTriangles = static_cast<ctk::Id>(this->Triangles.size() / 3);
-    data.Triangles = this->Triangles.data();
-    data.UV = this->UV.data();
-    data.F = this->F.data();
-    data.Fu = this->Fu.data();
-    data.Fv = this->Fv.data();
-    data.EdgeGradients = this->EdgeGradients.empty() ? nullptr : this->EdgeGradients.data();
-    data.BoundaryCurvePoints = this->Curves.empty() ? nullptr : this->Curves.data();
+    const ctk::SplineData data = this->View();
     const ctk::TopologyStatus ts =
       ctk::BuildMeshTopology(data.NumberOfVertices, data.NumberOfTriangles, data.Triangles, topo);
     const ctk::BuildStatus bs =
@@ -304,7 +317,7 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
   }
   in.Triangles.resize(3 * nT);
   in.EdgeGradients.resize(18 * nT);
-  in.Curves.assign(18 * nT, std::nan(""));
+  in.BoundaryCurvePoints.assign(18 * nT, std::nan(""));
   std::vector<std::array<bool, 3>> onBoundary(nT);
   for (ctk::Id t = 0; t < nT; ++t)
   {
@@ -329,8 +342,8 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
       }
       for (int i = 0; seg && i < 3; ++i)
       {
-        in.Curves[18 * t + 6 * l + i] = (flipped ? seg->Near1 : seg->Near0)[i];
-        in.Curves[18 * t + 6 * l + 3 + i] = (flipped ? seg->Near0 : seg->Near1)[i];
+        in.BoundaryCurvePoints[18 * t + 6 * l + i] = (flipped ? seg->Near1 : seg->Near0)[i];
+        in.BoundaryCurvePoints[18 * t + 6 * l + 3 + i] = (flipped ? seg->Near0 : seg->Near1)[i];
       }
     }
   }
@@ -346,38 +359,19 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
     ctk::Vec3(1, 4, 1) / 6, ctk::Vec3(1, 1, 4) / 6, ctk::Vec3(0.5, 0.5, 0) };
   for (ctk::Id t = 0; t < nT; ++t)
   {
-    const ctk::MacroElementIds ids = ctk::GetMacroElementIds(spline.Layout, topo, in.Triangles.data(), t);
-    ctk::Vec2 U[3];
-    for (int i = 0; i < 3; ++i)
-    {
-      U[i] = in.PointUV(in.Triangles[3 * t + i]);
-    }
-    const ctk::Vec3& tau = spline.SplitTau[t];
-    const ctk::Vec2 Z = tau[0] * U[0] + tau[1] * U[1] + tau[2] * U[2];
     double worst = 0;
     ctk::Vec2 worstX;
     for (int k = 0; k < 3; ++k)
     {
-      const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, k);
-      ctk::Vec3 P[10];
-      for (int i = 0; i < 10; ++i)
-      {
-        P[i] = spline.ControlPoints[net[i]];
-      }
-      const ctk::Vec2 &A0 = U[(k + 1) % 3], &A1 = U[(k + 2) % 3];
       const int points = onBoundary[t][(k + 1) % 3] ? 4 : 5;
       for (int q = 0; q < points; ++q)
       {
-        const ctk::Vec3& w = pattern[q];
-        const ctk::Vec2 X = w[0] * A0 + w[1] * A1 + w[2] * Z;
-        const ctk::Vec3 value = ctk::EvaluateBezierTriangle(3, P, nullptr, w).Value;
-        Point3 S, Ds, Dt;
-        surface(X.x(), X.y(), S.data(), Ds.data(), Dt.data());
-        const double e = (value - ctk::Vec3(S[0], S[1], S[2])).norm();
-        if (!std::isfinite(e))
+        const ctk::Vec3 tau = ctk::MacroBarycentric(spline.SplitTau[t], k, pattern[q]);
+        const ctk::Vec2 X = in.ParameterAt(t, tau);
+        double e;
+        if (!DeviationAt(surface, X,
+              ctk::EvaluateSpline(spline, topo, in.Triangles.data(), t, tau).Value, e, error))
         {
-          error = "non-finite surface or spline value at (" + std::to_string(X.x()) + ", " +
-            std::to_string(X.y()) + ") of the face's parameter plane";
           return false;
         }
         if (e > worst)
@@ -554,7 +548,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     std::vector<std::size_t> triFace;
     std::unordered_map<Id, ctk::Id> local;
     auto localIndex = [&](Id p) {
-      auto it = local.emplace(p, in.NumberOfPoints);
+      auto it = local.emplace(p, in.NumberOfVertices());
       if (it.second)
       {
         in.AddPoint(mesh, p);
@@ -590,48 +584,26 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         const CDT::Face_handle f = faces[triFace[j]];
         const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
                  c = f->vertex(2)->info().Index;
-        const double s = (mesh.UV[a][0] + mesh.UV[b][0] + mesh.UV[c][0]) / 3;
-        const double t = (mesh.UV[a][1] + mesh.UV[b][1] + mesh.UV[c][1]) / 3;
-        // The centroid (the split point: S) and the centres of the three micro-triangles,
+        // The split point Z (the centroid: S) and the centres of the three micro-triangles,
         // which lie next to the macro-edges where the error of CT patches concentrates.
-        const ctk::MacroElementIds ids =
-          ctk::GetMacroElementIds(spline.Layout, topo, in.Triangles.data(), static_cast<ctk::Id>(j));
-        double err = 0, worstS = s, worstT = t;
+        const ctk::Id tj = static_cast<ctk::Id>(j);
+        const ctk::Vec3& split = spline.SplitTau[tj];
+        double err = 0;
+        ctk::Vec2 worst = in.ParameterAt(tj, split);
         for (int k = -1; k < 3; ++k)
         {
-          ctk::Vec3 value;
-          double ps = s, pt = t;
-          if (k < 0)
+          const ctk::Vec3 tau = k < 0 ? split : ctk::MacroBarycentric(split, k, ctk::Vec3(1, 1, 1) / 3);
+          const ctk::Vec2 X = in.ParameterAt(tj, tau);
+          double e;
+          if (!DeviationAt(surface, X,
+                ctk::EvaluateSpline(spline, topo, in.Triangles.data(), tj, tau).Value, e, mesh.Error))
           {
-            value = spline.ControlPoints[ids.S];
-          }
-          else
-          {
-            const Id p = f->vertex((k + 1) % 3)->info().Index, q = f->vertex((k + 2) % 3)->info().Index;
-            ps = (mesh.UV[p][0] + mesh.UV[q][0] + s) / 3;
-            pt = (mesh.UV[p][1] + mesh.UV[q][1] + t) / 3;
-            const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, k);
-            ctk::Vec3 P[10];
-            for (int i = 0; i < 10; ++i)
-            {
-              P[i] = spline.ControlPoints[net[i]];
-            }
-            value = ctk::EvaluateBezierTriangle(3, P, nullptr, ctk::Vec3(1, 1, 1) / 3).Value;
-          }
-          Point3 P, Ds, Dt;
-          surface(ps, pt, P.data(), Ds.data(), Dt.data());
-          const double e = Dist(Point3{ value.x(), value.y(), value.z() }, P);
-          if (!std::isfinite(e))
-          {
-            mesh.Error = "non-finite surface or spline value at (" + std::to_string(ps) + ", " +
-              std::to_string(pt) + ") of the face's parameter plane";
             return false;
           }
           if (e > err)
           {
             err = e;
-            worstS = ps;
-            worstT = pt;
+            worst = X;
           }
         }
         maxError = std::max(maxError, err);
@@ -639,7 +611,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         {
           if (plane.Refinable(f))
           {
-            inserts.push_back({ Point(scale[0] * worstS, scale[1] * worstT), 0, false });
+            inserts.push_back({ Point(scale[0] * worst.x(), scale[1] * worst.y()), 0, false });
             continue;
           }
           unrefinable = true; // too small to refine further

@@ -3,6 +3,7 @@
 
 #include "vtkCADFaceSampler.h"
 #include "vtkCloughTocherSplineFilter.h"
+#include "CloughTocherSpline.h"
 
 #include "BezierTriangle.h"
 #include "CubicCloughTocher.h"
@@ -105,14 +106,12 @@ std::array<ctk::Vec3, 9> EdgeNormals(const ctk::MacroElementIds& ids, const std:
 struct FaceSpline
 {
   vtkSmartPointer<vtkUnstructuredGrid> Grid;
-  std::vector<ctk::Vec3> P;
+  ctk::CubicSpline Spline; // the face's spline read back from Grid (layout order)
   std::vector<ctk::Id> Triangles;
   ctk::MeshTopology Topo;
-  ctk::CubicSplineLayout Layout;
   vtkIdTypeArray* Gid = nullptr;
   vtkDataArray* UV = nullptr;
   vtkDataArray* Tangent = nullptr;
-  std::vector<ctk::Vec3> Tau;
 };
 
 } // namespace
@@ -285,21 +284,23 @@ int vtkWatertightSplineStitcher::RequestData(
       std::copy_n(pts, 3, fs.Triangles.data() + 3 * t);
     }
     ctk::BuildMeshTopology(nV, nT, fs.Triangles.data(), fs.Topo);
-    fs.Layout = { nV, static_cast<ctk::Id>(fs.Topo.Edges.size()), nT };
+    fs.Spline.Layout = { nV, static_cast<ctk::Id>(fs.Topo.Edges.size()), nT };
     vtkPoints* pts = fs.Grid->GetPoints();
-    fs.P.resize(pts->GetNumberOfPoints());
+    fs.Spline.ControlPoints.resize(pts->GetNumberOfPoints());
+    fs.Spline.DomainPoints.resize(fs.Spline.ControlPoints.size());
     for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
     {
-      pts->GetPoint(i, fs.P[i].data());
+      pts->GetPoint(i, fs.Spline.ControlPoints[i].data());
+      fs.Spline.DomainPoints[i] = ctk::Vec2(fs.UV->GetComponent(i, 0), fs.UV->GetComponent(i, 1));
     }
     auto uvOf = [&](ctk::Id v) { return ctk::Vec2(fs.UV->GetComponent(v, 0), fs.UV->GetComponent(v, 1)); };
     auto row = [](vtkDataArray* a, ctk::Id v) { return ctk::Vec3(a->GetComponent(v, 0), a->GetComponent(v, 1), a->GetComponent(v, 2)); };
-    fs.Tau.resize(nT);
+    fs.Spline.SplitTau.resize(nT);
     for (ctk::Id t = 0; t < nT; ++t)
     {
       const ctk::Id* tri = fs.Triangles.data() + 3 * t;
-      fs.Tau[t] = ctk::SplitPointBarycentric(options.SplitPoint, uvOf(tri[0]), uvOf(tri[1]),
-        uvOf(tri[2]), fs.P[tri[0]], fs.P[tri[1]], fs.P[tri[2]]);
+      fs.Spline.SplitTau[t] = ctk::SplitPointBarycentric(options.SplitPoint, uvOf(tri[0]), uvOf(tri[1]),
+        uvOf(tri[2]), fs.Spline.ControlPoints[tri[0]], fs.Spline.ControlPoints[tri[1]], fs.Spline.ControlPoints[tri[2]]);
       // How far each face's own boundary cubic (eq. 11 from its vertex derivatives) was from
       // the shared edge cubic it now follows.
       double c[18];
@@ -311,7 +312,7 @@ int vtkWatertightSplineStitcher::RequestData(
           continue;
         }
         const ctk::Id a = tri[l], b = tri[(l + 1) % 3];
-        const ctk::Vec3 va = fs.P[a], vb = fs.P[b];
+        const ctk::Vec3 va = fs.Spline.ControlPoints[a], vb = fs.Spline.ControlPoints[b];
         const ctk::Vec3 ta = ctk::EdgeControlPoint(va, row(du, a), row(dv, a), uvOf(a), uvOf(b));
         const ctk::Vec3 tb = ctk::EdgeControlPoint(vb, row(du, b), row(dv, b), uvOf(b), uvOf(a));
         const ctk::Vec3 near0(c[6 * l], c[6 * l + 1], c[6 * l + 2]);
@@ -356,15 +357,15 @@ int vtkWatertightSplineStitcher::RequestData(
   for (unsigned int f = 0; f < nF; ++f)
   {
     FaceSpline& fs = splines[f];
-    const ctk::Id nV = fs.Layout.NumberOfVertices;
-    std::vector<vtkIdType> map(fs.P.size(), -1);
+    const ctk::Id nV = fs.Spline.Layout.NumberOfVertices;
+    std::vector<vtkIdType> map(fs.Spline.ControlPoints.size(), -1);
     auto gid = [&](ctk::Id v) { return fs.Gid->GetValue(v); };
     for (ctk::Id v = 0; v < nV; ++v)
     {
       auto it = nodePoint.emplace(gid(v), points->GetNumberOfPoints());
       if (it.second)
       {
-        points->InsertNextPoint(fs.P[v].data());
+        points->InsertNextPoint(fs.Spline.ControlPoints[v].data());
       }
       map[v] = it.first->second;
     }
@@ -380,14 +381,14 @@ int vtkWatertightSplineStitcher::RequestData(
       {
         continue;
       }
-      const ctk::Id ta = fs.Layout.EdgePoint(fs.Topo, e, a), tb = fs.Layout.EdgePoint(fs.Topo, e, b);
+      const ctk::Id ta = fs.Spline.Layout.EdgePoint(fs.Topo, e, a), tb = fs.Spline.Layout.EdgePoint(fs.Topo, e, b);
       for (const auto& nearFar : { std::make_pair(a, b), std::make_pair(b, a) })
       {
         const ctk::Id id = nearFar.first == a ? ta : tb;
         auto it = edgePoint.emplace(std::make_pair(gid(nearFar.first), gid(nearFar.second)), points->GetNumberOfPoints());
         if (it.second)
         {
-          points->InsertNextPoint(fs.P[id].data());
+          points->InsertNextPoint(fs.Spline.ControlPoints[id].data());
         }
         map[id] = it.first->second;
       }
@@ -396,11 +397,11 @@ int vtkWatertightSplineStitcher::RequestData(
       const bool forward = gid(a) <= gid(b);
       const ctk::Id t = fs.Topo.EdgeTriangles[e][0];
       const int l = fs.Topo.EdgeLocalIndex[e][0];
-      const ctk::MacroElementIds ids = ctk::GetMacroElementIds(fs.Layout, fs.Topo, fs.Triangles.data(), t);
+      const ctk::MacroElementIds ids = ctk::GetMacroElementIds(fs.Spline.Layout, fs.Topo, fs.Triangles.data(), t);
       const bool fromFirst = gid(fs.Triangles[3 * t + l]) <= gid(fs.Triangles[3 * t + (l + 1) % 3]);
-      const Side side{ { forward ? fs.P[a] : fs.P[b], forward ? fs.P[ta] : fs.P[tb],
-                         forward ? fs.P[tb] : fs.P[ta], forward ? fs.P[b] : fs.P[a] },
-        EdgeNormals(ids, fs.P, l, fromFirst) };
+      const Side side{ { forward ? fs.Spline.ControlPoints[a] : fs.Spline.ControlPoints[b], forward ? fs.Spline.ControlPoints[ta] : fs.Spline.ControlPoints[tb],
+                         forward ? fs.Spline.ControlPoints[tb] : fs.Spline.ControlPoints[ta], forward ? fs.Spline.ControlPoints[b] : fs.Spline.ControlPoints[a] },
+        EdgeNormals(ids, fs.Spline.ControlPoints, l, fromFirst) };
       auto first = firstSide.emplace(key, side);
       if (!first.second)
       {
@@ -430,7 +431,7 @@ int vtkWatertightSplineStitcher::RequestData(
     {
       if (map[i] < 0)
       {
-        map[i] = points->InsertNextPoint(fs.P[i].data());
+        map[i] = points->InsertNextPoint(fs.Spline.ControlPoints[i].data());
       }
     }
     vtkUnstructuredGrid* grid = fs.Grid;
@@ -451,7 +452,7 @@ int vtkWatertightSplineStitcher::RequestData(
       macroIds->InsertNextValue(static_cast<vtkIdType>(macro->GetTuple1(c)));
       microIds->InsertNextValue(static_cast<signed char>(micro->GetTuple1(c)));
     }
-    macroTriangles += fs.Layout.NumberOfTriangles;
+    macroTriangles += fs.Spline.Layout.NumberOfTriangles;
   }
   vtkIdType freeEdges = 0, nonManifold = 0;
   for (const auto& use : macroEdgeUse)
@@ -495,17 +496,8 @@ int vtkWatertightSplineStitcher::RequestData(
     {
       const FaceSpline& fs = splines[f];
       double faceMax = 0;
-      for (ctk::Id t = 0; t < fs.Layout.NumberOfTriangles; ++t)
+      for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
       {
-        const ctk::MacroElementIds ids =
-          ctk::GetMacroElementIds(fs.Layout, fs.Topo, fs.Triangles.data(), t);
-        const ctk::Id* tri = fs.Triangles.data() + 3 * t;
-        ctk::Vec2 U[3];
-        for (int i = 0; i < 3; ++i)
-        {
-          U[i] = ctk::Vec2(fs.UV->GetComponent(tri[i], 0), fs.UV->GetComponent(tri[i], 1));
-        }
-        const ctk::Vec2 Z = fs.Tau[t][0] * U[0] + fs.Tau[t][1] * U[1] + fs.Tau[t][2] * U[2];
         std::vector<ctk::Vec3> bary{ ctk::Vec3(1, 1, 1) / 3, ctk::Vec3(0.5, 0.5, 0),
           ctk::Vec3(0, 0.5, 0.5), ctk::Vec3(0.5, 0, 0.5) };
         for (int r = 0; r < this->DeviationSamples; ++r)
@@ -520,28 +512,14 @@ int vtkWatertightSplineStitcher::RequestData(
         }
         for (const ctk::Vec3& w : bary)
         {
-          const ctk::Vec2 X = w[0] * U[0] + w[1] * U[1] + w[2] * U[2];
-          // The micro-triangle (U_{k+1}, U_{k+2}, Z) containing X: largest minimum coordinate.
-          int best = 0;
-          ctk::Vec3 bestTau;
-          double bestMin = -1e300;
-          for (int k = 0; k < 3; ++k)
+          const ctk::ParametricJet jet =
+            ctk::EvaluateSpline(fs.Spline, fs.Topo, fs.Triangles.data(), t, w);
+          const ctk::Vec3& s = jet.Value;
+          ctk::Vec2 X = ctk::Vec2::Zero();
+          for (int i = 0; i < 3; ++i)
           {
-            const ctk::Vec3 tau = ctk::Barycentric(U[(k + 1) % 3], U[(k + 2) % 3], Z, X);
-            if (tau.minCoeff() > bestMin)
-            {
-              bestMin = tau.minCoeff();
-              best = k;
-              bestTau = tau;
-            }
+            X += w[i] * fs.Spline.DomainPoints[fs.Triangles[3 * t + i]];
           }
-          const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, best);
-          ctk::Vec3 P[10];
-          for (int i = 0; i < 10; ++i)
-          {
-            P[i] = fs.P[net[i]];
-          }
-          const ctk::Vec3 s = ctk::EvaluateBezierTriangle(3, P, nullptr, bestTau).Value;
           double q[3];
           if (!this->SurfaceSource->EvaluateSurface(static_cast<int>(f), X.x(), X.y(), q))
           {
