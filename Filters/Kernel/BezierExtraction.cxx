@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "BezierExtraction.h"
 
+#include "SplineInput.h"
+
 #include "CrossDerivativeRules.h"
 
 #include <algorithm>
@@ -12,11 +14,6 @@ namespace
 Vec2 UVOf(const SplineData& d, Id v)
 {
   return Vec2(d.UV[2 * v], d.UV[2 * v + 1]);
-}
-
-bool UsesNeighbours(Construction c)
-{
-  return c != Construction::CTo && c != Construction::MGo;
 }
 
 // The unit v_eps of an edge carrying mid-edge data, as the construction uses it (up to sign).
@@ -75,6 +72,151 @@ std::vector<Vec3> DegreesOfFreedom(
   return dofs;
 }
 
+namespace
+{
+// The rows of triangle t's three cells: the local construction over t and the neighbours it
+// reads, probed with unit data, three degrees of freedom per build. False where the local
+// build fails.
+bool ExtractTriangle(const SplineData& data, const MeshTopology& topo, const SplineOptions& options,
+  const CubicSpline& real, Id t, BezierExtraction& x)
+{
+  constexpr int M = BezierExtraction::MaxElementDofs;
+  const Id nV = data.NumberOfVertices;
+  const bool neighbours = !Info(options.Method).Local;
+  const bool boundaryEdges = UsesEdgeGradients(options);
+  // The patch: t first, then its neighbours (the only triangles whose data t reads).
+  Id patch[4] = { t, -1, -1, -1 };
+  int nPatch = 1;
+  for (int l = 0; neighbours && l < 3; ++l)
+  {
+    const Id nb = topo.Neighbor(t, l);
+    if (nb >= 0)
+    {
+      patch[nPatch++] = nb;
+    }
+  }
+  Id vertices[6];
+  int nLocal = 0;
+  SplineInput probe; // the patch with unit data, one probe per three dofs
+  probe.Triangles.resize(3 * nPatch);
+  for (int s = 0; s < nPatch; ++s)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      const Id v = data.Triangles[3 * patch[s] + i];
+      const Id* found = std::find(vertices, vertices + nLocal, v);
+      if (found == vertices + nLocal)
+      {
+        vertices[nLocal++] = v;
+      }
+      probe.Triangles[3 * s + i] = std::find(vertices, vertices + nLocal, v) - vertices;
+    }
+  }
+  // Element degrees of freedom: 3 per patch vertex, then t's edges that carry one.
+  Id dofs[M], dofEdge[M];
+  int nDofs = 0;
+  for (int a = 0; a < nLocal; ++a)
+  {
+    for (int c = 0; c < 3; ++c)
+    {
+      dofs[nDofs++] = 3 * vertices[a] + c;
+    }
+  }
+  for (int l = 0; l < 3; ++l)
+  {
+    const Id e = topo.TriangleEdges[t][l];
+    if (x.EdgeDofs[e] >= 0)
+    {
+      dofEdge[nDofs] = e;
+      dofs[nDofs++] = x.EdgeDofs[e];
+    }
+  }
+  probe.UV.resize(2 * nLocal);
+  probe.F.resize(3 * nLocal);
+  probe.Fu.resize(3 * nLocal);
+  probe.Fv.resize(3 * nLocal);
+  probe.EdgeGradients.resize(boundaryEdges ? 18 * nPatch : 0);
+  probe.SplitTau.resize(nPatch);
+  std::vector<Id>& tris = probe.Triangles;
+  std::vector<double>&uv = probe.UV, &F = probe.F, &Fu = probe.Fu, &Fv = probe.Fv;
+  std::vector<double>& eg = probe.EdgeGradients;
+  std::vector<Vec3>& tau = probe.SplitTau;
+  for (int a = 0; a < nLocal; ++a)
+  {
+    uv[2 * a] = data.UV[2 * vertices[a]];
+    uv[2 * a + 1] = data.UV[2 * vertices[a] + 1];
+  }
+  for (int s = 0; s < nPatch; ++s)
+  {
+    tau[s] = real.SplitTau[patch[s]];
+  }
+  MeshTopology local;
+  if (!BuildMeshTopology(nLocal, nPatch, tris.data(), local).Ok)
+  {
+    return false;
+  }
+  const SplineData view = probe.View();
+  // Three degrees of freedom per run, one per coordinate (the constructions act on each
+  // coordinate alike).
+  for (int first = 0; first < nDofs; first += 3)
+  {
+    std::fill(F.begin(), F.end(), 0.0);
+    std::fill(Fu.begin(), Fu.end(), 0.0);
+    std::fill(Fv.begin(), Fv.end(), 0.0);
+    std::fill(eg.begin(), eg.end(), 0.0);
+    for (int c = 0; c < 3 && first + c < nDofs; ++c)
+    {
+      const Id dof = dofs[first + c];
+      if (dof < 3 * nV)
+      {
+        const int a = static_cast<int>(std::find(vertices, vertices + nLocal, dof / 3) - vertices);
+        std::vector<double>& target = dof % 3 == 0 ? F : (dof % 3 == 1 ? Fu : Fv);
+        target[3 * a + c] = 1.0;
+        continue;
+      }
+      // Mid-edge gradient g = v_eps on every side of the edge: g . v_eps = 1.
+      const Vec2& w = x.EdgeDirections[dof - 3 * nV];
+      const Id edge = dofEdge[first + c];
+      for (int s = 0; s < nPatch; ++s)
+      {
+        for (int l = 0; l < 3; ++l)
+        {
+          if (topo.TriangleEdges[patch[s]][l] == edge)
+          {
+            eg[18 * s + 6 * l + c] = w.x();
+            eg[18 * s + 6 * l + 3 + c] = w.y();
+          }
+        }
+      }
+    }
+    CubicSpline spline;
+    if (!BuildCubicCloughTocher(view, local, options, spline).Ok)
+    {
+      return false;
+    }
+    const MacroElementIds ids = GetMacroElementIds(spline.Layout, local, tris.data(), 0);
+    for (int k = 0; k < 3; ++k)
+    {
+      const std::array<Id, 10> net = MicroTriangleNet(ids, k);
+      double* op = &x.CellOperators[(3 * t + k) * 10 * M];
+      for (int a = 0; a < 10; ++a)
+      {
+        for (int c = 0; c < 3 && first + c < nDofs; ++c)
+        {
+          op[a * M + first + c] = spline.ControlPoints[net[a]][c];
+        }
+      }
+    }
+  }
+  for (int k = 0; k < 3; ++k)
+  {
+    std::copy(dofs, dofs + nDofs, &x.CellDofs[(3 * t + k) * M]);
+  }
+  return true;
+}
+
+} // namespace
+
 BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& topo,
   const SplineOptions& options, BezierExtraction& x, const ParallelFor& parallelFor)
 {
@@ -104,7 +246,7 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
   }
 
   // Edges with a degree of freedom.
-  const bool allEdges = options.Method == Construction::MGo || options.Method == Construction::MGi;
+  const bool allEdges = Info(options.Method).EdgeGradients == EdgeGradientUse::AllEdges;
   const bool boundaryEdges = UsesEdgeGradients(options);
   x.EdgeDofs.assign(nE, -1);
   x.EdgeDirections.clear();
@@ -121,141 +263,13 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
   constexpr int M = BezierExtraction::MaxElementDofs;
   x.CellDofs.assign(3 * nT * M, -1);
   x.CellOperators.assign(3 * nT * 10 * M, 0.0);
-  const bool neighbours = UsesNeighbours(options.Method);
   LowestId firstFailure;
   parallelFor(nT, [&](Id begin, Id end) {
     for (Id t = begin; t < end; ++t)
     {
-      // The patch: t first, then its neighbours (the only triangles whose data t reads).
-      Id patch[4] = { t, -1, -1, -1 };
-      int nPatch = 1;
-      for (int l = 0; neighbours && l < 3; ++l)
-      {
-        const Id nb = topo.Neighbor(t, l);
-        if (nb >= 0)
-        {
-          patch[nPatch++] = nb;
-        }
-      }
-      Id vertices[6];
-      int nLocal = 0;
-      std::vector<Id> tris(3 * nPatch);
-      for (int s = 0; s < nPatch; ++s)
-      {
-        for (int i = 0; i < 3; ++i)
-        {
-          const Id v = data.Triangles[3 * patch[s] + i];
-          const Id* found = std::find(vertices, vertices + nLocal, v);
-          if (found == vertices + nLocal)
-          {
-            vertices[nLocal++] = v;
-          }
-          tris[3 * s + i] = std::find(vertices, vertices + nLocal, v) - vertices;
-        }
-      }
-      // Element degrees of freedom: 3 per patch vertex, then t's edges that carry one.
-      Id dofs[M], dofEdge[M];
-      int nDofs = 0;
-      for (int a = 0; a < nLocal; ++a)
-      {
-        for (int c = 0; c < 3; ++c)
-        {
-          dofs[nDofs++] = 3 * vertices[a] + c;
-        }
-      }
-      for (int l = 0; l < 3; ++l)
-      {
-        const Id e = topo.TriangleEdges[t][l];
-        if (x.EdgeDofs[e] >= 0)
-        {
-          dofEdge[nDofs] = e;
-          dofs[nDofs++] = x.EdgeDofs[e];
-        }
-      }
-      std::vector<double> uv(2 * nLocal), F(3 * nLocal), Fu(3 * nLocal), Fv(3 * nLocal);
-      std::vector<double> eg(18 * nPatch);
-      std::vector<Vec3> tau(nPatch);
-      for (int a = 0; a < nLocal; ++a)
-      {
-        uv[2 * a] = data.UV[2 * vertices[a]];
-        uv[2 * a + 1] = data.UV[2 * vertices[a] + 1];
-      }
-      for (int s = 0; s < nPatch; ++s)
-      {
-        tau[s] = real.SplitTau[patch[s]];
-      }
-      MeshTopology local;
-      if (!BuildMeshTopology(nLocal, nPatch, tris.data(), local).Ok)
+      if (!ExtractTriangle(data, topo, options, real, t, x))
       {
         firstFailure.Report(t);
-        continue;
-      }
-      SplineData probe;
-      probe.NumberOfVertices = nLocal;
-      probe.NumberOfTriangles = nPatch;
-      probe.Triangles = tris.data();
-      probe.UV = uv.data();
-      probe.F = F.data();
-      probe.Fu = Fu.data();
-      probe.Fv = Fv.data();
-      probe.EdgeGradients = boundaryEdges ? eg.data() : nullptr;
-      probe.SplitTau = tau.data();
-      // Three degrees of freedom per run, one per coordinate (the constructions act on each
-      // coordinate alike).
-      for (int first = 0; first < nDofs; first += 3)
-      {
-        std::fill(F.begin(), F.end(), 0.0);
-        std::fill(Fu.begin(), Fu.end(), 0.0);
-        std::fill(Fv.begin(), Fv.end(), 0.0);
-        std::fill(eg.begin(), eg.end(), 0.0);
-        for (int c = 0; c < 3 && first + c < nDofs; ++c)
-        {
-          const Id dof = dofs[first + c];
-          if (dof < 3 * nV)
-          {
-            const int a = static_cast<int>(std::find(vertices, vertices + nLocal, dof / 3) - vertices);
-            std::vector<double>& target = dof % 3 == 0 ? F : (dof % 3 == 1 ? Fu : Fv);
-            target[3 * a + c] = 1.0;
-            continue;
-          }
-          // Mid-edge gradient g = v_eps on every side of the edge: g . v_eps = 1.
-          const Vec2& w = x.EdgeDirections[dof - 3 * nV];
-          const Id edge = dofEdge[first + c];
-          for (int s = 0; s < nPatch; ++s)
-          {
-            for (int l = 0; l < 3; ++l)
-            {
-              if (topo.TriangleEdges[patch[s]][l] == edge)
-              {
-                eg[18 * s + 6 * l + c] = w.x();
-                eg[18 * s + 6 * l + 3 + c] = w.y();
-              }
-            }
-          }
-        }
-        CubicSpline spline;
-        if (!BuildCubicCloughTocher(probe, local, options, spline).Ok)
-        {
-          firstFailure.Report(t);
-          break;
-        }
-        const MacroElementIds ids = GetMacroElementIds(spline.Layout, local, tris.data(), 0);
-        for (int k = 0; k < 3; ++k)
-        {
-          const std::array<Id, 10> net = MicroTriangleNet(ids, k);
-          double* op = &x.CellOperators[(3 * t + k) * 10 * M];
-          for (int a = 0; a < 10; ++a)
-          {
-            for (int c = 0; c < 3 && first + c < nDofs; ++c)
-            {
-              op[a * M + first + c] = spline.ControlPoints[net[a]][c];
-            }
-          }
-        }
-      }
-      for (int k = 0; k < 3; ++k)
-      {
-        std::copy(dofs, dofs + nDofs, &x.CellDofs[(3 * t + k) * M]);
       }
     }
   });
