@@ -221,6 +221,128 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
 }
 } // namespace
 
+namespace
+{
+// The query points' (u, v): raw coordinates for the usual point sets (GetPoint is a virtual call
+// per point), GetPoint otherwise.
+struct QueryPoints
+{
+  vtkDataSet* Input;
+  const double* XYZ = nullptr;
+
+  explicit QueryPoints(vtkDataSet* input)
+    : Input(input)
+  {
+    if (input->GetNumberOfPoints() > 0)
+    {
+      // vtkDataSet::GetPoint is thread safe once it has been called from one thread.
+      double x[3];
+      input->GetPoint(0, x);
+    }
+    vtkPointSet* pointSet = vtkPointSet::SafeDownCast(input);
+    vtkDataArray* coords = pointSet && pointSet->GetPoints() ? pointSet->GetPoints()->GetData() : nullptr;
+    vtkDoubleArray* doubles = vtkDoubleArray::FastDownCast(coords);
+    this->XYZ = doubles ? doubles->GetPointer(0) : nullptr;
+  }
+  void Get(vtkIdType i, double x[3]) const
+  {
+    if (this->XYZ)
+    {
+      std::copy_n(this->XYZ + 3 * i, 3, x);
+    }
+    else
+    {
+      this->Input->GetPoint(i, x);
+    }
+  }
+};
+
+// Queries in bucket order within windows of consecutive queries: neighbouring queries then
+// read the same triangles and control points, which matters once the spline outgrows the cache
+// (random queries on 1e6 triangles were ~10x slower per query than on 1e4), while the output
+// writes stay within a window. Each query is computed independently, so the order does not
+// change any result.
+std::vector<vtkIdType> LocalityOrder(const QueryPoints& queries, vtkIdType nPoints,
+  const ctk::ParameterLocator& locator)
+{
+  constexpr vtkIdType window = vtkIdType(1) << 15;
+  std::vector<vtkIdType> order;
+  ctk::ResizeForOverwrite(order, nPoints);
+  vtkSMPTools::For(0, (nPoints + window - 1) / window, [&](vtkIdType wb, vtkIdType we) {
+    std::vector<std::pair<ctk::Id, vtkIdType>> keyed;
+    for (vtkIdType w = wb; w < we; ++w)
+    {
+      const vtkIdType begin = w * window, end = std::min(nPoints, begin + window);
+      keyed.clear();
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        double x[3];
+        queries.Get(i, x);
+        keyed.emplace_back(locator.Bucket(x[0], x[1]), i);
+      }
+      std::sort(keyed.begin(), keyed.end());
+      for (vtkIdType i = begin; i < end; ++i)
+      {
+        order[i] = keyed[i - begin].second;
+      }
+    }
+  });
+  return order;
+}
+
+// The output arrays, one tuple per query.
+struct ProbeArrays
+{
+  vtkNew<vtkDoubleArray> Coords, Du, Dv, Normals;
+  vtkNew<vtkIdTypeArray> MacroIds;
+  vtkNew<vtkCharArray> Mask;
+
+  explicit ProbeArrays(vtkIdType nPoints)
+  {
+    for (vtkDoubleArray* a : { this->Coords.Get(), this->Du.Get(), this->Dv.Get(), this->Normals.Get() })
+    {
+      a->SetNumberOfComponents(3);
+      ctsplines::AllocateTuples(a, nPoints);
+    }
+    this->Du->SetName("dFdu");
+    this->Dv->SetName("dFdv");
+    this->Normals->SetName("Normals");
+    this->MacroIds->SetName("MacroTriangleId");
+    ctsplines::AllocateTuples(this->MacroIds, nPoints);
+    this->Mask->SetName("vtkValidPointMask");
+    ctsplines::AllocateTuples(this->Mask, nPoints);
+  }
+  /// Query i outside the spline's domain: the query point, zero derivatives, invalid.
+  void SetOutside(vtkIdType i, const double x[3])
+  {
+    double* xyz = this->Coords->GetPointer(3 * i);
+    xyz[0] = x[0];
+    xyz[1] = x[1];
+    xyz[2] = 0.0;
+    std::fill_n(this->Du->GetPointer(3 * i), 3, 0.0);
+    std::fill_n(this->Dv->GetPointer(3 * i), 3, 0.0);
+    std::fill_n(this->Normals->GetPointer(3 * i), 3, 0.0);
+    this->MacroIds->SetValue(i, -1);
+    this->Mask->SetValue(i, 0);
+  }
+  void Set(vtkIdType i, const ctk::ParametricJet& jet, vtkIdType macro)
+  {
+    ctk::Vec3 normal = jet.Du.cross(jet.Dv);
+    const double length = normal.norm();
+    if (length > 0)
+    {
+      normal /= length;
+    }
+    std::copy_n(jet.Value.data(), 3, this->Coords->GetPointer(3 * i));
+    std::copy_n(jet.Du.data(), 3, this->Du->GetPointer(3 * i));
+    std::copy_n(jet.Dv.data(), 3, this->Dv->GetPointer(3 * i));
+    std::copy_n(normal.data(), 3, this->Normals->GetPointer(3 * i));
+    this->MacroIds->SetValue(i, macro);
+    this->Mask->SetValue(i, 1);
+  }
+};
+} // namespace
+
 int vtkSplineParameterProbe::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -253,76 +375,9 @@ int vtkSplineParameterProbe::RequestData(
   this->UpdateProgress(0.1);
 
   const vtkIdType nPoints = input->GetNumberOfPoints();
-  vtkNew<vtkDoubleArray> coords, du, dv, normals;
-  for (vtkDoubleArray* a : { coords.Get(), du.Get(), dv.Get(), normals.Get() })
-  {
-    a->SetNumberOfComponents(3);
-    ctsplines::AllocateTuples(a, nPoints);
-  }
-  du->SetName("dFdu");
-  dv->SetName("dFdv");
-  normals->SetName("Normals");
-  vtkNew<vtkIdTypeArray> macroIds;
-  macroIds->SetName("MacroTriangleId");
-  ctsplines::AllocateTuples(macroIds, nPoints);
-  vtkNew<vtkCharArray> mask;
-  mask->SetName("vtkValidPointMask");
-  ctsplines::AllocateTuples(mask, nPoints);
-  double* xyz = coords->GetPointer(0);
-  double* fu = du->GetPointer(0);
-  double* fv = dv->GetPointer(0);
-  double* nrm = normals->GetPointer(0);
-  vtkIdType* macro = macroIds->GetPointer(0);
-  char* valid = mask->GetPointer(0);
-  if (nPoints > 0)
-  {
-    // vtkDataSet::GetPoint is thread safe once it has been called from one thread.
-    double x[3];
-    input->GetPoint(0, x);
-  }
-  // Raw coordinates for the usual point sets (GetPoint is a virtual call per point).
-  vtkPointSet* inputPointSet = vtkPointSet::SafeDownCast(input);
-  vtkDataArray* inputCoords = inputPointSet && inputPointSet->GetPoints()
-    ? inputPointSet->GetPoints()->GetData()
-    : nullptr;
-  vtkDoubleArray* inputDouble = vtkDoubleArray::FastDownCast(inputCoords);
-  const double* queryXYZ = inputDouble ? inputDouble->GetPointer(0) : nullptr;
-
-  // Queries in bucket order within windows of consecutive queries: neighbouring queries then
-  // read the same triangles and control points, which matters once the spline outgrows the
-  // cache (random queries on 1e6 triangles were ~10x slower per query than on 1e4), while the
-  // output writes stay within a window. Each query is computed independently, so the order
-  // does not change any result.
-  constexpr vtkIdType window = vtkIdType(1) << 15;
-  std::vector<vtkIdType> order;
-  ctk::ResizeForOverwrite(order, nPoints);
-  vtkSMPTools::For(0, (nPoints + window - 1) / window, [&](vtkIdType wb, vtkIdType we) {
-    std::vector<std::pair<ctk::Id, vtkIdType>> keyed;
-    for (vtkIdType w = wb; w < we; ++w)
-    {
-      const vtkIdType begin = w * window, end = std::min(nPoints, begin + window);
-      keyed.clear();
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        double x[3];
-        if (queryXYZ)
-        {
-          std::copy_n(queryXYZ + 3 * i, 3, x);
-        }
-        else
-        {
-          input->GetPoint(i, x);
-        }
-        keyed.emplace_back(locator.Bucket(x[0], x[1]), i);
-      }
-      std::sort(keyed.begin(), keyed.end());
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        order[i] = keyed[i - begin].second;
-      }
-    }
-  });
-
+  ProbeArrays out(nPoints);
+  const QueryPoints queries(input);
+  const std::vector<vtkIdType> order = LocalityOrder(queries, nPoints, locator);
   auto probe = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
@@ -330,45 +385,19 @@ int vtkSplineParameterProbe::RequestData(
     {
       const vtkIdType i = order[k];
       double x[3];
-      if (queryXYZ)
-      {
-        std::copy_n(queryXYZ + 3 * i, 3, x);
-      }
-      else
-      {
-        input->GetPoint(i, x);
-      }
+      queries.Get(i, x);
       const ctk::ParameterLocator::Hit hit = locator.Locate(x[0], x[1]);
       if (!hit.Found())
       {
-        xyz[3 * i] = x[0];
-        xyz[3 * i + 1] = x[1];
-        xyz[3 * i + 2] = 0.0;
-        std::fill_n(fu + 3 * i, 3, 0.0);
-        std::fill_n(fv + 3 * i, 3, 0.0);
-        std::fill_n(nrm + 3 * i, 3, 0.0);
-        macro[i] = -1;
-        valid[i] = 0;
+        out.SetOutside(i, x);
         continue;
       }
       const vtkIdType c = hit.Triangle;
-      const int n = spline.Cells.Degree[c];
       const double* wp = spline.Cells.Net(c, P, w);
       const ctk::Vec2* A = locator.TriangleCorners(c);
-      const ctk::ParametricJet jet =
-        ctk::EvaluateOverDomain(n, P, wp, A[0], A[1], A[2], hit.Barycentric, 1);
-      ctk::Vec3 normal = jet.Du.cross(jet.Dv);
-      const double length = normal.norm();
-      if (length > 0)
-      {
-        normal /= length;
-      }
-      std::copy_n(jet.Value.data(), 3, xyz + 3 * i);
-      std::copy_n(jet.Du.data(), 3, fu + 3 * i);
-      std::copy_n(jet.Dv.data(), 3, fv + 3 * i);
-      std::copy_n(normal.data(), 3, nrm + 3 * i);
-      macro[i] = spline.MacroIds[c];
-      valid[i] = 1;
+      out.Set(i,
+        ctk::EvaluateOverDomain(spline.Cells.Degree[c], P, wp, A[0], A[1], A[2], hit.Barycentric, 1),
+        spline.MacroIds[c]);
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.
@@ -385,7 +414,7 @@ int vtkSplineParameterProbe::RequestData(
   }
 
   vtkNew<vtkPoints> points;
-  points->SetData(coords);
+  points->SetData(out.Coords);
   if (vtkPointSet* pointSet = vtkPointSet::SafeDownCast(output))
   {
     if (vtkPointSet::SafeDownCast(input))
@@ -397,11 +426,11 @@ int vtkSplineParameterProbe::RequestData(
   }
   vtkPointData* outPD = output->GetPointData();
   outPD->PassData(input->GetPointData());
-  outPD->AddArray(du);
-  outPD->AddArray(dv);
-  outPD->SetNormals(normals);
-  outPD->AddArray(macroIds);
-  outPD->AddArray(mask);
+  outPD->AddArray(out.Du);
+  outPD->AddArray(out.Dv);
+  outPD->SetNormals(out.Normals);
+  outPD->AddArray(out.MacroIds);
+  outPD->AddArray(out.Mask);
   this->UpdateProgress(1.0);
   return 1;
 }
