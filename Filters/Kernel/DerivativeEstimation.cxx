@@ -80,8 +80,8 @@ VertexNeighbours BuildVertexNeighbours(Id nV, const MeshTopology& topology)
   return n;
 }
 
-/// Usable UV and F, and every vertex in a triangle: the checks both methods need first.
-BuildStatus CheckEstimationInput(const SplineData& data, const VertexNeighbours& neighbours)
+/// Usable UV and F: the check both methods need first.
+BuildStatus CheckEstimationInput(const SplineData& data)
 {
   if (!data.UV || !data.F || (data.NumberOfTriangles > 0 && !data.Triangles))
   {
@@ -95,10 +95,6 @@ BuildStatus CheckEstimationInput(const SplineData& data, const VertexNeighbours&
       !IsUsableValue(f[1]) || !IsUsableValue(f[2]))
     {
       return Failure(VertexMessage(v, "its parameter values or position are not finite (or beyond 1e100)"));
-    }
-    if (neighbours.Count(v) == 0)
-    {
-      return Failure(VertexMessage(v, "it belongs to no triangle"));
     }
   }
   return {};
@@ -308,7 +304,11 @@ BuildStatus EstimateLocalQuadratic(const SplineData& data, const VertexNeighbour
     Eigen::Matrix<double, 2, 3> g;
     for (Id i = begin; i < end; ++i)
     {
-      if (!EstimateAtVertex(data, i, rings, work, g))
+      if (neighbours.Count(i) == 0)
+      {
+        g.setZero(); // in no triangle: read by no construction
+      }
+      else if (!EstimateAtVertex(data, i, rings, work, g))
       {
         failed.Report(i);
         continue;
@@ -425,6 +425,14 @@ struct GradientSystem
     }
     this->Values.assign(this->Inner.size(), 0.0);
     this->Rhs.setZero(2 * nV, 3);
+    for (Id v = 0; v < nV; ++v)
+    {
+      if (n.Count(v) == 0) // in no triangle, read by no construction: zero derivatives
+      {
+        this->Add(2 * v, 2 * v, 1.0);
+        this->Add(2 * v + 1, 2 * v + 1, 1.0);
+      }
+    }
   }
 
   /// Adds value at (row, column); the column is in the row's pattern.
@@ -614,7 +622,7 @@ BuildStatus EstimateDerivatives(const SplineData& data, const MeshTopology& topo
     return Failure("cannot estimate derivatives: no estimation method chosen (None)");
   }
   const VertexNeighbours neighbours = BuildVertexNeighbours(data.NumberOfVertices, topology);
-  BuildStatus status = CheckEstimationInput(data, neighbours);
+  BuildStatus status = CheckEstimationInput(data);
   if (status.Ok)
   {
     status = method == DerivativeEstimation::LocalQuadratic

@@ -37,10 +37,11 @@ constexpr int MaxEstimationRings = 4;
 /// Estimates the derivatives of data.F (#V by 3) over data.UV at every vertex into fu and fv
 /// (caller-allocated, #V by 3 each, row-major); data.Fu, data.Fv and the optional arrays are not
 /// read. topology must come from BuildMeshTopology on data.Triangles. Results do not depend on
-/// how parallelFor splits the work. Fails, naming the lowest offending vertex (or triangle), on
-/// non-finite or too large UV/F, a vertex in no triangle or whose neighbours do not span the
-/// parameter plane, a degenerate (zero-area) triangle or a singular system (MinimumEnergy), and
-/// non-finite results; fu and fv are then unspecified.
+/// how parallelFor splits the work. Vertices in no triangle (read by no construction) get zero
+/// derivatives. Fails, naming the lowest offending vertex (or triangle), on non-finite or too
+/// large UV/F, a vertex whose neighbours do not span the parameter plane, a degenerate
+/// (zero-area) triangle or a singular system (MinimumEnergy), and non-finite results; fu and fv
+/// are then unspecified.
 BuildStatus EstimateDerivatives(const SplineData& data, const MeshTopology& topology,
   DerivativeEstimation method, double* fu, double* fv, const ParallelFor& parallelFor = SerialFor);
 
