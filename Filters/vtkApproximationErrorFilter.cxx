@@ -364,6 +364,74 @@ int vtkApproximationErrorFilter::ComputeParametric(vtkDataSet* spline, vtkPolyDa
   return 1;
 }
 
+namespace
+{
+// The sample points of a reference mesh: its triangles' vertices (each once), then the points
+// (i, j, k)/level of every triangle that are not its corners.
+struct ReferenceSampling
+{
+  const std::vector<double>& Points;
+  const std::vector<ctk::Id>& Triangles;
+  std::vector<vtkIdType> UsedVertices;
+  std::vector<std::array<int, 3>> Pattern;
+  int Level;
+
+  ReferenceSampling(const std::vector<double>& points, const std::vector<ctk::Id>& triangles,
+    ctk::Id nPoints, int level)
+    : Points(points)
+    , Triangles(triangles)
+    , Level(level)
+  {
+    std::vector<char> used(static_cast<size_t>(nPoints), 0);
+    for (const ctk::Id v : triangles)
+    {
+      used[static_cast<size_t>(v)] = 1;
+    }
+    for (ctk::Id v = 0; v < nPoints; ++v)
+    {
+      if (used[static_cast<size_t>(v)])
+      {
+        this->UsedVertices.push_back(v);
+      }
+    }
+    for (int i = 0; i <= level; ++i)
+    {
+      for (int j = 0; i + j <= level; ++j)
+      {
+        const int k = level - i - j;
+        if (i != level && j != level && k != level)
+        {
+          this->Pattern.push_back({ i, j, k });
+        }
+      }
+    }
+  }
+  vtkIdType Count() const
+  {
+    return static_cast<vtkIdType>(this->UsedVertices.size() +
+      this->Pattern.size() * (this->Triangles.size() / 3));
+  }
+  ctk::Vec3 Point(vtkIdType s) const
+  {
+    const vtkIdType nVertices = static_cast<vtkIdType>(this->UsedVertices.size());
+    if (s < nVertices)
+    {
+      return ctk::Vec3(this->Points.data() + 3 * this->UsedVertices[s]);
+    }
+    const vtkIdType per = static_cast<vtkIdType>(this->Pattern.size());
+    const vtkIdType t = (s - nVertices) / per;
+    const std::array<int, 3>& b = this->Pattern[static_cast<size_t>((s - nVertices) % per)];
+    ctk::Vec3 p = ctk::Vec3::Zero();
+    for (int a = 0; a < 3; ++a)
+    {
+      p += (static_cast<double>(b[a]) / this->Level) *
+        ctk::Vec3(this->Points.data() + 3 * this->Triangles[3 * t + a]);
+    }
+    return p;
+  }
+};
+} // namespace
+
 int vtkApproximationErrorFilter::ComputeMeshDistance(vtkDataSet* spline, vtkPolyData* reference,
   const std::vector<double>& referencePoints, vtkPolyData* output)
 {
@@ -444,35 +512,9 @@ int vtkApproximationErrorFilter::ComputeMeshDistance(vtkDataSet* spline, vtkPoly
 
   // Reference -> spline: the vertices of the reference triangles (each once), then the points
   // (i, j, k)/n of every triangle that are not its corners.
-  std::vector<char> used(static_cast<size_t>(nReferencePoints), 0);
-  for (const ctk::Id v : referenceTriangles)
-  {
-    used[static_cast<size_t>(v)] = 1;
-  }
-  std::vector<vtkIdType> usedVertices;
-  for (ctk::Id v = 0; v < nReferencePoints; ++v)
-  {
-    if (used[static_cast<size_t>(v)])
-    {
-      usedVertices.push_back(v);
-    }
-  }
-  const int level = this->ReferenceSampleLevel;
-  std::vector<std::array<int, 3>> pattern;
-  for (int i = 0; i <= level; ++i)
-  {
-    for (int j = 0; i + j <= level; ++j)
-    {
-      const int k = level - i - j;
-      if (i != level && j != level && k != level)
-      {
-        pattern.push_back({ i, j, k });
-      }
-    }
-  }
-  const vtkIdType nVertexSamples = static_cast<vtkIdType>(usedVertices.size());
-  const vtkIdType nSamples =
-    nVertexSamples + static_cast<vtkIdType>(pattern.size()) * nReferenceTriangles;
+  const ReferenceSampling sampling(
+    referencePoints, referenceTriangles, nReferencePoints, this->ReferenceSampleLevel);
+  const vtkIdType nSamples = sampling.Count();
   std::vector<double> referenceErrors(static_cast<size_t>(nSamples), 0.0);
   vtkSMPTools::For(0, nSamples, [&](vtkIdType begin, vtkIdType end) {
     if (this->GetAbortExecute())
@@ -481,23 +523,7 @@ int vtkApproximationErrorFilter::ComputeMeshDistance(vtkDataSet* spline, vtkPoly
     }
     for (vtkIdType s = begin; s < end; ++s)
     {
-      ctk::Vec3 p;
-      if (s < nVertexSamples)
-      {
-        p = ctk::Vec3(referencePoints.data() + 3 * usedVertices[s]);
-      }
-      else
-      {
-        const vtkIdType t = (s - nVertexSamples) / static_cast<vtkIdType>(pattern.size());
-        const std::array<int, 3>& b =
-          pattern[static_cast<size_t>((s - nVertexSamples) % static_cast<vtkIdType>(pattern.size()))];
-        p.setZero();
-        for (int a = 0; a < 3; ++a)
-        {
-          p += (static_cast<double>(b[a]) / level) *
-            ctk::Vec3(referencePoints.data() + 3 * referenceTriangles[3 * t + a]);
-        }
-      }
+      const ctk::Vec3 p = sampling.Point(s);
       referenceErrors[s] = toSpline.Query(p).Distance;
     }
   });

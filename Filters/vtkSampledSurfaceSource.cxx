@@ -226,6 +226,32 @@ const char* vtkSampledSurfaceSource::GetDomainName(int domain)
   return "Unknown";
 }
 
+namespace
+{
+// The parameter mesh of the source's Domain and Resolution; an error message or "".
+std::string MakeParameterMesh(vtkSampledSurfaceSource* self, ctk::ParameterMesh& mesh)
+{
+  const std::array<ctk::Vec2, 3> tri = ctk::SphereOctantDomain();
+  const int res = self->GetResolution();
+  switch (self->GetDomain())
+  {
+    case vtkSampledSurfaceSource::Grid:
+      mesh = ctk::RegularGridMesh(res, static_cast<ctk::GridDiagonal>(self->GetGridDiagonal()));
+      return {};
+    case vtkSampledSurfaceSource::EquilateralTriangle:
+      mesh = ctk::RefinedTriangleMesh(tri[0], tri[1], tri[2], res);
+      return {};
+    default:
+    {
+      const std::vector<ctk::Vec2> corners = self->GetSurface() == vtkSampledSurfaceSource::SphereOctant
+        ? std::vector<ctk::Vec2>(tri.begin(), tri.end())
+        : std::vector<ctk::Vec2>{ { 0.0, 0.0 }, { 1.0, 0.0 }, { 1.0, 1.0 }, { 0.0, 1.0 } };
+      return RandomDelaunayMesh(corners, res, self->GetSeed(), mesh);
+    }
+  }
+}
+} // namespace
+
 int vtkSampledSurfaceSource::RequestData(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
@@ -274,28 +300,12 @@ int vtkSampledSurfaceSource::RequestData(
   const Eigen::Matrix2d Ainv = A.inverse();
 
   // 2. The parameter mesh, from the kernel's generators or Delaunay.
-  const std::array<ctk::Vec2, 3> tri = ctk::SphereOctantDomain();
   ctk::ParameterMesh mesh;
-  switch (this->Domain)
+  const std::string error = MakeParameterMesh(this, mesh);
+  if (!error.empty())
   {
-    case Grid:
-      mesh = ctk::RegularGridMesh(res, static_cast<ctk::GridDiagonal>(this->GridDiagonal));
-      break;
-    case EquilateralTriangle:
-      mesh = ctk::RefinedTriangleMesh(tri[0], tri[1], tri[2], res);
-      break;
-    default:
-    {
-      const std::vector<ctk::Vec2> corners = this->Surface == SphereOctant
-        ? std::vector<ctk::Vec2>(tri.begin(), tri.end())
-        : std::vector<ctk::Vec2>{ { 0.0, 0.0 }, { 1.0, 0.0 }, { 1.0, 1.0 }, { 0.0, 1.0 } };
-      const std::string error = RandomDelaunayMesh(corners, res, this->Seed, mesh);
-      if (!error.empty())
-      {
-        vtkErrorMacro(<< error);
-        return 0;
-      }
-    }
+    vtkErrorMacro(<< error);
+    return 0;
   }
   this->UpdateProgress(0.3);
 
