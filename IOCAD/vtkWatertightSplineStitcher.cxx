@@ -94,11 +94,7 @@ std::array<ctk::Vec3, 9> EdgeNormals(const ctk::MacroElementIds& ids, const std:
   {
     // Interior points only: at the edge's ends the surface may be degenerate (poles, apices).
     const double s = fromFirst ? (k + 0.5) / 9 : 1 - (k + 0.5) / 9;
-    const ctk::BezierJet jet = ctk::EvaluateBezierTriangle(3, Q, nullptr, ctk::Vec3(1 - s, s, 0), 1);
-    const ctk::Vec3 n = (jet.DT[1] - jet.DT[0]).cross(jet.DT[2] - jet.DT[0]);
-    const double len = n.norm();
-    const double scale = (jet.DT[1] - jet.DT[0]).norm() * (jet.DT[2] - jet.DT[0]).norm();
-    normals[k] = len > 1e-12 * scale ? ctk::Vec3(n / len) : ctk::Vec3::Zero();
+    normals[k] = ctk::PatchNormal(3, Q, nullptr, ctk::Vec3(1 - s, s, 0));
   }
   return normals;
 }
