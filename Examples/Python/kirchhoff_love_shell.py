@@ -68,6 +68,7 @@ class Benchmark:
     levels: tuple = (4, 8, 16)
     quick_levels: tuple = (4, 8)
     mesher: object = None  # n -> parametrised mesh; None: the n x n grid of the rectangle
+    solver: object = None  # (bench, n, construction, output) -> (unknowns, value, s); None: solve
 
     def mesh(self, n):
         if self.mesher is not None:
@@ -100,24 +101,55 @@ def pinched_cylinder():
                      levels=(8, 16, 32), quick_levels=(8, 16))
 
 
-def cad_face_mesher(path):
-    """n -> the CAD pipeline's sampling (vtkCADFaceSampler) of the one face of a STEP/IGES
-    model, with edges at most 1/n of the bounding-box diagonal: UV, exact dFdu, dFdv and
-    mid-edge gradients from the CAD surface."""
+def cad_faces(path, n):
+    """The CAD pipeline's sampling (vtkCADFaceSampler) of the faces of a STEP/IGES model, with
+    edges at most 1/n of the bounding-box diagonal: per face UV, exact dFdu, dFdv and mid-edge
+    gradients from the CAD surface, GlobalNodeId on the shared boundary nodes."""
     from ctsplines import io
 
+    messages = io.VTKMessages()
+    sampler = io.cad_sampler(path, messages)
+    sampler.SetMaxEdgeLength(1.0 / n)
+    sampler.Update()
+    errors = messages.take_errors()
+    if errors:
+        raise ValueError(f"{path}: {'; '.join(errors)}")
+    faces = sampler.GetOutputDataObject(0)
+    return [faces.GetBlock(i) for i in range(faces.GetNumberOfBlocks())]
+
+
+def cad_face_mesher(path):
+    """n -> the sampling of the one face of a STEP/IGES model (cad_faces)."""
     def mesh(n):
-        messages = io.VTKMessages()
-        sampler = io.cad_sampler(path, messages)
-        sampler.SetMaxEdgeLength(1.0 / n)
-        sampler.Update()
-        errors = messages.take_errors()
-        faces = sampler.GetOutputDataObject(0)
-        if errors or faces.GetNumberOfBlocks() != 1:
-            raise ValueError(f"{path}: expected one sampled face, got {faces.GetNumberOfBlocks()} "
-                             f"blocks{': ' + '; '.join(errors) if errors else ''}")
-        return faces.GetBlock(0)
+        faces = cad_faces(path, n)
+        if len(faces) != 1:
+            raise ValueError(f"{path}: expected one sampled face, got {len(faces)}")
+        return faces[0]
     return mesh
+
+
+# The pinched cylinder's octant conditions as planes of the model, so that they apply to any
+# faces whose boundary lines lie there (shell.FacePatches.plane_dofs): (axis, value, component,
+# condition). Symmetry planes x = 0, y = 0, z = 0; rigid diaphragm at y = L/2.
+CYLINDER_PLANES = [(1, 300.0, 0, "trace"), (1, 300.0, 2, "trace"),
+                   (1, 0.0, 1, "trace"), (1, 0.0, 0, "normal"), (1, 0.0, 2, "normal"),
+                   (0, 0.0, 0, "trace"), (0, 0.0, 1, "normal"), (0, 0.0, 2, "normal"),
+                   (2, 0.0, 2, "trace"), (2, 0.0, 0, "normal"), (2, 0.0, 1, "normal")]
+
+
+def solve_cad_cylinder(path, n, construction, g1_threshold=10.0):
+    """The pinched cylinder on a CAD model of its octant with any number of faces (the faces'
+    splines joined by shell.FacePatches): (unknowns, radial displacement under the load,
+    seconds, the model, its displacement dofs per face)."""
+    start = time.time()
+    bench = pinched_cylinder()
+    model = shell.FacePatches(cad_faces(path, n), construction, bench.thickness, bench.young,
+                              bench.poisson, g1_threshold)
+    fixed = np.concatenate([model.plane_dofs(*c) for c in CYLINDER_PLANES])
+    face, vertex = model.vertex_near((0.0, 0.0, 300.0))
+    d = model.solve(model.point_load(face, vertex, (0.0, 0.0, -0.25)), fixed)
+    value = float(-model.shells[face].vertex_displacement(d[face], vertex)[2])
+    return model.n_unknowns, value, time.time() - start, model, d
 
 
 def pinched_hemisphere(cad=None):
@@ -135,6 +167,16 @@ def pinched_hemisphere(cad=None):
                      loads=[((0.0, 0.0), (1.0, 0.0, 0.0)), ((w, 0.0), (0.0, -1.0, 0.0))],
                      pinned=[((0.0, 0.0), 2)], levels=(8, 16, 32), quick_levels=(8, 16),
                      mesher=cad_face_mesher(cad) if cad else None)
+
+
+def cad_cylinder_run(path, n, construction, output=None):
+    """solve_cad_cylinder as a table row; with output, one .vtu per face with its Displacement."""
+    unknowns, value, seconds, model, d = solve_cad_cylinder(path, n, construction)
+    if output:
+        for f, (face, df) in enumerate(zip(model.shells, d)):
+            shell.write_displacement(face.grid, face.control_point_displacement(df), os.path.join(
+                output, f"pinched_cylinder_cad_{construction}_{n}_face{f}.vtu"))
+    return unknowns, value, seconds
 
 
 BENCHMARKS = {b.__name__: b for b in (scordelis_lo, pinched_cylinder, pinched_hemisphere)}
@@ -178,7 +220,8 @@ def table(bench, construction, levels, output=None):
     """Markdown rows of one convergence study and the list of values."""
     rows, values = [], []
     for n in levels:
-        unknowns, value, seconds = solve(bench, n, construction, output if n == levels[-1] else None)
+        run = bench.solver or solve
+        unknowns, value, seconds = run(bench, n, construction, output if n == levels[-1] else None)
         values.append(value)
         rows.append([n, unknowns, value, seconds])
     # Successive differences give an order only on halving meshes.
@@ -200,6 +243,8 @@ def main(argv=None):
     ap.add_argument("--levels", help="grid sizes n (comma separated) instead of each benchmark's")
     ap.add_argument("--cad", metavar="STEP", help="also run the pinched hemisphere on this CAD model "
                     "of its quarter (one spherical face), sampled by the CAD pipeline")
+    ap.add_argument("--cad-cylinder", metavar="STEP", help="also run the pinched cylinder on this CAD "
+                    "model of its octant (any faces, joined by shell.FacePatches)")
     args = ap.parse_args(argv)
     names = args.benchmarks.split(",")
     unknown = [n for n in names if n not in BENCHMARKS]
@@ -213,6 +258,11 @@ def main(argv=None):
     if args.cad:
         runs.append(pinched_hemisphere(args.cad))
         runs[-1].name = "pinched_hemisphere_cad"
+    if args.cad_cylinder:
+        runs.append(pinched_cylinder())
+        runs[-1].name = "pinched_cylinder_cad"
+        runs[-1].solver = lambda bench, n, construction, output: cad_cylinder_run(
+            args.cad_cylinder, n, construction, output)
     for bench in runs:
         levels = tuple(map(int, args.levels.split(","))) if args.levels else (
             bench.quick_levels if args.quick else bench.levels)

@@ -4,9 +4,16 @@
 #define CTSplines_IOCAD_Testing_CADTestShapes_h
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <Geom_CylindricalSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Ax3.hxx>
+
+#include <cmath>
 
 namespace ctsplines_test
 {
@@ -17,6 +24,40 @@ inline TopoDS_Shape BoxWithHole()
   const TopoDS_Shape drill =
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.2, 0.1, -0.5), gp_Dir(0, 0, 1)), 0.35, 2.0).Shape();
   return BRepAlgoAPI_Cut(box, drill).Shape();
+}
+
+/// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one
+/// spherical face, longitude 0..90 deg from +x, latitude 0..72 deg (u, v in radians).
+inline TopoDS_Shape HemisphereQuarter(double radius = 10.0)
+{
+  Handle(Geom_SphericalSurface) sphere =
+    new Geom_SphericalSurface(gp_Ax3(gp::Origin(), gp::DZ(), gp::DX()), radius);
+  BRepBuilderAPI_MakeFace face(sphere, 0.0, M_PI / 2, 0.0, 72.0 * M_PI / 180.0, 1e-7);
+  return face.IsDone() ? face.Shape() : TopoDS_Shape();
+}
+
+/// The octant of the pinched cylinder (radius 300, axis y, x = r sin(theta), z = r cos(theta),
+/// theta 0..90 deg, y 0..300) as two cylindrical faces split at theta = 45 deg, sewn so that they
+/// share that edge, where they meet tangentially. The faces have their own parameters: the first
+/// (theta < 45 deg) u = theta, v = y; the second lies on a cylinder with axis -y and angle origin
+/// on +x, u = 90 deg - theta, v = -y (the transition between them is a flip of both).
+inline TopoDS_Shape CylinderOctantTwoFaces(double radius = 300.0, double halfLength = 300.0)
+{
+  Handle(Geom_CylindricalSurface) first =
+    new Geom_CylindricalSurface(gp_Ax3(gp::Origin(), gp::DY(), gp::DZ()), radius);
+  Handle(Geom_CylindricalSurface) second =
+    new Geom_CylindricalSurface(gp_Ax3(gp::Origin(), -gp::DY(), gp::DX()), radius);
+  BRepBuilderAPI_MakeFace a(first, 0.0, M_PI / 4, 0.0, halfLength, 1e-7);
+  BRepBuilderAPI_MakeFace b(second, 0.0, M_PI / 4, -halfLength, 0.0, 1e-7);
+  if (!a.IsDone() || !b.IsDone())
+  {
+    return TopoDS_Shape();
+  }
+  BRepBuilderAPI_Sewing sewing(1e-6);
+  sewing.Add(a.Face());
+  sewing.Add(b.Face());
+  sewing.Perform();
+  return sewing.SewedShape();
 }
 } // namespace ctsplines_test
 

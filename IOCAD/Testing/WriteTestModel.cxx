@@ -1,26 +1,67 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// ctsplines_write_test_model PATH: writes a small closed solid (a box with a cylindrical
-// through-hole: planes, a seamed cylinder, faces with holes) as STEP, so that the Python and
-// ParaView tests have a CAD model without committing one; Python cannot write STEP here.
+// ctsplines_write_test_model [--shape NAME] PATH: writes a shape of CADTestShapes.h as STEP, so
+// that the Python and ParaView tests have CAD models without committing any; Python cannot write
+// STEP here. NAME: box_with_hole (default: a small closed solid with planes, a seamed cylinder
+// and faces with holes), hemisphere_quarter, cylinder_octant_two_faces (the shell benchmarks).
 #include "CADTestShapes.h"
 
 #include <STEPControl_Writer.hxx>
 
 #include <cstdio>
+#include <cstring>
+#include <string>
+
+namespace
+{
+TopoDS_Shape ShapeNamed(const std::string& name)
+{
+  if (name == "box_with_hole")
+  {
+    return ctsplines_test::BoxWithHole();
+  }
+  if (name == "hemisphere_quarter")
+  {
+    return ctsplines_test::HemisphereQuarter();
+  }
+  if (name == "cylinder_octant_two_faces")
+  {
+    return ctsplines_test::CylinderOctantTwoFaces();
+  }
+  return TopoDS_Shape();
+}
+} // namespace
 
 int main(int argc, char* argv[])
 {
-  if (argc != 2)
+  std::string name = "box_with_hole";
+  const char* path = nullptr;
+  if (argc == 2)
   {
-    std::fprintf(stderr, "usage: %s PATH.step\n", argv[0]);
+    path = argv[1];
+  }
+  else if (argc == 4 && std::strcmp(argv[1], "--shape") == 0)
+  {
+    name = argv[2];
+    path = argv[3];
+  }
+  else
+  {
+    std::fprintf(stderr,
+      "usage: %s [--shape box_with_hole|hemisphere_quarter|cylinder_octant_two_faces] PATH.step\n",
+      argv[0]);
     return 2;
   }
-  const TopoDS_Shape shape = ctsplines_test::BoxWithHole();
-  STEPControl_Writer writer;
-  if (shape.IsNull() || writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone ||
-    writer.Write(argv[1]) != IFSelect_RetDone)
+  const TopoDS_Shape shape = ShapeNamed(name);
+  if (shape.IsNull())
   {
-    std::fprintf(stderr, "cannot write %s\n", argv[1]);
+    std::fprintf(stderr, "unknown shape or OpenCASCADE failed to build it: %s\n", name.c_str());
+    return 2;
+  }
+  STEPControl_Writer writer;
+  if (writer.Transfer(shape, STEPControl_AsIs) != IFSelect_RetDone ||
+    writer.Write(path) != IFSelect_RetDone)
+  {
+    std::fprintf(stderr, "cannot write %s\n", path);
     return 1;
   }
   return 0;

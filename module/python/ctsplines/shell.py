@@ -123,6 +123,7 @@ class Shell:
         if not (thickness > 0 and young > 0 and -1.0 < poisson < 0.5):
             raise ValueError(f"need thickness > 0, Young's modulus > 0 and -1 < Poisson's ratio < 0.5, "
                              f"got {thickness}, {young}, {poisson}")
+        self.grid = grid
         self.ex = iga.Extraction(grid)
         ex = self.ex
         exps = ex.exponents()
@@ -235,10 +236,7 @@ class Shell:
         fixed = np.unique(np.asarray(fixed, dtype=np.int64))
         free = np.setdiff1d(np.arange(self.n_unknowns), fixed)
         x = np.zeros(self.n_unknowns)
-        R = self.rigid_motions()[fixed]
-        R /= np.maximum(np.linalg.norm(self.rigid_motions(), axis=0), 1e-300)
-        if len(fixed) < 6 or np.linalg.svd(R, compute_uv=False)[-1] < 1e-10:
-            raise ValueError("the conditions leave a rigid-body motion free (the stiffness is singular)")
+        check_rigid_motions_held(self.rigid_motions(), fixed)
         x[free] = spla.spsolve(K[free][:, free].tocsc(), b[free])
         return x.reshape(-1, 3)
 
@@ -261,23 +259,52 @@ class Shell:
         return self.ex.global_matrix() @ d
 
 
+def check_rigid_motions_held(motions, fixed):
+    """ValueError unless holding the unknowns `fixed` at zero stops each rigid motion (columns of
+    motions): otherwise the stiffness on the free unknowns is singular."""
+    R = motions[fixed] / np.maximum(np.linalg.norm(motions, axis=0), 1e-300)
+    if len(fixed) < 6 or np.linalg.svd(R, compute_uv=False)[-1] < 1e-10:
+        raise ValueError("the conditions leave a rigid-body motion free (the stiffness is singular)")
+
+
 def _vertex_count(ex):
     return (ex.n_dofs - np.count_nonzero(ex.edge_dofs[:, 2] >= 0)) // 3
+
+
+def tangent_map(exA, a, exB, b):
+    """J = dU_A/dU_B at vertex a of patch A and vertex b of patch B at the same point: the least
+    squares solution of [x_uB x_vB] = [x_uA x_vA] J from the geometry's derivative dofs (exact
+    where the two tangent planes coincide, a G1 join). A field's gradients then map as
+    grad_B = J^T grad_A."""
+    GA, GB = exA.dofs[[3 * a + 1, 3 * a + 2]].T, exB.dofs[[3 * b + 1, 3 * b + 2]].T
+    return np.linalg.lstsq(GA, GB, rcond=None)[0]
+
+
+def edge_dof_in_a(exA, edgeA, uvB, J):
+    """B's dof of a shared boundary edge (its midpoint derivative along B's unit parameter normal
+    n_B of the edge uvB = (start, end), boundary mode GradientPerpendicular) as a combination of
+    A's dofs: grad_A . (J n_B), J = dU_A/dU_B at the midpoint, grad_A from A's edge dof (along
+    n_A of edgeA = (a1, a2, dof)) and the derivative of A's boundary cubic along the edge.
+    Returns (A's dof ids, coefficients)."""
+    a1, a2, dA = edgeA
+    eB = uvB[1] - uvB[0]
+    w = J @ (np.array([-eB[1], eB[0]]) / np.linalg.norm(eB))  # n_B in A's parameters
+    eA = exA.uv[a2] - exA.uv[a1]
+    L = np.linalg.norm(eA)
+    tA, nA = eA / L, np.array([-eA[1], eA[0]]) / L
+    wt = (w @ tA) / L  # along the edge: d/ds of A's boundary cubic at s = 1/2, over L
+    cols = [dA, 3 * a2, 3 * a1, 3 * a1 + 1, 3 * a1 + 2, 3 * a2 + 1, 3 * a2 + 2]
+    return cols, [w @ nA, 1.5 * wt, -1.5 * wt] + list(-0.25 * wt * np.concatenate([eA, eA]))
 
 
 def interface_map(exA, exB, tol=1e-9):
     """Couples patch B to patch A along the edges they share (vertices at the same points):
     returns (slaves, S) with B's interface dofs d_B[slaves] = S @ d_A (S sparse), per component.
 
-    The patches' parameters may differ: at a shared vertex J = dU_A/dU_B solves
-    [x_uB x_vB] = [x_uA x_vA] J (exact where the tangent planes agree, a G1 join), and
-    value_B = value_A, grad_B = J^T grad_A. A shared boundary edge's dof on B (its midpoint
-    normal derivative along n_B, boundary mode GradientPerpendicular on both) is
-    grad_A . (J n_B) at the midpoint (J the mean of the ends'), with grad_A from A's edge dof
-    (along n_A) and the derivative of A's boundary cubic along the edge. For an affine
-    parameter transition this makes the coupled space C1 across the interface."""
-    import scipy.sparse as sp
-
+    The patches' parameters may differ: at a shared vertex value_B = value_A and
+    grad_B = J^T grad_A (:func:`tangent_map`); a shared boundary edge's dof on B is
+    :func:`edge_dof_in_a` with J the mean of the ends'. For an affine parameter transition this
+    makes the coupled space C1 across the interface."""
     nA, nB = _vertex_count(exA), _vertex_count(exB)
     pA, pB = exA.dofs[0 : 3 * nA : 3], exB.dofs[0 : 3 * nB : 3]
     scale = tol * max(1.0, np.abs(pA).max())
@@ -287,8 +314,7 @@ def interface_map(exA, exB, tol=1e-9):
         raise ValueError("the patches share no vertex")
     rows, cols, vals, J = [], [], [], {}
     for b, a in match.items():
-        GA, GB = exA.dofs[[3 * a + 1, 3 * a + 2]].T, exB.dofs[[3 * b + 1, 3 * b + 2]].T
-        J[b] = np.linalg.lstsq(GA, GB, rcond=None)[0]
+        J[b] = tangent_map(exA, a, exB, b)
         rows += [3 * b, 3 * b + 1, 3 * b + 1, 3 * b + 2, 3 * b + 2]
         cols += [3 * a, 3 * a + 1, 3 * a + 2, 3 * a + 1, 3 * a + 2]
         vals += [1.0, J[b][0, 0], J[b][1, 0], J[b][0, 1], J[b][1, 1]]
@@ -296,19 +322,13 @@ def interface_map(exA, exB, tol=1e-9):
     for b1, b2, dB in exB.edge_dofs:
         if dB < 0 or b1 not in match or b2 not in match:
             continue
-        a1, a2, dA = edgesA.get(frozenset((match[b1], match[b2])), (0, 0, -1))
-        if dA < 0:
+        edgeA = edgesA.get(frozenset((match[b1], match[b2])), (0, 0, -1))
+        if edgeA[2] < 0:
             raise ValueError(f"edge ({b1}, {b2}) of patch B is on the interface but patch A's has no edge dof")
-        eB = exB.uv[b2] - exB.uv[b1]
-        nvec = np.array([-eB[1], eB[0]]) / np.linalg.norm(eB)
-        w = 0.5 * (J[b1] + J[b2]) @ nvec  # n_B in A's parameters
-        eA = exA.uv[a2] - exA.uv[a1]
-        L = np.linalg.norm(eA)
-        tA, nA_ = eA / L, np.array([-eA[1], eA[0]]) / L
-        wt = (w @ tA) / L  # along the edge: d/ds of A's boundary cubic at s = 1/2, over L
-        rows += [dB] * 7
-        cols += [dA, 3 * a2, 3 * a1, 3 * a1 + 1, 3 * a1 + 2, 3 * a2 + 1, 3 * a2 + 2]
-        vals += [w @ nA_, 1.5 * wt, -1.5 * wt] + list(-0.25 * wt * np.concatenate([eA, eA]))
+        c, v = edge_dof_in_a(exA, edgeA, exB.uv[[b1, b2]], 0.5 * (J[b1] + J[b2]))
+        rows += [dB] * len(c)
+        cols += c
+        vals += v
     S = sp.csr_matrix((vals, (rows, cols)), shape=(exB.n_dofs, exA.n_dofs))
     slaves = np.unique(rows)
     return slaves, S[slaves]
@@ -319,8 +339,6 @@ def couple(shellA, shellB, tol=1e-9):
     unknown of A and the unknowns of B off the interface are kept, B's interface unknowns follow
     A's by :func:`interface_map` (the same map for the three components). Returns (T, slaves)
     with slaves in the full numbering."""
-    import scipy.sparse as sp
-
     slaves, S = interface_map(shellA.ex, shellB.ex, tol)
     nA, nB = shellA.n_unknowns, shellB.n_unknowns
     S3 = sp.kron(S, sp.identity(3)).tocoo()  # unknown 3 j + c
@@ -355,6 +373,269 @@ def solve_coupled(shellA, shellB, K, b, fixed, tol=1e-9):
     r[free] = spla.spsolve(Kr[free][:, free].tocsc(), br[free])
     x = T @ r
     return x[: shellA.n_unknowns].reshape(-1, 3), x[shellA.n_unknowns:].reshape(-1, 3)
+
+
+class FacePatches:
+    """Kirchhoff-Love shells on the faces of a sampled CAD model (vtkCADFaceSampler's blocks:
+    faces share their boundary nodes, `GlobalNodeId`), one spline space per face in the face's
+    own parameters, joined into one global dof numbering: full = T @ global, the faces' dofs
+    stacked (face f's dof j at offsets[f] + j); for the unknowns (three components) T3 = T (x) I3.
+
+    At a model node on several faces the first face (block order) owns it:
+      - its value dof is the one global dof of every face there (C0 at the node);
+      - a face whose unit normal there is within g1_threshold degrees of an earlier face's (a
+        tangent join) has grad = J^T grad_earlier (:func:`tangent_map`): the tangent-plane
+        gradient is shared (G1 of the space at the node);
+      - at a crease only the derivative along each shared boundary edge is tied: the derivative
+        along the edge's parameter chord at unit 3D speed (|x_u t_u + x_v t_v| = 1) is the same on
+        both faces, so the trace along the edge, the Hermite cubic of the end values and
+        derivatives, is one curve where the edge is straight in both parameter planes (else up to
+        the chords' turning); the cross-edge derivative stays the face's own dof (a hinge).
+    A boundary edge shared by two faces: at a tangent join (normals within the threshold at both
+    ends) the later face's midpoint normal derivative follows the earlier face's dofs
+    (:func:`edge_dof_in_a`, J the mean of the ends'): C1 across the edge for an affine parameter
+    transition, up to the variation of J along the edge otherwise; at a crease it stays free.
+    `joins` counts the tied vertices ('tangent', 'crease') and edges ('tangent_edges')."""
+
+    def __init__(self, meshes, construction, thickness, young, poisson, g1_threshold=10.0):
+        self.meshes = list(meshes)
+        if not self.meshes:
+            raise ValueError("FacePatches needs at least one face")
+        self.node_ids = []
+        for f, mesh in enumerate(self.meshes):
+            if mesh.GetPointData().GetArray("GlobalNodeId") is None:
+                raise ValueError(f"face {f} has no point array GlobalNodeId (vtkCADFaceSampler's output has)")
+            self.node_ids.append(arrays.point_array(mesh, "GlobalNodeId").astype(np.int64))
+        self.shells = [Shell(spline(m, construction), thickness, young, poisson) for m in self.meshes]
+        self.n_vertices = [m.GetNumberOfPoints() for m in self.meshes]
+        self.offsets = np.cumsum([0] + [s.ex.n_dofs for s in self.shells])
+        self.g1_threshold = g1_threshold
+        numbering = _FaceNumbering(self)
+        self.T, self.joins, self.masters = numbering.matrix()
+        self.shared_edges = numbering.shared  # {frozenset of node ids: [(face, a, b, edge dof)]}
+        self.T3 = sp.kron(self.T, sp.identity(3), format="csr")
+        self.n_unknowns = self.T3.shape[1]
+
+    def stiffness(self):
+        """The coupled stiffness T3^T K T3 over the global unknowns (3 g + component)."""
+        K = sp.block_diag([s.stiffness() for s in self.shells], format="csr")
+        return (self.T3.T @ K @ self.T3).tocsr()
+
+    def point_load(self, face, vertex, force):
+        """Load vector over the faces' stacked unknowns of a point force at a vertex of a face
+        (at a shared node give it on one face only: the value dofs are one)."""
+        b = np.zeros(self.T3.shape[0])
+        b[3 * self.offsets[face]:3 * self.offsets[face + 1]] = self.shells[face].point_load(vertex, force)
+        return b
+
+    def vertex_near(self, point, tol=1e-9):
+        """(face, vertex) of the first face with an input vertex at the 3D point (ValueError if none)."""
+        point = np.asarray(point, float)
+        for f, s in enumerate(self.shells):
+            x = s.ex.dofs[0 : 3 * self.n_vertices[f] : 3]
+            dist = np.linalg.norm(x - point, axis=1)
+            if dist.min() <= tol * max(1.0, np.abs(x).max()):
+                return f, int(np.argmin(dist))
+        raise ValueError(f"no face has a vertex at {tuple(point)}")
+
+    def plane_dofs(self, axis, value, component, condition, tol=1e-7):
+        """Stacked unknowns of :func:`line_dofs` on every face boundary line {uv[k] = c} (of the
+        face's parameter rectangle) whose vertices all lie in the plane {x[axis] = value}."""
+        out = []
+        for f, s in enumerate(self.shells):
+            nv = self.n_vertices[f]
+            uv, x = s.ex.uv[:nv], s.ex.dofs[0 : 3 * nv : 3]
+            scale = tol * max(1.0, np.abs(x).max())
+            for k in (0, 1):
+                for c in (uv[:, k].min(), uv[:, k].max()):
+                    on = np.abs(uv[:, k] - c) <= 1e-9 * max(1.0, np.abs(uv).max())
+                    if on.sum() >= 2 and np.all(np.abs(x[on, axis] - value) <= scale):
+                        out.append(3 * self.offsets[f] + line_dofs(s.ex, nv, k, c, component, condition))
+        if not out:
+            raise ValueError(f"no face boundary line lies in the plane x[{axis}] = {value}")
+        return np.concatenate(out)
+
+    def held(self, fixed):
+        """Global unknowns to hold at zero for the stacked unknowns `fixed`: a condition on an
+        unknown that follows others (a slave) holds its one remaining global unknown once the
+        others are held; ValueError if it remains a relation among several."""
+        T = self.T3[np.unique(np.asarray(fixed, dtype=np.int64))].tolil()
+        pending = [[c for c, v in zip(r, d) if abs(v) > 1e-12 * max(map(abs, d))] for r, d in zip(T.rows, T.data)]
+        held, changed = set(), True
+        while changed:
+            changed, rest = False, []
+            for cols in pending:
+                left = [c for c in cols if c not in held]
+                if len(left) == 1:
+                    held.add(left[0])
+                    changed = True
+                elif left:
+                    rest.append(left)
+            pending = rest
+        if pending:
+            raise ValueError(f"a condition ties the global unknowns {pending[0]} together: it is a relation, "
+                             f"not a set of dofs to hold")
+        return np.array(sorted(held), dtype=np.int64)
+
+    def rigid_motions(self):
+        """(global unknowns, 6): the faces' rigid motions (Shell.rigid_motions) read at the global
+        unknowns' own rows; T3 @ them equals the stacked motions when the coupling admits them."""
+        stacked = np.concatenate([s.rigid_motions() for s in self.shells])
+        own = (3 * self.masters[:, None] + np.arange(3)).ravel()
+        return stacked[own]
+
+    def solve(self, b, fixed):
+        """Displacement dofs per face (list of (n_dofs_f, 3)) for the stacked load vector b with
+        the stacked unknowns `fixed` held at zero."""
+        K, br = self.stiffness(), self.T3.T @ b
+        held = self.held(fixed)
+        check_rigid_motions_held(self.rigid_motions(), held)
+        free = np.setdiff1d(np.arange(self.n_unknowns), held)
+        r = np.zeros(self.n_unknowns)
+        r[free] = spla.spsolve(K[free][:, free].tocsc(), br[free])
+        x = self.T3 @ r
+        return [x[3 * a : 3 * b_].reshape(-1, 3) for a, b_ in zip(self.offsets[:-1], self.offsets[1:])]
+
+
+class _FaceNumbering:
+    """Builds FacePatches.T row by row: rows[i] = {global dof: coefficient} for stacked dof i;
+    a dof not tied to an earlier face's becomes a new global dof when first used."""
+
+    def __init__(self, model):
+        self.m = model
+        self.rows = [None] * int(model.offsets[-1])
+        self.masters = []  # the stacked dof of each global dof
+        self.cos_threshold = np.cos(np.radians(model.g1_threshold))
+        self.joins = {"tangent": 0, "crease": 0, "tangent_edges": 0}
+        self.shared = self._shared_boundary_edges()
+
+    def full(self, f, j):
+        return int(self.m.offsets[f] + j)
+
+    def expr(self, i):
+        if self.rows[i] is None:
+            self.rows[i] = {len(self.masters): 1.0}
+            self.masters.append(i)
+        return self.rows[i]
+
+    def combo(self, terms):
+        out = {}
+        for coef, i in terms:
+            for g, v in self.expr(i).items():
+                out[g] = out.get(g, 0.0) + coef * v
+        return out
+
+    def _shared_boundary_edges(self):
+        """{frozenset of two node ids: [(face, a, b, edge dof)]} for edges on two or more faces."""
+        shared = {}
+        for f, mesh in enumerate(self.m.meshes):
+            tris = arrays.triangles(mesh)
+            e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
+            edges, count = np.unique(e, axis=0, return_counts=True)
+            dofs = {frozenset((int(a), int(b))): (int(a), int(b), int(d)) for a, b, d in self.m.shells[f].ex.edge_dofs}
+            ids = self.m.node_ids[f]
+            for a, b in edges[count == 1]:
+                entry = dofs.get(frozenset((int(a), int(b))), (int(a), int(b), -1))
+                shared.setdefault(frozenset((int(ids[a]), int(ids[b]))), []).append((f, *entry))
+        return {k: v for k, v in shared.items() if len(v) > 1}
+
+    def unit_normal(self, f, v):
+        d = self.m.shells[f].ex.dofs
+        n = np.cross(d[3 * v + 1], d[3 * v + 2])
+        return n / np.linalg.norm(n)
+
+    def tangent(self, f, v, g, w):
+        return self.unit_normal(f, v) @ self.unit_normal(g, w) > self.cos_threshold
+
+    def matrix(self):
+        occurrences = {}
+        for f, ids in enumerate(self.m.node_ids):
+            for v, node in enumerate(ids):
+                occurrences.setdefault(int(node), []).append((f, v))
+        self.edges_at = {}
+        for key in self.shared:
+            for node in key:
+                self.edges_at.setdefault(node, []).append(key)
+        for node, occ in occurrences.items():
+            for k in range(1, len(occ)):
+                self.join_vertex(node, occ[k], occ[:k])
+        for occ in self.shared.values():
+            self.join_edge(occ)
+        for i in range(len(self.rows)):
+            self.expr(i)
+        r, c, v = zip(*[(i, g, x) for i, row in enumerate(self.rows) for g, x in row.items()])
+        T = sp.csr_matrix((v, (r, c)), shape=(len(self.rows), len(self.masters)))
+        return T, self.joins, np.array(self.masters, dtype=np.int64)
+
+    def join_vertex(self, node, fv, earlier):
+        f, v = fv
+        g0, w0 = earlier[0]
+        self.rows[self.full(f, 3 * v)] = dict(self.expr(self.full(g0, 3 * w0)))
+        smooth = next(((g, w) for g, w in earlier if self.tangent(f, v, g, w)), None)
+        if smooth is not None:
+            g, w = smooth
+            J = tangent_map(self.m.shells[g].ex, w, self.m.shells[f].ex, v)
+            gu, gv = self.full(g, 3 * w + 1), self.full(g, 3 * w + 2)
+            for c in range(2):
+                self.rows[self.full(f, 3 * v + 1 + c)] = self.combo([(J[0, c], gu), (J[1, c], gv)])
+            self.joins["tangent"] += 1
+            return
+        ties = [t for g, w in earlier for t in self.edge_ties(node, f, v, g, w)]
+        self.joins["crease"] += 1
+        if len(ties) == 1:
+            (a, terms), = ties
+            j = int(np.argmax(np.abs(a)))  # solve for this component, the other stays f's own
+            own = self.full(f, 3 * v + 2 - j)
+            self.rows[self.full(f, 3 * v + 1 + j)] = self.combo([(t / a[j], i) for t, i in terms]
+                                                                + [(-a[1 - j] / a[j], own)])
+        elif len(ties) > 1:
+            pairs = [(abs(np.cross(p[0], q[0])), p, q) for k, p in enumerate(ties) for q in ties[k + 1:]]
+            _, p, q = max(pairs, key=lambda t: t[0])
+            inv = np.linalg.inv(np.array([p[0], q[0]]))
+            for c in range(2):
+                self.rows[self.full(f, 3 * v + 1 + c)] = self.combo(
+                    [(inv[c, 0] * t, i) for t, i in p[1]] + [(inv[c, 1] * t, i) for t, i in q[1]])
+
+    def edge_ties(self, node, f, v, g, w):
+        """The tie of f's derivative along the boundary edges through `node` shared with face g:
+        [(direction a in f's parameters, [(coefficient, stacked dof of g)])] with a . grad_f equal
+        to the combination (both at unit 3D speed; the chords of one pair averaged)."""
+        exf, exg = self.m.shells[f].ex, self.m.shells[g].ex
+        a_f, a_g = [], []
+        for key in self.edges_at.get(node, []):
+            ends = {e[0]: e[1:3] for e in self.shared[key]}
+            if f not in ends or g not in ends:
+                continue
+            dirs = []
+            for ex, face, vertex in ((exf, f, v), (exg, g, w)):
+                other = ends[face][0] if ends[face][1] == vertex else ends[face][1]
+                t = ex.uv[other] - ex.uv[vertex]
+                dirs.append(t / np.linalg.norm(ex.dofs[[3 * vertex + 1, 3 * vertex + 2]].T @ t))
+            if a_f and dirs[0] @ a_f[0] < 0:  # the chord on the other side of the node
+                dirs = [-d for d in dirs]
+            a_f.append(dirs[0])
+            a_g.append(dirs[1])
+        if not a_f:
+            return []
+        a, b = np.mean(a_f, axis=0), np.mean(a_g, axis=0)
+        return [(a, [(b[0], self.full(g, 3 * w + 1)), (b[1], self.full(g, 3 * w + 2))])]
+
+    def join_edge(self, occ):
+        g, a1, a2, dA = occ[0]
+        exA, ids_g = self.m.shells[g].ex, self.m.node_ids[g]
+        local_a = {int(ids_g[a1]): a1, int(ids_g[a2]): a2}
+        for f, b1, b2, dB in occ[1:]:
+            exB, ids_f = self.m.shells[f].ex, self.m.node_ids[f]
+            ends = [(local_a[int(ids_f[b])], b) for b in (b1, b2)]
+            if dB < 0 or not all(self.tangent(f, b, g, a) for a, b in ends):
+                continue  # no dof, or a crease: f's edge dof stays its own
+            if dA < 0:
+                raise ValueError(f"the edge ({b1}, {b2}) of face {f} joins face {g} tangentially but "
+                                 f"face {g}'s edge has no edge dof (use boundary mode GradientPerpendicular)")
+            J = 0.5 * sum(tangent_map(exA, a, exB, b) for a, b in ends)
+            cols, vals = edge_dof_in_a(exA, (a1, a2, dA), exB.uv[[b1, b2]], J)
+            self.rows[self.full(f, dB)] = self.combo([(x, self.full(g, c)) for c, x in zip(cols, vals)])
+            self.joins["tangent_edges"] += 1
 
 
 def vertex_at(ex, n_vertices, uv, tol=1e-9):
