@@ -202,7 +202,8 @@ bool HouseholderInPlace(Eigen::Map<Eigen::MatrixXd>& W, int cols, SmallMatrix& R
 }
 
 /// Least-squares fit of f_j - f_i over the neighbours nb (m of them), linear or quadratic, in
-/// the neighbours' whitened frame: d' = L^-1 d with L L^T their second moment, so that the fit
+/// the neighbours' whitened frame: d' = L^-1 d / h with L L^T the second moment of d / h (h the
+/// largest offset coordinate), so that the fit
 /// and its condition number do not change under affine reparameterisation. The quadratic
 /// columns x'^2, sqrt(2) x'y', y'^2 make the singular values rotation-invariant too. Writes the
 /// gradient (row 0: d/du, row 1: d/dv; one column per coordinate of F).
@@ -216,10 +217,21 @@ bool FitGradient(const SplineData& data, Id i, const Id* nb, Id m, bool quadrati
   }
   const Vec2 Ui(data.UV[2 * i], data.UV[2 * i + 1]);
   const Vec3 Fi(data.F[3 * i], data.F[3 * i + 1], data.F[3 * i + 2]);
+  // Offsets relative to the largest one first: the second moment of (u, v) offsets of 1e-100
+  // would underflow.
+  double h = 0.0;
+  for (Id r = 0; r < m; ++r)
+  {
+    h = std::max(h, (Vec2(data.UV[2 * nb[r]], data.UV[2 * nb[r] + 1]) - Ui).cwiseAbs().maxCoeff());
+  }
+  if (!(h > 0.0))
+  {
+    return false;
+  }
   Eigen::Matrix2d moment = Eigen::Matrix2d::Zero();
   for (Id r = 0; r < m; ++r)
   {
-    const Vec2 d = Vec2(data.UV[2 * nb[r]], data.UV[2 * nb[r] + 1]) - Ui;
+    const Vec2 d = (Vec2(data.UV[2 * nb[r]], data.UV[2 * nb[r] + 1]) - Ui) / h;
     moment += d * d.transpose();
   }
   moment /= static_cast<double>(m);
@@ -235,7 +247,7 @@ bool FitGradient(const SplineData& data, Id i, const Id* nb, Id m, bool quadrati
   for (Id r = 0; r < m; ++r)
   {
     const Id j = nb[r];
-    const Vec2 d = Linv * (Vec2(data.UV[2 * j], data.UV[2 * j + 1]) - Ui);
+    const Vec2 d = Linv * ((Vec2(data.UV[2 * j], data.UV[2 * j + 1]) - Ui) / h);
     W(r, 0) = d.x();
     W(r, 1) = d.y();
     if (quadratic)
@@ -263,8 +275,8 @@ bool FitGradient(const SplineData& data, Id i, const Id* nb, Id m, bool quadrati
     return false;
   }
   const SmallRhs X = R.triangularView<Eigen::Upper>().solve(QtB);
-  // f - f_i ~ X_lin^T d' = X_lin^T L^-1 d: the gradient is L^-T X_lin.
-  gradient = Linv.transpose() * X.topRows(2);
+  // f - f_i ~ X_lin^T d' = X_lin^T L^-1 d / h: the gradient is L^-T X_lin / h.
+  gradient = Linv.transpose() * X.topRows(2) / h;
   return true;
 }
 
@@ -552,9 +564,13 @@ BuildStatus EstimateMinimumEnergy(const SplineData& data, const VertexNeighbours
 
 Eigen::Matrix<double, 9, 9> ReducedCloughTocherEnergy(const Vec2& U0, const Vec2& U1, const Vec2& U2)
 {
-  // Relative to the split point (the barycentre), for round-off.
+  // In the frame s = (u - Z) / h about the split point Z (the barycentre), h the largest offset:
+  // no over- or underflow whatever the size. There the degrees of freedom are (f, h f_u, h f_v)
+  // and the energy is h^2 times the one in u (second derivatives scale by 1 / h^2, areas by h^2).
   const Vec2 Z = (U0 + U1 + U2) / 3.0;
-  const Vec2 U[3] = { U0 - Z, U1 - Z, U2 - Z };
+  const double h = std::max({ (U0 - Z).cwiseAbs().maxCoeff(), (U1 - Z).cwiseAbs().maxCoeff(),
+    (U2 - Z).cwiseAbs().maxCoeff() });
+  const Vec2 U[3] = { (U0 - Z) / h, (U1 - Z) / h, (U2 - Z) / h };
   const Vec3 tau = Vec3::Constant(1.0 / 3.0);
   const MacroElementIds ids = LocalMacroElementIds();
   // Rows: sqrt(weight) f_uu, sqrt(2 weight) f_uv, sqrt(weight) f_vv at the three points of the
@@ -611,7 +627,13 @@ Eigen::Matrix<double, 9, 9> ReducedCloughTocherEnergy(const Vec2& U0, const Vec2
       }
     }
   }
-  return S.transpose() * S;
+  Eigen::Matrix<double, 9, 1> toScaled; // d_s = toScaled .* d
+  for (int i = 0; i < 3; ++i)
+  {
+    toScaled.segment<3>(3 * i) = Vec3(1.0, h, h);
+  }
+  const Eigen::Matrix<double, 9, 1> D = toScaled / h;
+  return D.asDiagonal() * (S.transpose() * S) * D.asDiagonal();
 }
 
 BuildStatus EstimateDerivatives(const SplineData& data, const MeshTopology& topology,

@@ -205,6 +205,23 @@ TEST(DerivativeEstimation, LocalQuadraticIsAffineInvariant)
   EXPECT_LT(InvarianceDefect(m, SineWave, shear, DerivativeEstimation::LocalQuadratic), 1e-10);
 }
 
+TEST(DerivativeEstimation, BothAreScaleInvariantOverTheUsableRange)
+{
+  // (u, v) of size 1e-90 and 1e90: nothing under- or overflows (the fits and the element work
+  // in frames scaled to the neighbourhood or triangle).
+  const ParameterMesh m = JitteredGrid(8, 0.35, 6u);
+  for (const double scale : { 1e-90, 1e90 })
+  {
+    Affine a;
+    a.A = scale * Eigen::Matrix2d::Identity();
+    a.t = Vec2(scale, -2 * scale);
+    for (DerivativeEstimation method : Methods)
+    {
+      EXPECT_LT(InvarianceDefect(m, SineWave, a, method), 1e-12) << ToString(method) << " " << scale;
+    }
+  }
+}
+
 TEST(DerivativeEstimation, MinimumEnergyIsSimilarityInvariantOnly)
 {
   const ParameterMesh m = JitteredGrid(12, 0.35, 3u);
