@@ -280,21 +280,32 @@ def tangent_map(exA, a, exB, b):
     return np.linalg.lstsq(GA, GB, rcond=None)[0]
 
 
-def edge_dof_in_a(exA, edgeA, uvB, J):
-    """B's dof of a shared boundary edge (its midpoint derivative along B's unit parameter normal
-    n_B of the edge uvB = (start, end), boundary mode GradientPerpendicular) as a combination of
-    A's dofs: grad_A . (J n_B), J = dU_A/dU_B at the midpoint, grad_A from A's edge dof (along
-    n_A of edgeA = (a1, a2, dof)) and the derivative of A's boundary cubic along the edge.
-    Returns (A's dof ids, coefficients)."""
-    a1, a2, dA = edgeA
-    eB = uvB[1] - uvB[0]
-    w = J @ (np.array([-eB[1], eB[0]]) / np.linalg.norm(eB))  # n_B in A's parameters
-    eA = exA.uv[a2] - exA.uv[a1]
-    L = np.linalg.norm(eA)
-    tA, nA = eA / L, np.array([-eA[1], eA[0]]) / L
-    wt = (w @ tA) / L  # along the edge: d/ds of A's boundary cubic at s = 1/2, over L
-    cols = [dA, 3 * a2, 3 * a1, 3 * a1 + 1, 3 * a1 + 2, 3 * a2 + 1, 3 * a2 + 2]
-    return cols, [w @ nA, 1.5 * wt, -1.5 * wt] + list(-0.25 * wt * np.concatenate([eA, eA]))
+def _midpoint_derivatives(ex, edge):
+    """At the midpoint of a boundary edge (a1, a2, dof) with GradientPerpendicular: the
+    derivatives along the unit chord t and the unit parameter normal n, as (dof ids, coefficients
+    for d/dt, coefficients for d/dn): d/dt from the boundary cubic (3/2 (f2 - f1) - 1/4 (m1 + m2))
+    / L, m_i the end derivatives along the chord vector, d/dn the edge dof."""
+    a1, a2, d = edge
+    e = ex.uv[a2] - ex.uv[a1]
+    L = np.linalg.norm(e)
+    ids = [3 * a2, 3 * a1, 3 * a1 + 1, 3 * a1 + 2, 3 * a2 + 1, 3 * a2 + 2, d]
+    along = np.concatenate([[1.5, -1.5], -0.25 * e, -0.25 * e, [0.0]]) / L
+    return ids, along, np.eye(7)[-1]
+
+
+def edge_dof_in_a(exA, edgeA, exB, edgeB):
+    """B's dof of a shared boundary edge (its midpoint derivative along B's unit parameter normal,
+    boundary mode GradientPerpendicular on both) as a combination of A's dofs: with F_A, F_B the
+    two spline geometries' derivatives at the midpoint along (t, n) of each, M solves
+    F_B = F_A M (exact where their tangent planes there coincide, a G1 join) and
+    d/dn_B = M[0, 1] d/dt_A + M[1, 1] d/dn_A. Returns (A's dof ids, coefficients)."""
+    frames = []
+    for ex, edge in ((exA, edgeA), (exB, edgeB)):
+        ids, along, across = _midpoint_derivatives(ex, edge)
+        frames.append(np.column_stack([along @ ex.dofs[ids], across @ ex.dofs[ids]]))
+    M = np.linalg.lstsq(frames[0], frames[1], rcond=None)[0]
+    ids, along, across = _midpoint_derivatives(exA, edgeA)
+    return ids, list(M[0, 1] * along + M[1, 1] * across)
 
 
 def interface_map(exA, exB, tol=1e-9):
@@ -303,8 +314,8 @@ def interface_map(exA, exB, tol=1e-9):
 
     The patches' parameters may differ: at a shared vertex value_B = value_A and
     grad_B = J^T grad_A (:func:`tangent_map`); a shared boundary edge's dof on B is
-    :func:`edge_dof_in_a` with J the mean of the ends'. For an affine parameter transition this
-    makes the coupled space C1 across the interface."""
+    :func:`edge_dof_in_a` (the map between the geometries' derivatives at the edge midpoint).
+    For an affine parameter transition this makes the coupled space C1 across the interface."""
     nA, nB = _vertex_count(exA), _vertex_count(exB)
     pA, pB = exA.dofs[0 : 3 * nA : 3], exB.dofs[0 : 3 * nB : 3]
     scale = tol * max(1.0, np.abs(pA).max())
@@ -325,7 +336,7 @@ def interface_map(exA, exB, tol=1e-9):
         edgeA = edgesA.get(frozenset((match[b1], match[b2])), (0, 0, -1))
         if edgeA[2] < 0:
             raise ValueError(f"edge ({b1}, {b2}) of patch B is on the interface but patch A's has no edge dof")
-        c, v = edge_dof_in_a(exA, edgeA, exB.uv[[b1, b2]], 0.5 * (J[b1] + J[b2]))
+        c, v = edge_dof_in_a(exA, edgeA, exB, (b1, b2, dB))
         rows += [dB] * len(c)
         cols += c
         vals += v
@@ -393,8 +404,9 @@ class FacePatches:
         the chords' turning); the cross-edge derivative stays the face's own dof (a hinge).
     A boundary edge shared by two faces: at a tangent join (normals within the threshold at both
     ends) the later face's midpoint normal derivative follows the earlier face's dofs
-    (:func:`edge_dof_in_a`, J the mean of the ends'): C1 across the edge for an affine parameter
-    transition, up to the variation of J along the edge otherwise; at a crease it stays free.
+    (:func:`edge_dof_in_a`, through the geometries' derivatives at the midpoint): C1 across the
+    edge for an affine parameter transition, G1 at the vertices and midpoints otherwise (between
+    them up to the interpolation of the transition); at a crease it stays free.
     `joins` counts the tied vertices ('tangent', 'crease') and edges ('tangent_edges')."""
 
     def __init__(self, meshes, construction, thickness, young, poisson, g1_threshold=10.0):
@@ -493,8 +505,55 @@ class FacePatches:
         free = np.setdiff1d(np.arange(self.n_unknowns), held)
         r = np.zeros(self.n_unknowns)
         r[free] = spla.spsolve(K[free][:, free].tocsc(), br[free])
-        x = self.T3 @ r
-        return [x[3 * a : 3 * b_].reshape(-1, 3) for a, b_ in zip(self.offsets[:-1], self.offsets[1:])]
+        return self.stacked_dofs(r)
+
+
+    def stacked_dofs(self, global_unknowns):
+        """The faces' displacement dofs (list of (n_dofs_f, 3)) of a global unknown vector."""
+        x = self.T3 @ global_unknowns
+        return [x[3 * a : 3 * b].reshape(-1, 3) for a, b in zip(self.offsets[:-1], self.offsets[1:])]
+
+    def interface_jets(self, dofs, s):
+        """Along every boundary edge shared by faces, at the parameters s in [0, 1] from the
+        edge's smaller node id: {(edge, sample): [(position, value, surface gradient 3 x 3) per
+        face]} of the fields dofs (per face (n_dofs, 3)); surface gradient sum a^alpha (x) u_,alpha
+        (row: component of u), from each face's own spline geometry."""
+        out = {}
+        for f, face in enumerate(self.shells):
+            ex, nv, ids = face.ex, self.n_vertices[f], self.node_ids[f]
+            exps = ex.exponents()
+            for cell, corners in enumerate(ex.cell_points[:, :3]):
+                for i, j in ((0, 1), (1, 2), (2, 0)):
+                    p, q = corners[i], corners[j]
+                    if p >= nv or q >= nv or frozenset((ids[p], ids[q])) not in self.shared_edges:
+                        continue
+                    if ids[p] > ids[q]:
+                        i, j = j, i
+                    lam = np.zeros((len(s), 3))
+                    lam[:, i], lam[:, j] = 1.0 - s, s
+                    B, dB, _ = iga.bernstein_jets(exps[cell], lam)
+                    dBx = dB @ iga.barycentric_gradients(ex.uv[corners][None])[0]  # (q, 10, 2)
+                    k = int(np.count_nonzero(ex.cell_dofs[cell] >= 0))
+                    coef = ex.operators[cell, :, :k] @ dofs[f][ex.cell_dofs[cell, :k]]
+                    X = ex.points[ex.cell_points[cell]]
+                    a = np.einsum("qia,ik->qak", dBx, X)
+                    dual = np.linalg.solve(np.einsum("qak,qbk->qab", a, a), a)  # a^alpha
+                    grad = np.einsum("qia,ik,qal->qkl", dBx, coef, dual)
+                    edge = frozenset((ids[p], ids[q]))
+                    for n in range(len(s)):
+                        out.setdefault((edge, n), []).append((B[n] @ X, B[n] @ coef, grad[n]))
+        return out
+
+    def interface_jumps(self, dofs, samples=5):
+        """The sampled jumps across the shared edges (two faces each): ((largest position gap,
+        largest value jump / largest value, largest surface-gradient jump / largest gradient
+        there), number of sample points)."""
+        jets = self.interface_jets(dofs, np.linspace(0.0, 1.0, samples))
+        if not jets or any(len(v) != 2 for v in jets.values()):
+            raise ValueError("interface_jumps needs every shared edge on exactly two faces")
+        worst = [max(np.abs(v[0][c] - v[1][c]).max() for v in jets.values()) for c in range(3)]
+        scale = [max(np.abs(v[0][c]).max() for v in jets.values()) for c in (1, 2)]
+        return (worst[0], worst[1] / max(scale[0], 1e-300), worst[2] / max(scale[1], 1e-300)), len(jets)
 
 
 class _FaceNumbering:
@@ -632,8 +691,7 @@ class _FaceNumbering:
             if dA < 0:
                 raise ValueError(f"the edge ({b1}, {b2}) of face {f} joins face {g} tangentially but "
                                  f"face {g}'s edge has no edge dof (use boundary mode GradientPerpendicular)")
-            J = 0.5 * sum(tangent_map(exA, a, exB, b) for a, b in ends)
-            cols, vals = edge_dof_in_a(exA, (a1, a2, dA), exB.uv[[b1, b2]], J)
+            cols, vals = edge_dof_in_a(exA, (a1, a2, dA), exB, (b1, b2, dB))
             self.rows[self.full(f, dB)] = self.combo([(x, self.full(g, c)) for c, x in zip(cols, vals)])
             self.joins["tangent_edges"] += 1
 
