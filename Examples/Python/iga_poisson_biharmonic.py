@@ -45,39 +45,6 @@ def plate_exact(x, y):
     return u, grad, hess, d4s * t + 2 * d2s * d2t + s * d4t
 
 
-def triangle_quadrature(n):
-    """Collapsed Gauss rule on the reference triangle: barycentric points (q, 3), weights summing
-    to 1 (exact to degree 2n - 2)."""
-    g, w = np.polynomial.legendre.leggauss(n)
-    g, w = 0.5 * (g + 1.0), 0.5 * w
-    r = np.repeat(g, n)
-    s = np.tile(g, n) * (1.0 - r)
-    wt = np.outer(w, w).ravel() * (1.0 - r) * 2.0
-    return np.stack([1.0 - r - s, r, s], -1), wt
-
-
-def bernstein_jets(exps, lam):
-    """Cubic Bernstein basis with first and second derivatives w.r.t. barycentric coordinates.
-    exps: (C, 10, 3) exponents; lam: (q, 3). Returns B (C, q, 10), dB (C, q, 10, 3),
-    ddB (C, q, 10, 3, 3)."""
-    def basis(e):
-        # Multinomial coefficient times powers; zero where an exponent is negative.
-        deg = e.sum(-1)
-        valid = np.all(e >= 0, -1)
-        e = np.maximum(e, 0)
-        coef = np.vectorize(math.factorial)(deg) / np.prod(np.vectorize(math.factorial)(e), -1)
-        powers = np.prod(lam[None, :, None, :] ** e[:, None, :, :], -1)
-        return np.where(valid[:, None, :], coef[:, None, :] * powers, 0.0)
-
-    unit = np.eye(3, dtype=int)
-    B = basis(exps)
-    dB = np.stack([3.0 * basis(exps - unit[a]) for a in range(3)], -1)
-    ddB = np.stack(
-        [np.stack([6.0 * basis(exps - unit[a] - unit[b]) for b in range(3)], -1) for a in range(3)], -2
-    )
-    return B, dB, ddB
-
-
 def unit_square_spline(n, construction):
     src = ctsplines.vtkSampledSurfaceSource()
     src.SetSurfaceToPlane()
@@ -99,20 +66,16 @@ class Discretisation:
         self.ex = iga.Extraction(grid)
         ex = self.ex
         corners = ex.uv[ex.cell_points[:, :3]]  # (C, 3, 2)
-        lam, self.w = triangle_quadrature(quadrature)
+        lam, self.w = iga.triangle_quadrature(quadrature)
         self.x = np.einsum("qa,cad->cqd", lam, corners)  # (C, q, 2)
-        e1, e2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-        self.area = 0.5 * np.abs(e1[:, 0] * e2[:, 1] - e1[:, 1] * e2[:, 0])
-        # Gradients of the barycentric coordinates, (C, 3, 2).
-        jac = np.stack([e1, e2], -1)  # columns: d x / d(l1, l2)
-        inv = np.linalg.inv(jac)  # rows: grad l1, grad l2
-        self.G = np.concatenate([-(inv[:, 0:1] + inv[:, 1:2]), inv], 1)
-        B, dB, ddB = bernstein_jets(ex.exponents(), lam)
-        grad = np.einsum("cqia,cad->cqid", dB, self.G)
-        hess = np.einsum("cqiab,cad,cbe->cqide", ddB, self.G, self.G)
+        self.area = iga.triangle_areas(corners)
+        self.G = iga.barycentric_gradients(corners)  # (C, 3, 2)
+        B, dB, ddB = iga.bernstein_jets(ex.common_exponents(), lam)  # (q, 10), (q, 10, 3), (q, 10, 3, 3)
+        grad = np.einsum("qia,cad->cqid", dB, self.G)
+        hess = np.einsum("qiab,cad,cbe->cqide", ddB, self.G, self.G)
         # Element basis: phi = B C_e (padding columns are zero).
         C = ex.operators
-        self.phi = np.einsum("cqi,cij->cqj", B, C)
+        self.phi = np.einsum("qi,cij->cqj", B, C)
         self.dphi = np.einsum("cqid,cij->cqjd", grad, C)
         self.d2phi = np.einsum("cqide,cij->cqjde", hess, C)
         self.dofs = np.where(ex.cell_dofs >= 0, ex.cell_dofs, ex.n_dofs)  # padding -> dummy

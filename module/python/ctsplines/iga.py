@@ -100,6 +100,16 @@ class Extraction:
         bary = barycentric(corners, self.uv[self.cell_points])
         return np.rint(3.0 * bary).astype(int)
 
+    def common_exponents(self):
+        """(10, 3) the Bernstein exponents of the cells' point order, the same for every cell (as
+        the spline filter writes them), so that one basis evaluation serves all cells;
+        ValueError naming the first cell in another order."""
+        exps = self.exponents()
+        odd = np.nonzero(np.any(exps != exps[:1], axis=(1, 2)))[0]
+        if len(odd):
+            raise ValueError(f"cell {odd[0]} does not have the VTK Bézier point order of cell 0")
+        return exps[0]
+
 
 def barycentric(corners, x):
     """Barycentric coordinates of points x (C, n, 2) w.r.t. triangles corners (C, 3, 2)."""

@@ -126,13 +126,10 @@ class Shell:
         self.grid = grid
         self.ex = iga.Extraction(grid)
         ex = self.ex
-        exps = ex.exponents()
-        odd = np.nonzero(np.any(exps != exps[:1], axis=(1, 2)))[0]
-        if len(odd):
-            raise ValueError(f"cell {odd[0]} does not have the VTK Bézier point order of cell 0")
+        exps = ex.common_exponents()
         self.thickness, self.young, self.poisson = thickness, young, poisson
         lam, w = iga.triangle_quadrature(quadrature)
-        B, dB, ddB = iga.bernstein_jets(exps[0], lam)  # (q,10), (q,10,3), (q,10,3,3)
+        B, dB, ddB = iga.bernstein_jets(exps, lam)  # (q,10), (q,10,3), (q,10,3,3)
         corners = ex.uv[ex.cell_points[:, :3]]
         G = iga.barycentric_gradients(corners)  # (C, 3, 2)
         area = iga.triangle_areas(corners)
