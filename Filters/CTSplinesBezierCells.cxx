@@ -239,13 +239,13 @@ std::string GatherUnstructured(const unsigned char* types, const OffsetT* offset
   const vtkIdType nIds = nCells > 0 ? static_cast<vtkIdType>(offsets[nCells]) - base : 0;
   ctk::ResizeForOverwrite(cells.Offsets, nCells + 1);
   ctk::ResizeForOverwrite(cells.Ids, nIds);
-  vtkSMPTools::For(0, nCells + 1, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nCells + 1, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
       cells.Offsets[c] = static_cast<vtkIdType>(offsets[c]) - base;
     }
   });
-  vtkSMPTools::For(0, nIds, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nIds, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i)
     {
       cells.Ids[i] = static_cast<vtkIdType>(connectivity[base + i]);
@@ -303,7 +303,7 @@ void CopyPoints(vtkDataSet* ds, std::vector<ctk::Vec3>& points)
   vtkPointSet* ps = vtkPointSet::SafeDownCast(ds);
   vtkDataArray* data = ps && ps->GetPoints() ? ps->GetPoints()->GetData() : nullptr;
   auto copy = [&](const auto* src) {
-    vtkSMPTools::For(0, nPoints, [&](vtkIdType b, vtkIdType e) {
+    ctsplines::ParallelFor(0, nPoints, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
       for (vtkIdType p = b; p < e; ++p)
       {
         points[p] = ctk::Vec3(src[3 * p], src[3 * p + 1], src[3 * p + 2]);
@@ -643,7 +643,7 @@ void CopyCellDataBySource(
     // Bits share bytes and strings are not plain data: those are copied on one thread.
     if (vtkDataArray::SafeDownCast(array) && !vtkBitArray::SafeDownCast(array))
     {
-      vtkSMPTools::For(0, outputCells, copy);
+      ctsplines::ParallelFor(0, outputCells, ctsplines::GrainForCopies, copy);
     }
     else
     {

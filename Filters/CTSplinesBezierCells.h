@@ -6,13 +6,13 @@
 #define CTSplinesBezierCells_h
 
 #include "BezierTriangle.h" // for ctk::Vec3, ctk::MaxDegree
+#include "CTSplinesSMP.h"    // for ForInBlocks
 
 #include <Eigen/Geometry> // for cross
 
 #include "vtkAlgorithm.h"  // for progress and abort
 #include "vtkDoubleArray.h" // for the interpolated arrays
 #include "vtkSmartPointer.h"
-#include "vtkSMPTools.h" // for ForInBlocks
 #include "vtkType.h"     // for vtkIdType
 
 #include <algorithm>
@@ -173,17 +173,20 @@ std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefi
 void CopyCellDataBySource(
   vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells);
 
-/// Runs body over [0, n) in `blocks` consecutive parallel loops (vtkSMPTools), reporting progress
-/// from progress0 to progress1 and checking GetAbortExecute() between blocks on the calling
-/// thread. Returns false when aborted.
+/// Runs body (a kernel evaluation per element) over [0, n) in at most `blocks` consecutive
+/// parallel loops (ParallelFor), reporting progress from progress0 to progress1 and checking
+/// GetAbortExecute() between blocks on the calling thread. Returns false when aborted. Blocks
+/// are large enough to split over all threads, or one block runs serially.
 template <typename Body>
 bool ForInBlocks(vtkAlgorithm* algorithm, vtkIdType n, vtkIdType blocks, double progress0,
   double progress1, Body&& body)
 {
-  const vtkIdType nBlocks = std::min<vtkIdType>(n, blocks);
+  const vtkIdType splittable = GrainForEvaluations * vtkSMPTools::GetEstimatedNumberOfThreads();
+  const vtkIdType nBlocks =
+    n > 0 ? std::max<vtkIdType>(1, std::min<vtkIdType>(blocks, n / splittable)) : 0;
   for (vtkIdType b = 0; b < nBlocks; ++b)
   {
-    vtkSMPTools::For(b * n / nBlocks, (b + 1) * n / nBlocks, body);
+    ParallelFor(b * n / nBlocks, (b + 1) * n / nBlocks, GrainForEvaluations, body);
     algorithm->UpdateProgress(progress0 + (progress1 - progress0) * double(b + 1) / nBlocks);
     if (algorithm->GetAbortExecute())
     {

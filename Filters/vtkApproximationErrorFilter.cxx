@@ -2,6 +2,7 @@
 #include "vtkApproximationErrorFilter.h"
 
 #include "CTSplinesInput.h"
+#include "CTSplinesSMP.h"
 #include "PointToMeshDistance.h"
 #include "vtkBezierTriangleTessellator.h"
 #include "vtkSplineParameterProbe.h"
@@ -312,7 +313,7 @@ int vtkApproximationErrorFilter::ComputeParametric(vtkDataSet* spline, vtkPolyDa
   std::vector<double> errors(static_cast<size_t>(n), 0.0);
   std::vector<char> mask(static_cast<size_t>(n), 0);
   vtkPoints* splinePoints = evaluated->GetPoints();
-  vtkSMPTools::For(0, n, [&](vtkIdType begin, vtkIdType end) {
+  ctsplines::ParallelFor(0, n, ctsplines::GrainForEvaluations, [&](vtkIdType begin, vtkIdType end) {
     if (this->GetAbortExecute())
     {
       return;
@@ -492,7 +493,8 @@ int vtkApproximationErrorFilter::ComputeMeshDistance(vtkDataSet* spline, vtkPoly
   // Spline -> reference: every tessellation point.
   const vtkIdType nSpline = tessellation->GetNumberOfPoints();
   std::vector<double> errors(static_cast<size_t>(nSpline), 0.0);
-  vtkSMPTools::For(0, nSpline, [&](vtkIdType begin, vtkIdType end) {
+  ctsplines::ParallelFor(
+    0, nSpline, ctsplines::GrainForEvaluations, [&](vtkIdType begin, vtkIdType end) {
     if (this->GetAbortExecute())
     {
       return;
@@ -516,7 +518,8 @@ int vtkApproximationErrorFilter::ComputeMeshDistance(vtkDataSet* spline, vtkPoly
     referencePoints, referenceTriangles, nReferencePoints, this->ReferenceSampleLevel);
   const vtkIdType nSamples = sampling.Count();
   std::vector<double> referenceErrors(static_cast<size_t>(nSamples), 0.0);
-  vtkSMPTools::For(0, nSamples, [&](vtkIdType begin, vtkIdType end) {
+  ctsplines::ParallelFor(
+    0, nSamples, ctsplines::GrainForEvaluations, [&](vtkIdType begin, vtkIdType end) {
     if (this->GetAbortExecute())
     {
       return;

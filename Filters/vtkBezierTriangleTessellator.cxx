@@ -101,7 +101,10 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
   const vtkIdType nChunks = std::min<vtkIdType>(nCells, 256);
   std::vector<std::vector<Use>> chunks(nChunks);
   const double* nrm = this->Normals->GetPointer(0);
-  vtkSMPTools::For(0, nChunks, [&](vtkIdType b, vtkIdType e) {
+  // At least GrainForEvaluations cells per thread.
+  const vtkIdType cellsPerChunk = std::max<vtkIdType>(1, nCells / std::max<vtkIdType>(nChunks, 1));
+  const vtkIdType minimumChunks = ctsplines::GrainForEvaluations / cellsPerChunk + 1;
+  ctsplines::ParallelFor(0, nChunks, minimumChunks, [&](vtkIdType b, vtkIdType e) {
     ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     for (vtkIdType chunk = b; chunk < e; ++chunk)
@@ -211,7 +214,8 @@ std::vector<int> ChooseLevels(const ctsplines::BezierCells& cells, int maxLevel,
   {
     lattices.emplace(L, ctsplines::SamplingLattice(L));
   }
-  vtkSMPTools::For(0, nCells, [&](vtkIdType begin, vtkIdType end) {
+  ctsplines::ParallelFor(
+    0, nCells, ctsplines::GrainForEvaluations, [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     std::vector<ctk::Vec3> x, normal;

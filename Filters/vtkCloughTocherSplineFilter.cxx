@@ -165,7 +165,7 @@ void AddBezierExtraction(vtkUnstructuredGrid* output,
   operators->SetNumberOfTuples(nCells);
   // Kernel rows are in canonical order; the cell's points are in VTK order.
   const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
-  vtkSMPTools::For(0, nCells, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nCells, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
       std::copy_n(&extraction.CellDofs[c * M], M, dofIds->GetPointer(c * M));
@@ -414,7 +414,7 @@ void FillSplineGrid(const ctk::CloughTocherSpline& spline, const ctk::MeshTopolo
   ctsplines::AllocateTuples(uvOut, nP);
   double* xyz = coords->GetPointer(0);
   double* uvw = uvOut->GetPointer(0);
-  vtkSMPTools::For(0, nP, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nP, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i)
     {
       std::copy_n(controlPoints[i].data(), 3, xyz + 3 * i);
@@ -441,7 +441,7 @@ void FillSplineGrid(const ctk::CloughTocherSpline& spline, const ctk::MeshTopolo
   unsigned char* typeOf = types->GetPointer(0);
   vtkIdType* macroOf = macroIds->GetPointer(0);
   signed char* microOf = microIds->GetPointer(0);
-  vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType t = b; t < e; ++t)
     {
       for (int k = 0; k < 3; ++k)

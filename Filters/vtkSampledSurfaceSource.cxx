@@ -2,6 +2,7 @@
 #include "vtkSampledSurfaceSource.h"
 
 #include "AnalyticSurfaces.h"
+#include "CTSplinesSMP.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -341,7 +342,7 @@ int vtkSampledSurfaceSource::RequestData(
   double* pdu = du->GetPointer(0);
   double* pdv = dv->GetPointer(0);
   double* peg = eg->GetPointer(0);
-  vtkSMPTools::For(0, nV, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nV, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType i = b; i < e; ++i)
     {
       const ctk::Vec2& U = mesh.UV[i];
@@ -361,7 +362,7 @@ int vtkSampledSurfaceSource::RequestData(
   connectivity->SetNumberOfTuples(3 * nT);
   vtkIdType* off = offsets->GetPointer(0);
   vtkIdType* conn = connectivity->GetPointer(0);
-  vtkSMPTools::For(0, nT, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nT, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType t = b; t < e; ++t)
     {
       off[t] = 3 * t;

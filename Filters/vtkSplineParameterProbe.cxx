@@ -165,7 +165,7 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
   }
   const vtkIdType nCells = s.Cells.NumberOfCells();
   ctk::ResizeForOverwrite(s.Corners, static_cast<size_t>(3 * nCells));
-  vtkSMPTools::For(0, nCells, [&](vtkIdType b, vtkIdType e) {
+  ctsplines::ParallelFor(0, nCells, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
       for (int a = 0; a < 3; ++a)
@@ -189,7 +189,7 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
     }
     const double diag2 = (hi - lo).squaredNorm();
     ctk::LowestId firstBad;
-    vtkSMPTools::For(0, nCells, [&](vtkIdType b, vtkIdType e) {
+    ctsplines::ParallelFor(0, nCells, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
       for (vtkIdType c = b; c < e; ++c)
       {
         const ctk::Vec2* A = &s.Corners[3 * c];
@@ -268,7 +268,7 @@ std::vector<vtkIdType> LocalityOrder(const QueryPoints& queries, vtkIdType nPoin
   constexpr vtkIdType window = vtkIdType(1) << 15;
   std::vector<vtkIdType> order;
   ctk::ResizeForOverwrite(order, nPoints);
-  vtkSMPTools::For(0, (nPoints + window - 1) / window, [&](vtkIdType wb, vtkIdType we) {
+  ctsplines::ParallelFor(0, (nPoints + window - 1) / window, 1, [&](vtkIdType wb, vtkIdType we) {
     std::vector<std::pair<ctk::Id, vtkIdType>> keyed;
     for (vtkIdType w = wb; w < we; ++w)
     {
@@ -401,16 +401,10 @@ int vtkSplineParameterProbe::RequestData(
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.
-  const vtkIdType nBlocks = std::min<vtkIdType>(nPoints, 20);
-  for (vtkIdType b = 0; b < nBlocks; ++b)
+  if (!ctsplines::ForInBlocks(this, nPoints, 20, 0.1, 0.95, probe))
   {
-    vtkSMPTools::For(b * nPoints / nBlocks, (b + 1) * nPoints / nBlocks, probe);
-    this->UpdateProgress(0.1 + 0.85 * double(b + 1) / double(nBlocks));
-    if (this->GetAbortExecute())
-    {
-      output->Initialize();
-      return 1;
-    }
+    output->Initialize();
+    return 1;
   }
 
   vtkNew<vtkPoints> points;
