@@ -25,11 +25,15 @@ the reference). With -o writes each benchmark's finest solution as a .vtu with a
 point array on the Bézier control points (ParaView: Warp By Vector shows the deformed shell).
 With --cad STEP the pinched hemisphere runs again on the quarter written to STEP by OpenCASCADE
 and sampled by the CAD pipeline (vtkCADFaceSampler: an unstructured mesh of the face, refined by
-MaxEdgeLength = 1/n of the diagonal, exact derivatives from the CAD surface).
+MaxEdgeLength = 1/n of the diagonal, exact derivatives from the CAD surface). With
+--cad-cylinder STEP the pinched cylinder runs on a CAD model of its octant with any number of
+faces, each face's spline in its own parameters, joined by ctsplines.shell.FacePatches (shared
+nodes, G1 at tangent joins), the conditions given as planes of the model. The test models are
+written by `ctsplines_write_test_model --shape hemisphere_quarter|cylinder_octant_two_faces PATH`.
 
-    /usr/bin/python3 Examples/Python/kirchhoff_love_shell.py [--quick] [-o DIR]
+    /usr/bin/python3 Examples/Python/kirchhoff_love_shell.py [--quick] [-o DIR] [--levels 8,16]
         [--constructions CTi,KaG,MGi] [--benchmarks scordelis_lo,pinched_cylinder,pinched_hemisphere]
-        [--cad hemisphere_quarter.step]
+        [--cad hemisphere_quarter.step] [--cad-cylinder cylinder_octant_two_faces.step]
 """
 import argparse
 import math

@@ -293,20 +293,43 @@ class FacePatchesTest(unittest.TestCase):
             self.assertLess(np.abs(model.T3 @ R - stacked).max(), 1e-13, construction)
             self.assertLess(np.abs(K @ (R / np.abs(R).max(axis=0))).max() / abs(K).max(), 1e-12, construction)
 
+    R, c, w, L = 25.0, 8.0, 16.0, 20.0
+
+    def warped(self, s, v):
+        """Face B of the cylinder beyond u = c: u = c + (w - c) s (1 + (1 - s) h(v)), so that
+        J = dU_A/dU_B varies along the join s = 0."""
+        c, w, L = self.c, self.w, self.L
+        h, dh = np.sin(2 * v / L) / 2, np.cos(2 * v / L) / L
+        x, xu, xv = shell.cylinder(self.R)(c + (w - c) * s * (1 + (1 - s) * h), v)
+        return (x, xu * ((w - c) * (1 + (1 - 2 * s) * h))[:, None],
+                xu * ((w - c) * s * (1 - s) * dh)[:, None] + xv)
+
+    def join_meshes(self, n):
+        return with_node_ids([shell.grid_mesh(n, n, (0.0, self.c), (0.0, self.L), shell.cylinder(self.R)),
+                              shell.grid_mesh(n, n, (0.0, 1.0), (0.0, self.L), self.warped)])
+
+    def test_export_in_the_global_numbering(self):
+        model = shell.FacePatches(self.join_meshes(2), "KaG", 0.1, 1e7, 0.3)
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "faces.json")
+            model.export_json(path, dof_sets={"crown": [0]})
+            data = iga.read_json(path)
+        self.assertEqual(data["n_dofs"], model.T.shape[1])
+        self.assertEqual(len(data["elements"]), sum(len(s.ex.cell_points) for s in model.shells))
+        # The geometry is in the coupled space: the global dofs' coordinates give every cell's
+        # control points; a global field gives what each face's own extraction gives.
+        r = np.random.default_rng(4).standard_normal((data["n_dofs"], 3))
+        faces = model.stacked_dofs(r.ravel())
+        on_faces = np.concatenate([s.control_point_displacement(d) for s, d in zip(model.shells, faces)])
+        for ids, dofs, op in data["elements"]:
+            np.testing.assert_allclose(op @ data["dofs"][dofs], data["points"][ids], atol=1e-11)
+            np.testing.assert_allclose(op @ r[dofs], on_faces[ids], atol=1e-11)
+
     def test_non_affine_tangent_join(self):
-        R, c, w, L = 25.0, 8.0, 16.0, 20.0
-        cyl = shell.cylinder(R)
-
-        def warped(s, v):  # u = c + (w - c) s (1 + (1 - s) h(v)): J = dU_A/dU_B varies along s = 0
-            h, dh = np.sin(2 * v / L) / 2, np.cos(2 * v / L) / L
-            x, xu, xv = cyl(c + (w - c) * s * (1 + (1 - s) * h), v)
-            return (x, xu * ((w - c) * (1 + (1 - 2 * s) * h))[:, None],
-                    xu * ((w - c) * s * (1 - s) * dh)[:, None] + xv)
-
+        cyl = shell.cylinder(self.R)
         errors = []
         for n in (2, 4, 8):
-            meshes = with_node_ids([shell.grid_mesh(n, n, (0.0, c), (0.0, L), cyl),
-                                    shell.grid_mesh(n, n, (0.0, 1.0), (0.0, L), warped)])
+            meshes = self.join_meshes(n)
             model = shell.FacePatches(meshes, "KaG", 0.1, 1e7, 0.3)
             self.assertEqual(model.joins, {"tangent": n + 1, "crease": 0, "tangent_edges": n})
             # The ties are exact for the geometry: rigid motions stay in the space, cost nothing.
@@ -317,7 +340,7 @@ class FacePatchesTest(unittest.TestCase):
             # A smooth field's interpolants on the faces, B's interface dofs replaced by the
             # coupling: the coupling reproduces them, and their gradient jump (the faces'
             # interpolation of J between the vertices and midpoints) shrinks like h^2.5 or faster.
-            own = [field_dofs(m, "KaG", smooth_field(f)) for m, f in zip(meshes, (cyl, warped))]
+            own = [field_dofs(m, "KaG", smooth_field(f)) for m, f in zip(meshes, (cyl, self.warped))]
             coupled = model.stacked_dofs(np.concatenate(own).ravel()[(3 * model.masters[:, None] + np.arange(3)).ravel()])
             (_, value, grad), _ = model.interface_jumps(coupled)
             self.assertLess(value, 1e-12)

@@ -216,29 +216,67 @@ def export_json(grid, path, layout="ctsplines", dof_sets=None):
     """Writes the extraction of a spline grid as JSON (layouts: this module's docstring).
     dof_sets: optional {name: dof ids} (boundary sets, say), stored with either layout."""
     ex = Extraction(grid)
-    sets = {str(k): [int(i) for i in v] for k, v in (dof_sets or {}).items()}
-    for name, ids in sets.items():
-        if ids and (min(ids) < 0 or max(ids) >= ex.n_dofs):
-            raise ValueError(f"dof set {name!r} has ids outside 0..{ex.n_dofs - 1}")
-    head = {"format": JSON_FORMAT, "layout": layout, "version": 1, "degree": 3,
-            "bernstein_exponents": ex.exponents()[0].tolist() if len(ex.cell_points) else [],
-            "bezier_points": {"uv": ex.uv.tolist(), "coordinates": ex.points.tolist()},
-            "dof_sets": sets}
+    head = _json_head(layout, ex.exponents()[0] if len(ex.cell_points) else [], ex.uv, ex.points,
+                      dof_sets, ex.n_dofs)
     if layout == "coreform":
         body = _coreform_body(ex)
     elif layout == "ctsplines":
-        M = ex.global_matrix()
-        body = {"bezier_mesh": {"cells": ex.cell_points.tolist()},
-                "extraction": {"shape": list(M.shape), "indptr": M.indptr.tolist(),
-                               "indices": M.indices.tolist(), "data": M.data.tolist()},
-                "dofs": {"num_dofs": ex.n_dofs, "coordinates": ex.dofs.tolist(),
-                         "num_vertices": int((ex.n_dofs - np.count_nonzero(ex.edge_dofs[:, 2] >= 0)) // 3),
-                         "edge_dofs": ex.edge_dofs.tolist()},
-                "cell_dofs": [dofs.tolist() for dofs, _ in ex.element_matrices()]}
+        body = _ctsplines_body(ex.cell_points, ex.global_matrix(), ex.dofs,
+                               [dofs for dofs, _ in ex.element_matrices()])
+        body["dofs"].update({"num_vertices": int((ex.n_dofs - np.count_nonzero(ex.edge_dofs[:, 2] >= 0)) // 3),
+                             "edge_dofs": ex.edge_dofs.tolist()})
     else:
         raise ValueError(f"unknown layout {layout!r}: 'coreform' or 'ctsplines'")
     with open(path, "w") as f:
         json.dump({**head, **body}, f)
+
+
+def export_json_patches(path, extractions, T, masters, dof_sets=None):
+    """Writes patches (the faces of a CAD model) joined by one global numbering, stacked dofs =
+    T @ global dofs (shell.FacePatches.T; the patches' dofs stacked in order), in the "ctsplines"
+    layout: the patches' Bézier points and cells concatenated, the global extraction matrix
+    blockdiag(M_patch) T, each cell's global dof ids (the columns its points use), and the global
+    dofs' coordinates (the geometry's dofs at `masters`, (patch, dof) of each global dof). Extra
+    field ``patches``: ``point_patch``, ``cell_patch``, ``masters``. read_json reads it."""
+    import scipy.sparse as sp
+
+    exps = [ex.common_exponents() for ex in extractions]
+    if any(not np.array_equal(e, exps[0]) for e in exps):
+        raise ValueError("the patches' cells have different Bézier point orders")
+    starts = np.cumsum([0] + [len(ex.uv) for ex in extractions])
+    cells = np.concatenate([ex.cell_points + s for ex, s in zip(extractions, starts)])
+    M = (sp.block_diag([ex.global_matrix() for ex in extractions], format="csr") @ T).tocsr()
+    M.eliminate_zeros()
+    cell_dofs = [np.unique(M[c].indices) for c in cells]
+    masters = np.asarray(masters, dtype=np.int64).reshape(-1, 2)
+    coords = np.array([extractions[f].dofs[j] for f, j in masters]).reshape(-1, 3)
+    head = _json_head("ctsplines", exps[0], np.concatenate([ex.uv for ex in extractions]),
+                      np.concatenate([ex.points for ex in extractions]), dof_sets, T.shape[1])
+    body = _ctsplines_body(cells, M, coords, cell_dofs)
+    body["patches"] = {"point_patch": np.repeat(np.arange(len(extractions)), np.diff(starts)).tolist(),
+                       "cell_patch": np.repeat(np.arange(len(extractions)),
+                                               [len(ex.cell_points) for ex in extractions]).tolist(),
+                       "masters": masters.tolist()}
+    with open(path, "w") as f:
+        json.dump({**head, **body}, f)
+
+
+def _json_head(layout, exponents, uv, points, dof_sets, n_dofs):
+    sets = {str(k): [int(i) for i in v] for k, v in (dof_sets or {}).items()}
+    for name, ids in sets.items():
+        if ids and (min(ids) < 0 or max(ids) >= n_dofs):
+            raise ValueError(f"dof set {name!r} has ids outside 0..{n_dofs - 1}")
+    return {"format": JSON_FORMAT, "layout": layout, "version": 1, "degree": 3,
+            "bernstein_exponents": np.asarray(exponents).tolist(),
+            "bezier_points": {"uv": uv.tolist(), "coordinates": points.tolist()}, "dof_sets": sets}
+
+
+def _ctsplines_body(cells, M, coordinates, cell_dofs):
+    return {"bezier_mesh": {"cells": cells.tolist()},
+            "extraction": {"shape": list(M.shape), "indptr": M.indptr.tolist(),
+                           "indices": M.indices.tolist(), "data": M.data.tolist()},
+            "dofs": {"num_dofs": int(M.shape[1]), "coordinates": coordinates.tolist()},
+            "cell_dofs": [np.asarray(d).tolist() for d in cell_dofs]}
 
 
 def _coreform_body(ex):

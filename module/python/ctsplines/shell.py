@@ -505,6 +505,13 @@ class FacePatches:
         return self.stacked_dofs(r)
 
 
+    def export_json(self, path, dof_sets=None):
+        """The faces' Bézier extraction in the global numbering as JSON (iga.export_json_patches;
+        dof_sets over the global dofs)."""
+        face = np.searchsorted(self.offsets, self.masters, side="right") - 1
+        iga.export_json_patches(path, [s.ex for s in self.shells], self.T,
+                                np.column_stack([face, self.masters - self.offsets[face]]), dof_sets)
+
     def stacked_dofs(self, global_unknowns):
         """The faces' displacement dofs (list of (n_dofs_f, 3)) of a global unknown vector."""
         x = self.T3 @ global_unknowns
