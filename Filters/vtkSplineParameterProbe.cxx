@@ -30,6 +30,7 @@
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkWeakPointer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -47,6 +48,11 @@ vtkSplineParameterProbe::vtkSplineParameterProbe()
 }
 
 vtkSplineParameterProbe::~vtkSplineParameterProbe() = default;
+
+void vtkSplineParameterProbe::ReleaseSpline()
+{
+  this->Cache.reset();
+}
 
 void vtkSplineParameterProbe::SetSourceConnection(vtkAlgorithmOutput* algOutput)
 {
@@ -290,19 +296,42 @@ std::vector<vtkIdType> LocalityOrder(const QueryPoints& queries, vtkIdType nPoin
   return order;
 }
 
+} // namespace
+
+// The spline of the last source and its locator, reused while the source and UVArrayName are
+// unchanged (the source's MTime covers its points, cells and arrays).
+struct vtkSplineParameterProbe::SplineCache
+{
+  vtkWeakPointer<vtkDataSet> Source;
+  vtkMTimeType SourceTime = 0;
+  std::string UVName;
+  Spline Data;
+  ctk::ParameterLocator Locator;
+
+  bool Holds(vtkDataSet* source, const std::string& uvName) const
+  {
+    return this->Source == source && this->SourceTime == source->GetMTime() &&
+      this->UVName == uvName;
+  }
+};
+
+namespace
+{
 // The output arrays, one tuple per query.
 struct ProbeArrays
 {
-  vtkNew<vtkDoubleArray> Coords, Du, Dv, Normals;
+  vtkNew<vtkDoubleArray> Coords, Du, Dv, Normals; // Du, Dv, Normals with Derivatives only
+  bool Derivatives;
   vtkNew<vtkIdTypeArray> MacroIds;
   vtkNew<vtkCharArray> Mask;
 
-  explicit ProbeArrays(vtkIdType nPoints)
+  ProbeArrays(vtkIdType nPoints, bool derivatives)
+    : Derivatives(derivatives)
   {
     for (vtkDoubleArray* a : { this->Coords.Get(), this->Du.Get(), this->Dv.Get(), this->Normals.Get() })
     {
       a->SetNumberOfComponents(3);
-      ctsplines::AllocateTuples(a, nPoints);
+      ctsplines::AllocateTuples(a, a == this->Coords.Get() || derivatives ? nPoints : 0);
     }
     this->Du->SetName("dFdu");
     this->Dv->SetName("dFdv");
@@ -319,24 +348,30 @@ struct ProbeArrays
     xyz[0] = x[0];
     xyz[1] = x[1];
     xyz[2] = 0.0;
-    std::fill_n(this->Du->GetPointer(3 * i), 3, 0.0);
-    std::fill_n(this->Dv->GetPointer(3 * i), 3, 0.0);
-    std::fill_n(this->Normals->GetPointer(3 * i), 3, 0.0);
+    if (this->Derivatives)
+    {
+      std::fill_n(this->Du->GetPointer(3 * i), 3, 0.0);
+      std::fill_n(this->Dv->GetPointer(3 * i), 3, 0.0);
+      std::fill_n(this->Normals->GetPointer(3 * i), 3, 0.0);
+    }
     this->MacroIds->SetValue(i, -1);
     this->Mask->SetValue(i, 0);
   }
   void Set(vtkIdType i, const ctk::ParametricJet& jet, vtkIdType macro)
   {
-    ctk::Vec3 normal = jet.Du.cross(jet.Dv);
-    const double length = normal.norm();
-    if (length > 0)
-    {
-      normal /= length;
-    }
     std::copy_n(jet.Value.data(), 3, this->Coords->GetPointer(3 * i));
-    std::copy_n(jet.Du.data(), 3, this->Du->GetPointer(3 * i));
-    std::copy_n(jet.Dv.data(), 3, this->Dv->GetPointer(3 * i));
-    std::copy_n(normal.data(), 3, this->Normals->GetPointer(3 * i));
+    if (this->Derivatives)
+    {
+      ctk::Vec3 normal = jet.Du.cross(jet.Dv);
+      const double length = normal.norm();
+      if (length > 0)
+      {
+        normal /= length;
+      }
+      std::copy_n(jet.Du.data(), 3, this->Du->GetPointer(3 * i));
+      std::copy_n(jet.Dv.data(), 3, this->Dv->GetPointer(3 * i));
+      std::copy_n(normal.data(), 3, this->Normals->GetPointer(3 * i));
+    }
     this->MacroIds->SetValue(i, macro);
     this->Mask->SetValue(i, 1);
   }
@@ -362,28 +397,41 @@ int vtkSplineParameterProbe::RequestData(
                   << this->UVArrayName << "') with SetSourceConnection() or SetSourceData()");
     return 0;
   }
-  Spline spline;
-  const std::string error = ReadSpline(source, this->UVArrayName, spline);
-  if (!error.empty())
+  if (!this->Cache)
   {
-    vtkErrorMacro(<< error);
-    return 0;
+    this->Cache = std::make_unique<SplineCache>();
   }
-  // The locator takes over the corners; the evaluation reads them from there.
-  ctk::ParameterLocator locator;
-  locator.Build(std::move(spline.Corners));
+  if (!this->Cache->Holds(source, this->UVArrayName))
+  {
+    this->Cache->Source = nullptr; // invalid until rebuilt
+    const std::string error = ReadSpline(source, this->UVArrayName, this->Cache->Data);
+    if (!error.empty())
+    {
+      vtkErrorMacro(<< error);
+      return 0;
+    }
+    // The locator takes over the corners; the evaluation reads them from there.
+    this->Cache->Locator.Build(std::move(this->Cache->Data.Corners));
+    this->Cache->Source = source;
+    this->Cache->SourceTime = source->GetMTime();
+    this->Cache->UVName = this->UVArrayName;
+    ++this->NumberOfSplineBuilds;
+  }
+  const Spline& spline = this->Cache->Data;
+  const ctk::ParameterLocator& locator = this->Cache->Locator;
   this->UpdateProgress(0.1);
 
   const vtkIdType nPoints = input->GetNumberOfPoints();
-  ProbeArrays out(nPoints);
+  ProbeArrays out(nPoints, this->ComputeDerivatives);
+  const int order = this->ComputeDerivatives ? 1 : 0;
   const QueryPoints queries(input);
-  const std::vector<vtkIdType> order = LocalityOrder(queries, nPoints, locator);
+  const std::vector<vtkIdType> queryOrder = LocalityOrder(queries, nPoints, locator);
   auto probe = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     for (vtkIdType k = begin; k < end; ++k)
     {
-      const vtkIdType i = order[k];
+      const vtkIdType i = queryOrder[k];
       double x[3];
       queries.Get(i, x);
       const ctk::ParameterLocator::Hit hit = locator.Locate(x[0], x[1]);
@@ -396,7 +444,7 @@ int vtkSplineParameterProbe::RequestData(
       const double* wp = spline.Cells.Net(c, P, w);
       const ctk::Vec2* A = locator.TriangleCorners(c);
       out.Set(i,
-        ctk::EvaluateOverDomain(spline.Cells.Degree[c], P, wp, A[0], A[1], A[2], hit.Barycentric, 1),
+        ctk::EvaluateOverDomain(spline.Cells.Degree[c], P, wp, A[0], A[1], A[2], hit.Barycentric, order),
         spline.MacroIds[c]);
     }
   };
@@ -420,9 +468,12 @@ int vtkSplineParameterProbe::RequestData(
   }
   vtkPointData* outPD = output->GetPointData();
   outPD->PassData(input->GetPointData());
-  outPD->AddArray(out.Du);
-  outPD->AddArray(out.Dv);
-  outPD->SetNormals(out.Normals);
+  if (this->ComputeDerivatives)
+  {
+    outPD->AddArray(out.Du);
+    outPD->AddArray(out.Dv);
+    outPD->SetNormals(out.Normals);
+  }
   outPD->AddArray(out.MacroIds);
   outPD->AddArray(out.Mask);
   this->UpdateProgress(1.0);
@@ -434,4 +485,6 @@ void vtkSplineParameterProbe::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "Source: " << this->GetSource() << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
+  os << indent << "ComputeDerivatives: " << this->ComputeDerivatives << "\n";
+  os << indent << "NumberOfSplineBuilds: " << this->NumberOfSplineBuilds << "\n";
 }

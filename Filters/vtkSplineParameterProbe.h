@@ -22,7 +22,9 @@
  * MacroTriangleId is -1.
  *
  * Points are located with a bucket grid over the parameter triangles (constant expected time per
- * query) and evaluated exactly with the kernel; the loop over points runs with vtkSMPTools.
+ * query), built once per source and reused while the source is unchanged, and evaluated exactly
+ * with the kernel, in the locator's bucket order (results scattered back); the loop over points
+ * runs with vtkSMPTools. ComputeDerivatives off outputs positions only.
  * A missing source, a missing or non-2-component UV array, source cells that are not Bézier
  * triangles, and zero-area parameter triangles are reported with vtkErrorMacro and RequestData
  * returns 0.
@@ -33,6 +35,7 @@
 #include "CTSplinesFiltersModule.h" // For export macro
 #include "vtkDataSetAlgorithm.h"
 
+#include <memory> // for std::unique_ptr
 #include <string> // for std::string
 
 class vtkAlgorithmOutput;
@@ -57,6 +60,20 @@ public:
   vtkGetCharFromStdStringMacro(UVArrayName);
   ///@}
 
+  ///@{
+  /// Whether to compute `dFdu`, `dFdv` and `Normals` (default on). Off: positions,
+  /// `MacroTriangleId` and `vtkValidPointMask` only, and the derivative arrays are not output.
+  vtkSetMacro(ComputeDerivatives, bool);
+  vtkGetMacro(ComputeDerivatives, bool);
+  vtkBooleanMacro(ComputeDerivatives, bool);
+  ///@}
+
+  /// The spline's cells and their locator are built once per source and reused by later
+  /// updates while the source (its MTime) and UVArrayName are unchanged: this counts the builds.
+  /// ReleaseSpline() frees them (the next update rebuilds).
+  vtkGetMacro(NumberOfSplineBuilds, int);
+  void ReleaseSpline();
+
 protected:
   vtkSplineParameterProbe();
   ~vtkSplineParameterProbe() override;
@@ -67,8 +84,13 @@ protected:
   int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
 
   std::string UVArrayName = "UV";
+  bool ComputeDerivatives = true;
+  int NumberOfSplineBuilds = 0;
 
 private:
+  struct SplineCache;
+  std::unique_ptr<SplineCache> Cache;
+
   vtkSplineParameterProbe(const vtkSplineParameterProbe&) = delete;
   void operator=(const vtkSplineParameterProbe&) = delete;
 };

@@ -138,6 +138,68 @@ TEST(vtkSplineParameterProbe, QuadraticIsReproducedExactly)
   }
 }
 
+// The locator is built once per spline: probing again with new queries reuses it, a modified
+// source (or another UV array name) rebuilds it, and the results follow the new spline.
+TEST(vtkSplineParameterProbe, SplineIsBuiltOncePerSource)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Quadratic);
+  std::mt19937 rng(2);
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetSourceData(spline);
+  probe->SetInputData(QueryPoints(DomainPoints(rng, 50)));
+  probe->Update();
+  EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 1);
+  const std::vector<ctk::Vec2> uv = DomainPoints(rng, 50);
+  probe->SetInputData(QueryPoints(uv));
+  probe->Update();
+  EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 1);
+  const ctk::Vec3 before = Point(vtkDataSet::SafeDownCast(probe->GetOutput()), 0);
+
+  // Move the spline up by 1: the probe must see it.
+  vtkPoints* points = spline->GetPoints();
+  for (vtkIdType p = 0; p < points->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    points->GetPoint(p, x);
+    points->SetPoint(p, x[0], x[1], x[2] + 1.0);
+  }
+  points->Modified();
+  probe->Modified();
+  probe->Update();
+  EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 2);
+  const ctk::Vec3 after = Point(vtkDataSet::SafeDownCast(probe->GetOutput()), 0);
+  EXPECT_NEAR(after.z() - before.z(), 1.0, 1e-12);
+  EXPECT_NEAR((after - before).head<2>().norm(), 0.0, 1e-12);
+
+  probe->ReleaseSpline();
+  probe->Modified();
+  probe->Update();
+  EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 3);
+}
+
+// ComputeDerivatives off: the same positions, no derivative arrays.
+TEST(vtkSplineParameterProbe, PositionsOnly)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke);
+  std::mt19937 rng(3);
+  vtkSmartPointer<vtkPolyData> queries = QueryPoints(DomainPoints(rng, 200));
+  vtkSmartPointer<vtkDataSet> full = Probe(queries, spline);
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->ComputeDerivativesOff();
+  probe->SetSourceData(spline);
+  probe->SetInputData(queries);
+  probe->Update();
+  vtkDataSet* out = vtkDataSet::SafeDownCast(probe->GetOutput());
+  ASSERT_EQ(out->GetNumberOfPoints(), full->GetNumberOfPoints());
+  EXPECT_EQ(out->GetPointData()->GetArray("dFdu"), nullptr);
+  EXPECT_EQ(out->GetPointData()->GetNormals(), nullptr);
+  ASSERT_NE(out->GetPointData()->GetArray("vtkValidPointMask"), nullptr);
+  for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+  {
+    EXPECT_EQ(Point(out, i), Point(full, i)) << "point " << i; // the same arithmetic
+  }
+}
+
 TEST(vtkSplineParameterProbe, AffinelyReparametrisedQuadratic)
 {
   // CTi is invariant: probing at A U + t gives the surface point of U, derivatives J A^-1.
