@@ -341,7 +341,8 @@ class FacePatchesTest(unittest.TestCase):
             # coupling: the coupling reproduces them, and their gradient jump (the faces'
             # interpolation of J between the vertices and midpoints) shrinks like h^2.5 or faster.
             own = [field_dofs(m, "KaG", smooth_field(f)) for m, f in zip(meshes, (cyl, self.warped))]
-            coupled = model.stacked_dofs(np.concatenate(own).ravel()[(3 * model.masters[:, None] + np.arange(3)).ravel()])
+            at_masters = (3 * model.masters[:, None] + np.arange(3)).ravel()
+            coupled = model.stacked_dofs(np.concatenate(own).ravel()[at_masters])
             (_, value, grad), _ = model.interface_jumps(coupled)
             self.assertLess(value, 1e-12)
             for a, b in zip(coupled, own):

@@ -395,10 +395,11 @@ class FacePatches:
         tangent join) has grad = J^T grad_earlier (:func:`tangent_map`): the tangent-plane
         gradient is shared (G1 of the space at the node);
       - at a crease only the derivative along each shared boundary edge is tied: the derivative
-        along the edge's parameter chord at unit 3D speed (|x_u t_u + x_v t_v| = 1) is the same on
-        both faces, so the trace along the edge, the Hermite cubic of the end values and
-        derivatives, is one curve where the edge is straight in both parameter planes (else up to
-        the chords' turning); the cross-edge derivative stays the face's own dof (a hinge).
+        at unit 3D speed (|x_u t_u + x_v t_v| = 1) along the B-rep edge's tangent (the sampler's
+        EdgeCurvePoints; the parameter chord on meshes without them) is the same on both faces,
+        so the trace along the edge, the Hermite cubic of the end values and derivatives, is one
+        curve where the edge is straight in both parameter planes (else up to the chords'
+        turning); the cross-edge derivative stays the face's own dof (a hinge).
     A boundary edge shared by two faces: at a tangent join (normals within the threshold at both
     ends) the later face's midpoint normal derivative follows the earlier face's dofs
     (:func:`edge_dof_in_a`, through the geometries' derivatives at the midpoint): C1 across the
@@ -589,18 +590,34 @@ class _FaceNumbering:
         return out
 
     def _shared_boundary_edges(self):
-        """{frozenset of two node ids: [(face, a, b, edge dof)]} for edges on two or more faces."""
-        shared = {}
+        """{frozenset of two node ids: [(face, a, b, edge dof)]} for edges on two or more faces;
+        self.curve_tangents[(face, a, b)]: the 3D tangents at a and b of the B-rep edge's Hermite
+        cubic (the sampler's EdgeCurvePoints; absent on meshes without them)."""
+        shared, self.curve_tangents = {}, {}
         for f, mesh in enumerate(self.m.meshes):
             tris = arrays.triangles(mesh)
             e = np.sort(np.concatenate([tris[:, [0, 1]], tris[:, [1, 2]], tris[:, [2, 0]]]), axis=1)
             edges, count = np.unique(e, axis=0, return_counts=True)
-            dofs = {frozenset((int(a), int(b))): (int(a), int(b), int(d)) for a, b, d in self.m.shells[f].ex.edge_dofs}
+            dofs = {frozenset((int(a), int(b))): (int(a), int(b), int(d))
+                    for a, b, d in self.m.shells[f].ex.edge_dofs}
             ids = self.m.node_ids[f]
             for a, b in edges[count == 1]:
                 entry = dofs.get(frozenset((int(a), int(b))), (int(a), int(b), -1))
                 shared.setdefault(frozenset((int(ids[a]), int(ids[b]))), []).append((f, *entry))
+            if mesh.GetCellData().GetArray("EdgeCurvePoints") is not None:
+                self._curve_tangents(f, mesh, tris)
         return {k: v for k, v in shared.items() if len(v) > 1}
+
+    def _curve_tangents(self, f, mesh, tris):
+        """Local edge k of triangle t runs from tris[t, k] to tris[t, k + 1]; its Hermite cubic's
+        inner control points c1 (near the start) and c2: tangents c1 - x_start, x_end - c2 (and
+        c2 - x_end, x_start - c1 the other way)."""
+        curve = arrays.cell_array(mesh, "EdgeCurvePoints").reshape(-1, 3, 2, 3)
+        x = arrays.points(mesh)
+        for t, k in zip(*np.nonzero(np.all(np.isfinite(curve), axis=(2, 3)))):
+            a, b = int(tris[t, k]), int(tris[t, (k + 1) % 3])
+            self.curve_tangents[(f, a, b)] = (curve[t, k, 0] - x[a], x[b] - curve[t, k, 1])
+            self.curve_tangents[(f, b, a)] = (curve[t, k, 1] - x[b], x[a] - curve[t, k, 0])
 
     def unit_normal(self, f, v):
         d = self.m.shells[f].ex.dofs
@@ -666,14 +683,20 @@ class _FaceNumbering:
         exf, exg = self.m.shells[f].ex, self.m.shells[g].ex
         a_f, a_g = [], []
         for key in self.edges_at.get(node, []):
-            ends = {e[0]: e[1:3] for e in self.shared[key]}
-            if f not in ends or g not in ends:
+            # The edge's entries on f at v and on g at w (a seam puts a node twice in a face).
+            mine = [e for e in self.shared[key] if e[0] == f and v in e[1:3]]
+            theirs = [e for e in self.shared[key] if e[0] == g and w in e[1:3]]
+            if not mine or not theirs:
                 continue
             dirs = []
-            for ex, face, vertex in ((exf, f, v), (exg, g, w)):
-                other = ends[face][0] if ends[face][1] == vertex else ends[face][1]
+            for ex, vertex, (face, a, b, _) in ((exf, v, mine[0]), (exg, w, theirs[0])):
+                other = b if a == vertex else a
                 t = ex.uv[other] - ex.uv[vertex]
-                dirs.append(t / np.linalg.norm(ex.dofs[[3 * vertex + 1, 3 * vertex + 2]].T @ t))
+                dF = ex.dofs[[3 * vertex + 1, 3 * vertex + 2]].T
+                curve = self.curve_tangents.get((face, vertex, other))
+                if curve is not None:  # the B-rep edge's tangent, not the chord's direction
+                    t = np.linalg.lstsq(dF, curve[0], rcond=None)[0]
+                dirs.append(t / np.linalg.norm(dF @ t))
             if a_f and dirs[0] @ a_f[0] < 0:  # the chord on the other side of the node
                 dirs = [-d for d in dirs]
             a_f.append(dirs[0])
