@@ -181,7 +181,7 @@ template <typename Body>
 bool ForInBlocks(vtkAlgorithm* algorithm, vtkIdType n, vtkIdType blocks, double progress0,
   double progress1, Body&& body)
 {
-  const vtkIdType splittable = GrainForEvaluations * vtkSMPTools::GetEstimatedNumberOfThreads();
+  const vtkIdType splittable = GrainForEvaluations * LoopThreads();
   const vtkIdType nBlocks =
     n > 0 ? std::max<vtkIdType>(1, std::min<vtkIdType>(blocks, n / splittable)) : 0;
   for (vtkIdType b = 0; b < nBlocks; ++b)

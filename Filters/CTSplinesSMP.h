@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// Parallel loops of the module (private header): vtkSMPTools with a grain size, and the glue
-// between the kernel's ParallelFor and vtkSMPTools.
+// Parallel loops of the module (private header): a grain size and a persistent pool, and the
+// glue between the kernel's ParallelFor and them.
 #ifndef CTSplinesSMP_h
 #define CTSplinesSMP_h
 
@@ -8,25 +8,34 @@
 #include "LargeArrays.h"       // for ctk::AdviseHugePages
 
 #include "vtkDataArray.h"
-#include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <functional>
 
 namespace ctsplines
 {
-/// Smallest number of elements worth a thread, by kind of work per element. VTK 9.2's STDThread
-/// backend starts (and joins) a new set of threads on every vtkSMPTools::For call that it splits
-/// (about 50-100 us on this machine), and splits any loop longer than its grain.
+/// Smallest number of elements worth a thread, by kind of work per element: waking the pool's
+/// threads and waiting for them costs about 10-50 us, much more on a loaded machine.
 /// A kernel evaluation per element (a patch, a query, a cell): about 0.3-10 us.
 constexpr vtkIdType GrainForEvaluations = 1024;
 /// A copy of a few words per element: memory bound, threads pay only on long loops.
 constexpr vtkIdType GrainForCopies = vtkIdType(1) << 16;
 
-/// vtkSMPTools::For(begin, end, functor) with a grain of at least minimumPerThread elements: a
-/// shorter loop runs on the calling thread and starts no thread; a longer one gets about four
-/// chunks per thread (VTK's own default), for balance on a shared machine. Every element must
-/// be computed independently of the chunking (no order-dependent reductions), so results do
-/// not depend on the thread count.
+/// Threads for the module's loops (vtkCTSplinesThreads::GetNumberOfThreads).
+int LoopThreads();
+
+/// Runs body over [begin, end) in chunks of `grain` on the module's pool of `threads` threads
+/// (started once, reused), the caller one of them. Returns false, having run nothing, when the
+/// pool is busy (a loop started from another thread, or nested in a chunk): the caller then
+/// runs the loop itself.
+bool RunOnPool(int threads, vtkIdType begin, vtkIdType end, vtkIdType grain,
+  const std::function<void(vtkIdType, vtkIdType)>& body);
+
+/// Runs functor(b, e) over chunks of [begin, end) with at least minimumPerThread elements per
+/// thread: a shorter loop runs on the calling thread and wakes no thread; a longer one gets about
+/// four chunks per thread, for balance on a shared machine, on the module's pool (RunOnPool). Every
+/// element must be computed independently of the chunking (no order-dependent reductions), so
+/// results do not depend on the thread count.
 template <typename Functor>
 void ParallelFor(vtkIdType begin, vtkIdType end, vtkIdType minimumPerThread, Functor&& functor)
 {
@@ -35,20 +44,18 @@ void ParallelFor(vtkIdType begin, vtkIdType end, vtkIdType minimumPerThread, Fun
   {
     return;
   }
-  const vtkIdType threads = std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads());
-  const vtkIdType chunksPerThread = 4;
-  const vtkIdType chunks = threads * chunksPerThread;
+  const int threads = LoopThreads();
+  const vtkIdType chunks = vtkIdType(threads) * 4;
   const vtkIdType grain = std::max<vtkIdType>({ minimumPerThread, 1, (n + chunks - 1) / chunks });
-  if (threads == 1 || grain >= n)
+  if (threads == 1 || grain >= n ||
+    !RunOnPool(threads, begin, end, grain, [&functor](vtkIdType b, vtkIdType e) { functor(b, e); }))
   {
     functor(begin, end);
-    return;
   }
-  vtkSMPTools::For(begin, end, grain, functor);
 }
 
 /// Runs the kernel's loops (over triangles, vertices or edges, each a kernel evaluation)
-/// through ParallelFor, whatever vtkSMPTools backend is active.
+/// through ParallelFor.
 inline void SMPFor(ctk::Id n, const std::function<void(ctk::Id, ctk::Id)>& body)
 {
   ParallelFor(

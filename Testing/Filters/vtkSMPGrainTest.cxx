@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The module's parallel loops under VTK's STDThread backend (which starts threads on every
-// vtkSMPTools::For call it splits): small filter calls start no thread, and large ones, which do
-// split, give results bit-identical to the Sequential backend for any thread count. Threads are
-// counted by interposing pthread_create in this executable.
+// The module's parallel loops (vtkCTSplinesThreads; VTK 9.2's STDThread backend would start
+// threads on every vtkSMPTools::For call it splits): small filter calls split nothing and start
+// no thread, large ones split and start no thread once the pool runs, and results are
+// bit-identical to the Sequential backend for any thread count. Threads are counted by
+// interposing pthread_create in this executable.
 #include "FilterTestUtilities.h"
 #include "vtkBezierTriangleTessellator.h"
+#include "vtkCTSplinesThreads.h"
 #include "vtkCloughTocherSplineFilter.h"
 #include "vtkSplineParameterProbe.h"
 
@@ -44,7 +46,11 @@ namespace
 struct Outputs
 {
   vtkSmartPointer<vtkDataSet> Spline, Tessellation, Probe;
-  long SplineThreads, TessellationThreads, ProbeThreads; // threads started by each filter
+  struct Counts
+  {
+    long Threads;    // threads started
+    vtkIdType Loops; // loops split over the pool
+  } SplineCounts, TessellationCounts, ProbeCounts;
 };
 
 vtkSmartPointer<vtkPolyData> QueryPoints(vtkIdType n)
@@ -84,20 +90,20 @@ Outputs RunFilters(int gridCells, vtkIdType queries)
   vtkNew<vtkSplineParameterProbe> probe;
   probe->SetInputData(QueryPoints(queries));
   probe->SetSourceConnection(spline->GetOutputPort());
-  long before = ThreadsCreated.load();
-  auto started = [&before] {
-    const long now = ThreadsCreated.load(), n = now - before;
+  Outputs::Counts before{ ThreadsCreated.load(), vtkCTSplinesThreads::GetNumberOfParallelLoops() };
+  auto update = [&before](vtkAlgorithm* filter) {
+    filter->Update();
+    const Outputs::Counts now{ ThreadsCreated.load(),
+      vtkCTSplinesThreads::GetNumberOfParallelLoops() };
+    const Outputs::Counts delta{ now.Threads - before.Threads, now.Loops - before.Loops };
     before = now;
-    return n;
+    return delta;
   };
-  spline->Update();
-  const long splineThreads = started();
-  tessellator->Update();
-  const long tessellationThreads = started();
-  probe->Update();
-  const long probeThreads = started();
+  const Outputs::Counts splineCounts = update(spline);
+  const Outputs::Counts tessellationCounts = update(tessellator);
+  const Outputs::Counts probeCounts = update(probe);
   return { Copy(spline->GetOutput()), Copy(tessellator->GetOutput()), Copy(probe->GetOutput()),
-    splineThreads, tessellationThreads, probeThreads };
+    splineCounts, tessellationCounts, probeCounts };
 }
 
 void ExpectSameArrays(vtkFieldData* a, vtkFieldData* b, const std::string& what)
@@ -160,6 +166,7 @@ protected:
   {
     vtkSMPTools::SetBackend(this->Backend.c_str());
     vtkSMPTools::Initialize(0);
+    vtkCTSplinesThreads::SetNumberOfThreads(0);
   }
   static void UseThreads(int n)
   {
@@ -176,43 +183,65 @@ TEST_F(SMPGrain, ThreadCountIsObserved)
   EXPECT_EQ(ThreadsCreated.load() - before, 1) << "pthread_create is not interposed";
 }
 
+TEST_F(SMPGrain, FollowsVTKUnlessSet)
+{
+  ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
+  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 1);
+  UseThreads(2);
+  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), vtkSMPTools::GetEstimatedNumberOfThreads());
+  ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
+  vtkCTSplinesThreads::SetNumberOfThreads(3);
+  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 3);
+  vtkCTSplinesThreads::SetNumberOfThreads(0);
+  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 1);
+}
+
 TEST_F(SMPGrain, SmallCallsStartNoThread)
 {
   UseThreads(2);
-  ASSERT_EQ(vtkSMPTools::GetEstimatedNumberOfThreads(), 2);
-  const Outputs out = RunFilters(5, 200); // 50 triangles, 150 Bézier cells, 200 queries
-  EXPECT_EQ(out.Spline->GetNumberOfCells(), 150);
-  EXPECT_EQ(out.SplineThreads, 0);
-  EXPECT_EQ(out.TessellationThreads, 0);
-  EXPECT_EQ(out.ProbeThreads, 0);
+  ASSERT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 2);
+  for (int run = 0; run < 3; ++run)
+  {
+    const Outputs out = RunFilters(5, 200); // 50 triangles, 150 Bézier cells, 200 queries
+    EXPECT_EQ(out.Spline->GetNumberOfCells(), 150);
+    for (const Outputs::Counts& c : { out.SplineCounts, out.TessellationCounts, out.ProbeCounts })
+    {
+      EXPECT_EQ(c.Threads, 0);
+      EXPECT_EQ(c.Loops, 0);
+    }
+  }
 }
 
 TEST_F(SMPGrain, LargeCallsSplitAndMatchSequential)
 {
   ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
-  const int grid = 40;               // 3,200 triangles, 9,600 Bézier cells
-  const vtkIdType queries = 100000;  // four locality windows
+  const int grid = 40;              // 3,200 triangles, 9,600 Bézier cells
+  const vtkIdType queries = 100000; // four locality windows
   const Outputs serial = RunFilters(grid, queries);
-  // 4 threads give other chunk boundaries where VTK allows them (it caps the count at the
-  // hardware's); the same count twice is run once.
-  int previous = 1;
-  for (int requested : { 2, 4 })
+  EXPECT_EQ(
+    serial.SplineCounts.Loops + serial.TessellationCounts.Loops + serial.ProbeCounts.Loops, 0);
+  for (int threads : { 2, 3, 4 }) // other chunk boundaries
   {
-    UseThreads(requested);
-    const int threads = vtkSMPTools::GetEstimatedNumberOfThreads();
-    if (threads == previous)
+    vtkCTSplinesThreads::SetNumberOfThreads(threads);
+    for (int run = 0; run < 2; ++run)
     {
-      continue;
+      const Outputs parallel = RunFilters(grid, queries);
+      const std::string on =
+        " on " + std::to_string(threads) + " threads, run " + std::to_string(run);
+      EXPECT_GT(parallel.SplineCounts.Loops, 0) << "the spline filter did not split" << on;
+      EXPECT_GT(parallel.TessellationCounts.Loops, 0) << "the tessellator did not split" << on;
+      EXPECT_GT(parallel.ProbeCounts.Loops, 0) << "the probe did not split" << on;
+      if (run > 0) // the pool's threads were started by the first run, and are reused
+      {
+        EXPECT_EQ(parallel.SplineCounts.Threads + parallel.TessellationCounts.Threads +
+            parallel.ProbeCounts.Threads,
+          0)
+          << on;
+      }
+      ExpectIdentical(serial.Spline, parallel.Spline, "spline" + on);
+      ExpectIdentical(serial.Tessellation, parallel.Tessellation, "tessellation" + on);
+      ExpectIdentical(serial.Probe, parallel.Probe, "probe" + on);
     }
-    previous = threads;
-    const Outputs parallel = RunFilters(grid, queries);
-    const std::string on = " on " + std::to_string(threads) + " threads";
-    EXPECT_GT(parallel.SplineThreads, 0) << "the spline filter did not split" << on;
-    EXPECT_GT(parallel.TessellationThreads, 0) << "the tessellator did not split" << on;
-    EXPECT_GT(parallel.ProbeThreads, 0) << "the probe did not split" << on;
-    ExpectIdentical(serial.Spline, parallel.Spline, "spline" + on);
-    ExpectIdentical(serial.Tessellation, parallel.Tessellation, "tessellation" + on);
-    ExpectIdentical(serial.Probe, parallel.Probe, "probe" + on);
   }
 }
 

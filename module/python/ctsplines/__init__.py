@@ -28,15 +28,14 @@ if HAS_IOCAD:
 
 
 def _use_threads():
-    """Debian's VTK defaults to the sequential SMP backend; use threads unless told otherwise."""
+    """The filters' loops run on their own pool of threads (vtkCTSplinesThreads), one per core.
+    VTK's global backend is left as it is: VTK 9.2's STDThread backend starts threads on every
+    small vtkSMPTools call of VTK's own (array ranges, writers), so a CAD model of many faces
+    would start tens of thousands. With VTK_SMP_BACKEND_IN_USE set, the filters follow VTK."""
     if "VTK_SMP_BACKEND_IN_USE" in _os.environ:
         return
-    try:
-        from vtkmodules.vtkCommonCore import vtkSMPTools
-
-        vtkSMPTools.SetBackend("STDThread")
-    except Exception:  # pragma: no cover - backend not compiled in
-        pass
+    cores = len(_os.sched_getaffinity(0)) if hasattr(_os, "sched_getaffinity") else _os.cpu_count()
+    vtkCTSplinesThreads.SetNumberOfThreads(cores or 1)
 
 
 _use_threads()
