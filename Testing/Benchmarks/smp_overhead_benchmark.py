@@ -2,8 +2,16 @@
 """Cost of VTK's SMP backend on many small filter calls, and threads created.
 
 VTK 9.2's STDThread backend starts and joins a new set of threads on every vtkSMPTools::For call
-that it splits; the module's loops (Filters/CTSplinesSMP.h) run serially below a grain size so
-that small calls start none. This program prints, for the Sequential and STDThread backends:
+that it splits. The module's loops (Filters/CTSplinesSMP.h) run serially below a grain size and
+otherwise on a pool of threads started once (vtkCTSplinesThreads). This program prints, for
+three settings:
+
+- Sequential: VTK's Sequential backend, the module following it (1 thread);
+- STDThread: VTK's STDThread backend with --threads, the module following it;
+- default: what the Python package sets on import: VTK's backend untouched (Sequential here),
+  the module on --threads threads (in the CLI runs: one per core);
+
+these figures:
 
 - the wall time of --calls small spline filter calls (and tessellator, probe) on a
   --triangles-triangle mesh, best of --repeat;
@@ -91,10 +99,25 @@ def run_calls(filters, stage, calls):
     return time.perf_counter() - t0
 
 
-def set_backend(name, threads):
-    if not vtkSMPTools.SetBackend(name):
-        sys.exit(f"VTK has no {name} SMP backend")
-    vtkSMPTools.Initialize(threads if name != "Sequential" else 1)
+MODES = ("Sequential", "STDThread", "default")
+
+
+def set_backend(mode, threads):
+    """VTK's backend and the module's thread count of a mode (see the description)."""
+    backend = "STDThread" if mode == "STDThread" else "Sequential"
+    if not vtkSMPTools.SetBackend(backend):
+        sys.exit(f"VTK has no {backend} SMP backend")
+    vtkSMPTools.Initialize(threads if backend == "STDThread" else 1)
+    ctsplines.vtkCTSplinesThreads.SetNumberOfThreads(threads if mode == "default" else 0)
+
+
+def mode_environment(mode, threads):
+    """The environment giving a CLI run that mode."""
+    env = dict(os.environ, VTK_SMP_MAX_THREADS=str(threads))
+    env.pop("VTK_SMP_BACKEND_IN_USE", None)
+    if mode != "default":
+        env["VTK_SMP_BACKEND_IN_USE"] = mode
+    return env
 
 
 def child(args):
@@ -125,10 +148,10 @@ def small_calls(args):
     n = filters["spline"].GetInputDataObject(0, 0).GetNumberOfCells()
     print(f"{args.calls} calls per stage on a {n}-triangle mesh, best of {args.repeat} "
           f"(spread: worst/best), STDThread with {args.threads} threads")
-    print(f"{'stage':<11} {'backend':<11} {'ms/call':>9} {'spread':>7} {'threads':>8}")
+    print(f"{'stage':<11} {'mode':<11} {'ms/call':>9} {'spread':>7} {'threads':>8}")
     best = {}
     for stage in STAGES:
-        for backend in ("Sequential", "STDThread"):
+        for backend in MODES:
             set_backend(backend, args.threads)
             times = [run_calls(filters, stage, args.calls) for _ in range(args.repeat)]
             clones = strace_clones([sys.executable, os.path.abspath(__file__), "--child",
@@ -139,17 +162,17 @@ def small_calls(args):
             print(f"{stage:<11} {backend:<11} {1e3 * min(times) / args.calls:9.3f} "
                   f"{max(times) / min(times):7.2f} {'n/a' if clones is None else clones:>8}")
         print(f"{stage:<11} STDThread/Sequential: "
-              f"{best[stage, 'STDThread'] / best[stage, 'Sequential']:.2f}")
+              f"{best[stage, 'STDThread'] / best[stage, 'Sequential']:.2f}, default/Sequential: "
+              f"{best[stage, 'default'] / best[stage, 'Sequential']:.2f}")
 
 
 def cad_conversions(args):
     print(f"\nCLI conversion (writing included), best of {args.repeat}")
-    print(f"{'model':<28} {'backend':<11} {'s':>7} {'spread':>7} {'threads':>8}")
+    print(f"{'model':<28} {'mode':<11} {'s':>7} {'spread':>7} {'threads':>8}")
     with tempfile.TemporaryDirectory() as folder:
         for model in args.models:
-            for backend in ("Sequential", "STDThread"):
-                env = dict(os.environ, VTK_SMP_BACKEND_IN_USE=backend,
-                           VTK_SMP_MAX_THREADS=str(args.threads))
+            for backend in MODES:
+                env = mode_environment(backend, args.threads)
                 cmd = [sys.executable, "-m", "ctsplines", "convert", model, "-o",
                        os.path.join(folder, "out.vtm")]
                 times = []
@@ -170,7 +193,7 @@ def main():
     p.add_argument("--repeat", type=int, default=5)
     p.add_argument("--threads", type=int, default=2)
     p.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
-    p.add_argument("--backend", default="STDThread", help=argparse.SUPPRESS)
+    p.add_argument("--backend", default="STDThread", choices=MODES, help=argparse.SUPPRESS)
     p.add_argument("--stage", default="spline", choices=STAGES, help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.child:
