@@ -8,9 +8,21 @@
 #include "LargeArrays.h"       // for ctk::AdviseHugePages
 
 #include "vtkDataArray.h"
+#include "vtkSMPTools.h"
 
 #include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstdlib>
+#include <cstring>
 #include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#if defined(__unix__)
+#include <unistd.h> // for getpid
+#endif
 
 namespace ctsplines
 {
@@ -21,19 +33,188 @@ constexpr vtkIdType GrainForEvaluations = 1024;
 /// A copy of a few words per element: memory bound, threads pay only on long loops.
 constexpr vtkIdType GrainForCopies = vtkIdType(1) << 16;
 
-/// Threads for the module's loops (vtkCTSplinesThreads::GetNumberOfThreads).
-int LoopThreads();
+/// Threads for the module's loops: CTSPLINES_NUM_THREADS when set (the Python package sets it
+/// to the number of cores on import and leaves VTK's own backend alone), else VTK's: the
+/// thread count of vtkSMPTools under its STDThread backend, 1 under the Sequential one.
+inline int LoopThreads()
+{
+  if (const char* value = std::getenv("CTSPLINES_NUM_THREADS"))
+  {
+    if (std::atoi(value) > 0)
+    {
+      return std::atoi(value);
+    }
+  }
+  if (std::strcmp(vtkSMPTools::GetBackend(), "STDThread") == 0)
+  {
+    return std::max(1, vtkSMPTools::GetEstimatedNumberOfThreads());
+  }
+  return 1;
+}
 
-/// Runs body over [begin, end) in chunks of `grain` on the module's pool of `threads` threads
-/// (started once, reused), the caller one of them. Returns false, having run nothing, when the
-/// pool is busy (a loop started from another thread, or nested in a chunk): the caller then
-/// runs the loop itself.
-bool RunOnPool(int threads, vtkIdType begin, vtkIdType end, vtkIdType grain,
-  const std::function<void(vtkIdType, vtkIdType)>& body);
+/// Worker threads started once and reused by every ParallelFor of the module (VTK 9.2's
+/// STDThread backend starts and joins new threads on every vtkSMPTools::For it splits). One
+/// loop at a time: a loop started while another runs (from another thread, or nested in a
+/// chunk) runs on its calling thread.
+class LoopPool
+{
+public:
+  using Body = std::function<void(vtkIdType, vtkIdType)>;
+
+  static LoopPool& Instance()
+  {
+    static LoopPool pool;
+    return pool;
+  }
+
+  /// Runs body over [begin, end) in chunks of `grain` on `threads` threads, the caller one of
+  /// them. Returns false, having run nothing, when the pool is busy.
+  bool Run(int threads, vtkIdType begin, vtkIdType end, vtkIdType grain, const Body& body)
+  {
+    if (InLoop() || !this->SameProcess())
+    {
+      return false;
+    }
+    std::unique_lock<std::mutex> loop(this->LoopMutex, std::try_to_lock);
+    if (!loop.owns_lock())
+    {
+      return false;
+    }
+    this->Resize(threads - 1);
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->Loop = { &body, end, grain };
+      this->Next.store(begin);
+      this->Closed = false;
+      ++this->Generation;
+    }
+    this->Wake.notify_all();
+    // Workers that joined use body until they are done: wait for them (even if a chunk throws
+    // here); those not awake yet when the caller is done skip this loop, so a loaded machine
+    // does not make the caller wait for their wake-up.
+    struct Wait
+    {
+      LoopPool& Pool;
+      ~Wait()
+      {
+        std::unique_lock<std::mutex> lock(this->Pool.Mutex);
+        this->Pool.Closed = true;
+        this->Pool.Done.wait(lock, [this] { return this->Pool.Running == 0; });
+      }
+    } wait{ *this };
+    this->Work();
+    return true;
+  }
+
+  ~LoopPool() { this->Resize(0); }
+
+private:
+  struct LoopData
+  {
+    const Body* Function = nullptr;
+    vtkIdType End = 0, Grain = 1;
+  };
+
+  static bool& InLoop()
+  {
+    static thread_local bool inLoop = false;
+    return inLoop;
+  }
+
+  // A forked child has none of the workers (the CAD reader forks): it runs loops serially.
+  bool SameProcess() const
+  {
+#if defined(__unix__)
+    return getpid() == this->Owner;
+#else
+    return true;
+#endif
+  }
+
+  // Chunks taken in turn from a shared counter: which thread runs a chunk does not matter.
+  void Work()
+  {
+    struct Flag
+    {
+      Flag() { InLoop() = true; }
+      ~Flag() { InLoop() = false; }
+    } inLoop;
+    const LoopData loop = this->Loop;
+    for (vtkIdType b = this->Next.fetch_add(loop.Grain); b < loop.End;
+         b = this->Next.fetch_add(loop.Grain))
+    {
+      (*loop.Function)(b, std::min(loop.End, b + loop.Grain));
+    }
+  }
+
+  void Worker(unsigned long seen)
+  {
+    std::unique_lock<std::mutex> lock(this->Mutex);
+    for (;;)
+    {
+      this->Wake.wait(lock, [&] { return this->Stop || this->Generation != seen; });
+      if (this->Stop)
+      {
+        return;
+      }
+      seen = this->Generation;
+      if (this->Closed)
+      {
+        continue;
+      }
+      ++this->Running;
+      lock.unlock();
+      this->Work();
+      lock.lock();
+      if (--this->Running == 0)
+      {
+        this->Done.notify_one();
+      }
+    }
+  }
+
+  // Called with LoopMutex held, no loop running.
+  void Resize(int workers)
+  {
+    if (workers == static_cast<int>(this->Workers.size()))
+    {
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(this->Mutex);
+      this->Stop = true;
+    }
+    this->Wake.notify_all();
+    for (std::thread& t : this->Workers)
+    {
+      t.join();
+    }
+    this->Workers.clear();
+    this->Stop = false;
+    for (int i = 0; i < workers; ++i)
+    {
+      this->Workers.emplace_back(&LoopPool::Worker, this, this->Generation);
+    }
+  }
+
+  std::mutex LoopMutex; // one loop at a time
+  std::mutex Mutex;     // guards the fields below and the condition variables
+  std::condition_variable Wake, Done;
+  std::vector<std::thread> Workers;
+  LoopData Loop;
+  std::atomic<vtkIdType> Next{ 0 };
+  int Running = 0;               // workers inside the current loop
+  unsigned long Generation = 0;  // loops started
+  bool Closed = true;            // the caller is done: late workers skip the loop
+  bool Stop = false;
+#if defined(__unix__)
+  const pid_t Owner = getpid();
+#endif
+};
 
 /// Runs functor(b, e) over chunks of [begin, end) with at least minimumPerThread elements per
 /// thread: a shorter loop runs on the calling thread and wakes no thread; a longer one gets about
-/// four chunks per thread, for balance on a shared machine, on the module's pool (RunOnPool). Every
+/// four chunks per thread, for balance on a shared machine, on the module's LoopPool. Every
 /// element must be computed independently of the chunking (no order-dependent reductions), so
 /// results do not depend on the thread count.
 template <typename Functor>
@@ -48,7 +229,8 @@ void ParallelFor(vtkIdType begin, vtkIdType end, vtkIdType minimumPerThread, Fun
   const vtkIdType chunks = vtkIdType(threads) * 4;
   const vtkIdType grain = std::max<vtkIdType>({ minimumPerThread, 1, (n + chunks - 1) / chunks });
   if (threads == 1 || grain >= n ||
-    !RunOnPool(threads, begin, end, grain, [&functor](vtkIdType b, vtkIdType e) { functor(b, e); }))
+    !LoopPool::Instance().Run(
+      threads, begin, end, grain, [&functor](vtkIdType b, vtkIdType e) { functor(b, e); }))
   {
     functor(begin, end);
   }

@@ -3,7 +3,8 @@
 
 VTK 9.2's STDThread backend starts and joins a new set of threads on every vtkSMPTools::For call
 that it splits. The module's loops (Filters/CTSplinesSMP.h) run serially below a grain size and
-otherwise on a pool of threads started once (vtkCTSplinesThreads). This program prints, for
+otherwise on a pool of threads started once
+(CTSPLINES_NUM_THREADS, else VTK's count). This program prints, for
 three settings:
 
 - Sequential: VTK's Sequential backend, the module following it (1 thread);
@@ -108,13 +109,17 @@ def set_backend(mode, threads):
     if not vtkSMPTools.SetBackend(backend):
         sys.exit(f"VTK has no {backend} SMP backend")
     vtkSMPTools.Initialize(threads if backend == "STDThread" else 1)
-    ctsplines.vtkCTSplinesThreads.SetNumberOfThreads(threads if mode == "default" else 0)
+    if mode == "default":
+        os.environ["CTSPLINES_NUM_THREADS"] = str(threads)
+    else:
+        os.environ.pop("CTSPLINES_NUM_THREADS", None)
 
 
 def mode_environment(mode, threads):
     """The environment giving a CLI run that mode."""
     env = dict(os.environ, VTK_SMP_MAX_THREADS=str(threads))
     env.pop("VTK_SMP_BACKEND_IN_USE", None)
+    env.pop("CTSPLINES_NUM_THREADS", None)
     if mode != "default":
         env["VTK_SMP_BACKEND_IN_USE"] = mode
     return env

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// The module's parallel loops (vtkCTSplinesThreads; VTK 9.2's STDThread backend would start
-// threads on every vtkSMPTools::For call it splits): small filter calls split nothing and start
-// no thread, large ones split and start no thread once the pool runs, and results are
+// The module's parallel loops (CTSplinesSMP.h; VTK 9.2's STDThread backend would start threads
+// on every vtkSMPTools::For call it splits): small filter calls start no thread, large ones run
+// on the module's pool, which starts threads only when its size changes, and results are
 // bit-identical to the Sequential backend for any thread count. Threads are counted by
 // interposing pthread_create in this executable.
 #include "FilterTestUtilities.h"
+#include "CTSplinesSMP.h"
 #include "vtkBezierTriangleTessellator.h"
-#include "vtkCTSplinesThreads.h"
 #include "vtkCloughTocherSplineFilter.h"
 #include "vtkSplineParameterProbe.h"
 
@@ -21,7 +21,9 @@
 #include <dlfcn.h>
 #include <pthread.h>
 
+#include <array>
 #include <atomic>
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <thread>
@@ -46,12 +48,21 @@ namespace
 struct Outputs
 {
   vtkSmartPointer<vtkDataSet> Spline, Tessellation, Probe;
-  struct Counts
-  {
-    long Threads;    // threads started
-    vtkIdType Loops; // loops split over the pool
-  } SplineCounts, TessellationCounts, ProbeCounts;
+  long SplineThreads, TessellationThreads, ProbeThreads; // threads started by each filter
 };
+
+// The module's thread count (CTSPLINES_NUM_THREADS); 0 unsets it: the module follows VTK.
+void SetModuleThreads(int threads)
+{
+  if (threads > 0)
+  {
+    setenv("CTSPLINES_NUM_THREADS", std::to_string(threads).c_str(), 1);
+  }
+  else
+  {
+    unsetenv("CTSPLINES_NUM_THREADS");
+  }
+}
 
 vtkSmartPointer<vtkPolyData> QueryPoints(vtkIdType n)
 {
@@ -78,8 +89,9 @@ vtkSmartPointer<vtkDataSet> Copy(T* output)
 }
 
 // Spline filter, tessellator (level 4) and probe on a gridCells x gridCells grid (two
-// triangles per cell) of Franke's function, under the active backend.
-Outputs RunFilters(int gridCells, vtkIdType queries)
+// triangles per cell) of Franke's function, under the active backend, each filter with the
+// module's thread count of threads[k] (see SetModuleThreads).
+Outputs RunFilters(int gridCells, vtkIdType queries, const std::array<int, 3>& threads)
 {
   const ctk::ParameterMesh mesh = ctk::RegularGridMesh(gridCells, ctk::GridDiagonal::Alternating);
   vtkNew<vtkCloughTocherSplineFilter> spline;
@@ -90,20 +102,17 @@ Outputs RunFilters(int gridCells, vtkIdType queries)
   vtkNew<vtkSplineParameterProbe> probe;
   probe->SetInputData(QueryPoints(queries));
   probe->SetSourceConnection(spline->GetOutputPort());
-  Outputs::Counts before{ ThreadsCreated.load(), vtkCTSplinesThreads::GetNumberOfParallelLoops() };
-  auto update = [&before](vtkAlgorithm* filter) {
+  auto update = [](vtkAlgorithm* filter, int n) {
+    SetModuleThreads(n);
+    const long before = ThreadsCreated.load();
     filter->Update();
-    const Outputs::Counts now{ ThreadsCreated.load(),
-      vtkCTSplinesThreads::GetNumberOfParallelLoops() };
-    const Outputs::Counts delta{ now.Threads - before.Threads, now.Loops - before.Loops };
-    before = now;
-    return delta;
+    return ThreadsCreated.load() - before;
   };
-  const Outputs::Counts splineCounts = update(spline);
-  const Outputs::Counts tessellationCounts = update(tessellator);
-  const Outputs::Counts probeCounts = update(probe);
+  const long splineThreads = update(spline, threads[0]);
+  const long tessellationThreads = update(tessellator, threads[1]);
+  const long probeThreads = update(probe, threads[2]);
   return { Copy(spline->GetOutput()), Copy(tessellator->GetOutput()), Copy(probe->GetOutput()),
-    splineCounts, tessellationCounts, probeCounts };
+    splineThreads, tessellationThreads, probeThreads };
 }
 
 void ExpectSameArrays(vtkFieldData* a, vtkFieldData* b, const std::string& what)
@@ -166,7 +175,7 @@ protected:
   {
     vtkSMPTools::SetBackend(this->Backend.c_str());
     vtkSMPTools::Initialize(0);
-    vtkCTSplinesThreads::SetNumberOfThreads(0);
+    SetModuleThreads(0);
   }
   static void UseThreads(int n)
   {
@@ -185,30 +194,27 @@ TEST_F(SMPGrain, ThreadCountIsObserved)
 
 TEST_F(SMPGrain, FollowsVTKUnlessSet)
 {
+  SetModuleThreads(0);
   ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
-  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 1);
+  EXPECT_EQ(ctsplines::LoopThreads(), 1);
   UseThreads(2);
-  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), vtkSMPTools::GetEstimatedNumberOfThreads());
+  EXPECT_EQ(ctsplines::LoopThreads(), vtkSMPTools::GetEstimatedNumberOfThreads());
   ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
-  vtkCTSplinesThreads::SetNumberOfThreads(3);
-  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 3);
-  vtkCTSplinesThreads::SetNumberOfThreads(0);
-  EXPECT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 1);
+  SetModuleThreads(3);
+  EXPECT_EQ(ctsplines::LoopThreads(), 3);
 }
 
 TEST_F(SMPGrain, SmallCallsStartNoThread)
 {
-  UseThreads(2);
-  ASSERT_EQ(vtkCTSplinesThreads::GetNumberOfThreads(), 2);
+  SetModuleThreads(0);
+  UseThreads(2); // the module follows VTK's STDThread backend: 2 threads
   for (int run = 0; run < 3; ++run)
   {
-    const Outputs out = RunFilters(5, 200); // 50 triangles, 150 Bézier cells, 200 queries
+    const Outputs out = RunFilters(5, 200, { 0, 0, 0 }); // 50 triangles, 150 cells, 200 queries
     EXPECT_EQ(out.Spline->GetNumberOfCells(), 150);
-    for (const Outputs::Counts& c : { out.SplineCounts, out.TessellationCounts, out.ProbeCounts })
-    {
-      EXPECT_EQ(c.Threads, 0);
-      EXPECT_EQ(c.Loops, 0);
-    }
+    EXPECT_EQ(out.SplineThreads, 0);
+    EXPECT_EQ(out.TessellationThreads, 0);
+    EXPECT_EQ(out.ProbeThreads, 0);
   }
 }
 
@@ -217,30 +223,32 @@ TEST_F(SMPGrain, LargeCallsSplitAndMatchSequential)
   ASSERT_TRUE(vtkSMPTools::SetBackend("Sequential"));
   const int grid = 40;              // 3,200 triangles, 9,600 Bézier cells
   const vtkIdType queries = 100000; // four locality windows
-  const Outputs serial = RunFilters(grid, queries);
-  EXPECT_EQ(
-    serial.SplineCounts.Loops + serial.TessellationCounts.Loops + serial.ProbeCounts.Loops, 0);
-  for (int threads : { 2, 3, 4 }) // other chunk boundaries
+  const Outputs serial = RunFilters(grid, queries, { 0, 0, 0 });
+  auto expectIdentical = [&serial](const Outputs& parallel, const std::string& on) {
+    ExpectIdentical(serial.Spline, parallel.Spline, "spline" + on);
+    ExpectIdentical(serial.Tessellation, parallel.Tessellation, "tessellation" + on);
+    ExpectIdentical(serial.Probe, parallel.Probe, "probe" + on);
+  };
+  // The pool starts threads when its size changes, that is when a filter splits a loop with
+  // another count than the previous one: every filter starts some.
+  const Outputs mixed = RunFilters(grid, queries, { 2, 3, 4 });
+  EXPECT_GT(mixed.SplineThreads, 0) << "the spline filter did not split";
+  EXPECT_GT(mixed.TessellationThreads, 0) << "the tessellator did not split";
+  EXPECT_GT(mixed.ProbeThreads, 0) << "the probe did not split";
+  expectIdentical(mixed, " on 2, 3, 4 threads");
+  // With one count, the pool's threads are started once and then reused.
+  for (int threads : { 2, 3 })
   {
-    vtkCTSplinesThreads::SetNumberOfThreads(threads);
     for (int run = 0; run < 2; ++run)
     {
-      const Outputs parallel = RunFilters(grid, queries);
+      const Outputs same = RunFilters(grid, queries, { threads, threads, threads });
       const std::string on =
         " on " + std::to_string(threads) + " threads, run " + std::to_string(run);
-      EXPECT_GT(parallel.SplineCounts.Loops, 0) << "the spline filter did not split" << on;
-      EXPECT_GT(parallel.TessellationCounts.Loops, 0) << "the tessellator did not split" << on;
-      EXPECT_GT(parallel.ProbeCounts.Loops, 0) << "the probe did not split" << on;
-      if (run > 0) // the pool's threads were started by the first run, and are reused
+      if (run > 0)
       {
-        EXPECT_EQ(parallel.SplineCounts.Threads + parallel.TessellationCounts.Threads +
-            parallel.ProbeCounts.Threads,
-          0)
-          << on;
+        EXPECT_EQ(same.SplineThreads + same.TessellationThreads + same.ProbeThreads, 0) << on;
       }
-      ExpectIdentical(serial.Spline, parallel.Spline, "spline" + on);
-      ExpectIdentical(serial.Tessellation, parallel.Tessellation, "tessellation" + on);
-      ExpectIdentical(serial.Probe, parallel.Probe, "probe" + on);
+      expectIdentical(same, on);
     }
   }
 }

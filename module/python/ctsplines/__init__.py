@@ -28,14 +28,15 @@ if HAS_IOCAD:
 
 
 def _use_threads():
-    """The filters' loops run on their own pool of threads (vtkCTSplinesThreads), one per core.
-    VTK's global backend is left as it is: VTK 9.2's STDThread backend starts threads on every
-    small vtkSMPTools call of VTK's own (array ranges, writers), so a CAD model of many faces
-    would start tens of thousands. With VTK_SMP_BACKEND_IN_USE set, the filters follow VTK."""
-    if "VTK_SMP_BACKEND_IN_USE" in _os.environ:
+    """The filters' loops run on their own pool of threads, one per core (CTSPLINES_NUM_THREADS,
+    see Filters/CTSplinesSMP.h). VTK's global backend is left as it is: VTK 9.2's STDThread
+    backend starts threads on every small vtkSMPTools call of VTK's own (array ranges in the
+    writers), tens of thousands for a CAD model of many faces. With VTK_SMP_BACKEND_IN_USE or
+    CTSPLINES_NUM_THREADS set, nothing changes (the filters follow VTK, or that count)."""
+    if "VTK_SMP_BACKEND_IN_USE" in _os.environ or "CTSPLINES_NUM_THREADS" in _os.environ:
         return
     cores = len(_os.sched_getaffinity(0)) if hasattr(_os, "sched_getaffinity") else _os.cpu_count()
-    vtkCTSplinesThreads.SetNumberOfThreads(cores or 1)
+    _os.environ["CTSPLINES_NUM_THREADS"] = str(cores or 1)
 
 
 _use_threads()
