@@ -25,6 +25,7 @@ Usage: PYTHONPATH=<build>/lib/python3.11/dist-packages /usr/bin/python3 benchmar
        [--quick] [--points N] [--queries M] [--seed S] [--repeat R]
 """
 import argparse
+import os
 import sys
 import time
 import warnings
@@ -216,8 +217,10 @@ def main():
     if not hasattr(ctsplines, "vtkSplineParameterProbe"):
         print("ctsplines has no vtkSplineParameterProbe: cannot evaluate our spline", file=sys.stderr)
         return 1
-    # The package selects STDThread on import; say what ran.
-    print(f"SMP backend {vtkSMPTools.GetBackend()}, {vtkSMPTools.GetEstimatedNumberOfThreads()} thread(s)")
+    # The filters' loops run on the package's pool (CTSPLINES_NUM_THREADS, set on import); say
+    # what ran.
+    print(f"CTSplines threads {os.environ.get('CTSPLINES_NUM_THREADS', 'as VTK')}, "
+          f"VTK SMP backend {vtkSMPTools.GetBackend()}")
 
     failures = []
 
