@@ -283,13 +283,18 @@ int vtkWatertightSplineStitcher::RequestData(
     fs.Spline.Layout = { nV, static_cast<ctk::Id>(fs.Topo.Edges.size()), nT };
     vtkPoints* pts = fs.Grid->GetPoints();
     fs.Spline.ControlPoints.resize(pts->GetNumberOfPoints());
-    fs.Spline.DomainPoints.resize(fs.Spline.ControlPoints.size());
     for (vtkIdType i = 0; i < pts->GetNumberOfPoints(); ++i)
     {
       pts->GetPoint(i, fs.Spline.ControlPoints[i].data());
-      fs.Spline.DomainPoints[i] = ctk::Vec2(fs.UV->GetComponent(i, 0), fs.UV->GetComponent(i, 1));
     }
     auto uvOf = [&](ctk::Id v) { return ctk::Vec2(fs.UV->GetComponent(v, 0), fs.UV->GetComponent(v, 1)); };
+    // The face's UV is the sampler's, per vertex: the vertices' domain points are all that
+    // EvaluateSpline reads.
+    fs.Spline.DomainPoints.resize(nV);
+    for (ctk::Id v = 0; v < nV; ++v)
+    {
+      fs.Spline.DomainPoints[v] = uvOf(v);
+    }
     auto row = [](vtkDataArray* a, ctk::Id v) { return ctk::Vec3(a->GetComponent(v, 0), a->GetComponent(v, 1), a->GetComponent(v, 2)); };
     fs.Spline.SplitTau.resize(nT);
     for (ctk::Id t = 0; t < nT; ++t)
