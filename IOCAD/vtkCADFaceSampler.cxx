@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkCADFaceSampler.h"
 
+#include "CADStitchedConstruction.h"
+
 #include "CADBRepSampling.h"
 #include "CADFaceMesher.h"
 
@@ -402,18 +404,7 @@ void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double face
 
 void vtkCADFaceSampler::SetConstruction(int construction)
 {
-  if (!vtkCloughTocherSplineFilter::GetConstructionCanBeStitched(construction))
-  {
-    vtkErrorMacro(<< "construction " << construction << " ("
-                  << vtkCloughTocherSplineFilter::GetConstructionName(construction)
-                  << ") cannot be stitched: it takes no prescribed boundary curves");
-    return;
-  }
-  if (this->Construction != construction)
-  {
-    this->Construction = construction;
-    this->Modified();
-  }
+  ctcad::SetStitchedConstruction(this, this->Construction, construction);
 }
 
 void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkWatertightSplineStitcher.h"
 
+#include "CADStitchedConstruction.h"
+
 #include "vtkCADFaceSampler.h"
 #include "vtkCloughTocherSplineFilter.h"
 #include "CloughTocherSpline.h"
@@ -551,18 +553,7 @@ int vtkWatertightSplineStitcher::RequestData(
 
 void vtkWatertightSplineStitcher::SetConstruction(int construction)
 {
-  if (!vtkCloughTocherSplineFilter::GetConstructionCanBeStitched(construction))
-  {
-    vtkErrorMacro(<< "construction " << construction << " ("
-                  << vtkCloughTocherSplineFilter::GetConstructionName(construction)
-                  << ") cannot be stitched: it takes no prescribed boundary curves");
-    return;
-  }
-  if (this->Construction != construction)
-  {
-    this->Construction = construction;
-    this->Modified();
-  }
+  ctcad::SetStitchedConstruction(this, this->Construction, construction);
 }
 
 void vtkWatertightSplineStitcher::PrintSelf(ostream& os, vtkIndent indent)
