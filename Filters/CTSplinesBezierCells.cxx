@@ -28,6 +28,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <cstring>
 #include <sstream>
 
 namespace ctsplines
@@ -116,6 +117,31 @@ void PointDataInterpolator::LoadNets(const BezierCells& cells, vtkIdType c, ctk:
     for (int first = 0; first < a.Components; first += 3, nets += ctk::MaxBezierPoints)
     {
       cells.ValueNet(c, a.Values.data(), a.Components, first, nets);
+    }
+  }
+}
+
+void PointDataInterpolator::LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets,
+  const double* weights, Eigen::Vector4d* netsH) const
+{
+  this->LoadNets(cells, c, nets);
+  const int n = cells.Degree[c];
+  for (int k = 0; k < this->Nets; ++k)
+  {
+    ctk::HomogeneousNet(n, nets + k * ctk::MaxBezierPoints, weights, netsH + k * ctk::MaxBezierPoints);
+  }
+}
+
+void PointDataInterpolator::Write(const ctk::BezierBasisTable& basis,
+  const Eigen::Vector4d* netsH, int p, vtkIdType id) const
+{
+  for (const Array& a : this->Arrays)
+  {
+    double* out = a.Out->GetPointer(id * a.Components);
+    for (int first = 0; first < a.Components; first += 3, netsH += ctk::MaxBezierPoints)
+    {
+      const ctk::Vec3 v = basis.Value(netsH, p);
+      std::copy_n(v.data(), std::min(3, a.Components - first), out + first);
     }
   }
 }
@@ -640,8 +666,23 @@ void CopyCellDataBySource(
         array->SetTuple(k, sourceCell[k], in);
       }
     };
-    // Bits share bytes and strings are not plain data: those are copied on one thread.
-    if (vtkDataArray::SafeDownCast(array) && !vtkBitArray::SafeDownCast(array))
+    // Bits share bytes and strings are not plain data: those are copied on one thread. Plain
+    // arrays in VTK's standard layout are copied as bytes (no virtual call per value).
+    const bool plain = vtkDataArray::SafeDownCast(array) && !vtkBitArray::SafeDownCast(array);
+    if (plain && in->HasStandardMemoryLayout() && array->HasStandardMemoryLayout())
+    {
+      const size_t bytes = static_cast<size_t>(in->GetNumberOfComponents()) * in->GetDataTypeSize();
+      const char* from = static_cast<const char*>(in->GetVoidPointer(0));
+      char* to = static_cast<char*>(array->GetVoidPointer(0));
+      ctsplines::ParallelFor(0, outputCells, ctsplines::GrainForCopies,
+        [&](vtkIdType begin, vtkIdType end) {
+          for (vtkIdType k = begin; k < end; ++k)
+          {
+            std::memcpy(to + k * bytes, from + sourceCell[k] * bytes, bytes);
+          }
+        });
+    }
+    else if (plain)
     {
       ctsplines::ParallelFor(0, outputCells, ctsplines::GrainForCopies, copy);
     }

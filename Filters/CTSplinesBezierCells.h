@@ -5,6 +5,7 @@
 #ifndef CTSplinesBezierCells_h
 #define CTSplinesBezierCells_h
 
+#include "BezierBasisTable.h"
 #include "BezierTriangle.h" // for ctk::Vec3, ctk::MaxDegree
 #include "CTSplinesSMP.h"    // for ForInBlocks
 
@@ -65,8 +66,14 @@ public:
   /// Number of 3-component nets per cell (LoadNets fills that many times MaxBezierPoints).
   int NumberOfNets() const { return this->Nets; }
   void LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets) const;
+  /// The same, plus the nets' HomogeneousNet with the cell's weights (for the table Write).
+  void LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets, const double* weights,
+    Eigen::Vector4d* netsH) const;
   /// Writes the values at barycentric t of a degree-n cell (nets from LoadNets) to point id.
   void Write(int n, const ctk::Vec3* nets, const double* weights, const ctk::Vec3& t,
+    vtkIdType id) const;
+  /// Writes the values at point p of a basis table (homogeneous nets from LoadNets) to point id.
+  void Write(const ctk::BezierBasisTable& basis, const Eigen::Vector4d* netsH, int p,
     vtkIdType id) const;
   /// Grows the outputs to `outputPoints` tuples, copying point from[k] to first + k.
   void Append(vtkIdType first, const std::vector<vtkIdType>& from);

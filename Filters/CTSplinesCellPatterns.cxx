@@ -87,6 +87,7 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
     }
   }
   this->Of.resize(nCells);
+  this->BasisOf.resize(nCells);
   this->InteriorStart.resize(nCells + 1);
   this->TriangleStart.resize(nCells + 1);
   this->EdgeStart.resize(nEdges + 1);
@@ -115,6 +116,18 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
       found = this->Patterns.emplace(key, SnappedLattice(lattice, n)).first;
     }
     this->Of[c] = &found->second;
+    const std::array<int, 5> basisKey{ level, n[0], n[1], n[2], cells.Degree[c] };
+    auto basis = this->Bases.find(basisKey);
+    if (basis == this->Bases.end())
+    {
+      std::vector<ctk::Vec3> points;
+      for (const SamplingLattice::Point& q : found->second.Points)
+      {
+        points.push_back(q.T);
+      }
+      basis = this->Bases.emplace(basisKey, ctk::BezierBasisTable(cells.Degree[c], points)).first;
+    }
+    this->BasisOf[c] = &basis->second;
     const vtkIdType interior = static_cast<vtkIdType>(level - 1) * (level - 2) / 2;
     this->InteriorStart[c + 1] = this->InteriorStart[c] + interior;
     this->TriangleStart[c + 1] =

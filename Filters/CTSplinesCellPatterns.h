@@ -14,6 +14,8 @@
 
 #include "CTSplinesBezierCells.h"
 
+#include "BezierBasisTable.h"
+
 #include <array>
 #include <map>
 #include <vector>
@@ -40,6 +42,9 @@ public:
   /// levels: one power of two per cell (raised where an edge needs more, see above).
   CellPatterns(const BezierCells& cells, const std::vector<int>& levels);
   const SnappedLattice& Pattern(vtkIdType c) const { return *this->Of[c]; }
+  /// Bernstein bases of cell c's degree at its pattern's points (shared by the cells of one
+  /// pattern and degree).
+  const ctk::BezierBasisTable& Basis(vtkIdType c) const { return *this->BasisOf[c]; }
   vtkIdType NumberOfPoints() const { return this->NPoints; }
   vtkIdType NumberOfTriangles() const { return this->TriangleStart.back(); }
   /// First output triangle of cell c (cells' triangles are consecutive).
@@ -57,6 +62,8 @@ private:
   std::map<std::array<int, 4>, SnappedLattice> Patterns;
   std::map<int, SamplingLattice> Lattices;
   std::vector<const SnappedLattice*> Of;
+  std::map<std::array<int, 5>, ctk::BezierBasisTable> Bases; // pattern key and degree
+  std::vector<const ctk::BezierBasisTable*> BasisOf;
   std::vector<int> EdgeSegments;
   std::vector<vtkIdType> EdgeStart, InteriorStart, TriangleStart;
   vtkIdType NPoints = 0;

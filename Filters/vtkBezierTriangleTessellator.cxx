@@ -54,35 +54,38 @@ struct Tessellation
   vtkIdType* Source;
 
   // Points owned by cell c (positions, normals, data) and its triangles.
-  void Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk::Vec3* nets) const;
+  void Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk::Vec3* nets,
+    Eigen::Vector4d* H, Eigen::Vector4d* HR, Eigen::Vector4d* netsH) const;
   // Splits the points where a cell's own normal differs from the owner's by more than the
   // feature angle (the copies keep the coordinates); returns the number of copies.
   vtkIdType SplitSharpPoints(double featureAngle);
 };
 
-void Tessellation::Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk::Vec3* nets) const
+void Tessellation::Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk::Vec3* nets,
+  Eigen::Vector4d* H, Eigen::Vector4d* HR, Eigen::Vector4d* netsH) const
 {
   const int n = this->Cells.Degree[c];
   const double* wp = this->Cells.Net(c, P, w);
   ctk::RelativeNet(n, P, R); // for the normals' accuracy
-  this->Data.LoadNets(this->Cells, c, nets);
+  ctk::HomogeneousNet(n, P, wp, H);
+  ctk::HomogeneousNet(n, R, wp, HR);
+  this->Data.LoadNets(this->Cells, c, nets, wp, netsH);
   double* xyz = this->Coordinates->GetPointer(0);
   double* nrm = this->Normals->GetPointer(0);
-  const ctsplines::SnappedLattice& pattern = this->Patterns.Pattern(c);
-  for (int p = 0; p < static_cast<int>(pattern.Points.size()); ++p)
+  const ctk::BezierBasisTable& basis = this->Patterns.Basis(c);
+  for (int p = 0; p < basis.NumberOfPoints(); ++p)
   {
-    const ctk::Vec3& t = pattern.Points[p].T;
     bool owned = false;
     const vtkIdType id = this->Patterns.OutputId(c, p, owned);
     if (!owned)
     {
       continue; // each point is written by its owner only
     }
-    const ctk::Vec3 x = ctk::EvaluateBezierTriangle(n, P, wp, t, 0).Value;
+    const ctk::Vec3 x = basis.Value(H, p);
     std::copy_n(x.data(), 3, xyz + 3 * id);
-    const ctk::Vec3 normal = ctk::PatchNormal(n, R, wp, t);
+    const ctk::Vec3 normal = basis.Normal(HR, R, wp, p);
     std::copy_n(normal.data(), 3, nrm + 3 * id);
-    this->Data.Write(n, nets, wp, t, id);
+    this->Data.Write(basis, netsH, p, id);
   }
   this->Patterns.WriteTriangles(c, this->Offsets, this->Connectivity, this->Source);
 }
@@ -106,6 +109,7 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
   const vtkIdType minimumChunks = ctsplines::GrainForEvaluations / cellsPerChunk + 1;
   ctsplines::ParallelFor(0, nChunks, minimumChunks, [&](vtkIdType b, vtkIdType e) {
     ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
+    Eigen::Vector4d HR[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     for (vtkIdType chunk = b; chunk < e; ++chunk)
     {
@@ -114,8 +118,9 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
         const int n = this->Cells.Degree[c];
         const double* wp = this->Cells.Net(c, P, w);
         ctk::RelativeNet(n, P, R);
-        const ctsplines::SnappedLattice& pattern = this->Patterns.Pattern(c);
-        for (int p = 0; p < static_cast<int>(pattern.Points.size()); ++p)
+        ctk::HomogeneousNet(n, R, wp, HR);
+        const ctk::BezierBasisTable& basis = this->Patterns.Basis(c);
+        for (int p = 0; p < basis.NumberOfPoints(); ++p)
         {
           bool owned = true;
           const vtkIdType id = this->Patterns.OutputId(c, p, owned);
@@ -123,7 +128,7 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
           {
             continue;
           }
-          const ctk::Vec3 normal = ctk::PatchNormal(n, R, wp, pattern.Points[p].T);
+          const ctk::Vec3 normal = basis.Normal(HR, R, wp, p);
           if (!(normal.dot(ctk::Vec3(nrm + 3 * id)) >= cosine))
           {
             chunks[chunk].push_back({ id, c, -1, p, normal });
@@ -347,11 +352,14 @@ int vtkBezierTriangleTessellator::RequestData(
     connectivity->GetPointer(0), bezierCellId->GetPointer(0) };
   const auto tessellate = [&](vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
+    Eigen::Vector4d H[ctk::MaxBezierPoints], HR[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
-    std::vector<ctk::Vec3> nets(std::max(1, data.NumberOfNets()) * ctk::MaxBezierPoints);
+    const size_t netPoints = std::max(1, data.NumberOfNets()) * ctk::MaxBezierPoints;
+    std::vector<ctk::Vec3> nets(netPoints);
+    std::vector<Eigen::Vector4d> netsH(netPoints);
     for (vtkIdType c = begin; c < end; ++c)
     {
-      tessellation.Cell(c, P, R, w, nets.data());
+      tessellation.Cell(c, P, R, w, nets.data(), H, HR, netsH.data());
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.

@@ -57,7 +57,25 @@ struct MultinomialTable
 };
 constexpr MultinomialTable Multinomials;
 
-// All degree-m Bernstein polynomials at t, in canonical order (m may be 0).
+// Sum over degree-m multi-indices of B^m_i(t) H[i + shift], the shift adding d0 and d1 to the
+// first two exponents (the third follows from the degree n).
+Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d* H, int d0, int d1)
+{
+  Eigen::Vector4d s = Eigen::Vector4d::Zero();
+  int idx = 0;
+  for (int r = 0; r <= m; ++r)
+  {
+    const int i = m - r;
+    for (int k = 0; k <= r; ++k, ++idx)
+    {
+      const int j = r - k;
+      s += B[idx] * H[BezierIndex(n, i + d0, j + d1)];
+    }
+  }
+  return s;
+}
+} // namespace
+
 void Bernstein(int m, const Vec3& t, double* out)
 {
   double p0[MaxDegree + 1], p1[MaxDegree + 1], p2[MaxDegree + 1];
@@ -80,8 +98,7 @@ void Bernstein(int m, const Vec3& t, double* out)
   }
 }
 
-// Homogeneous control points (w P, w) of a possibly rational net.
-void Homogeneous(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
+void HomogeneousNet(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
 {
   const int count = BezierPointCount(n);
   for (int a = 0; a < count; ++a)
@@ -90,25 +107,6 @@ void Homogeneous(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
     H[a] << wa * P[a], wa;
   }
 }
-
-// Sum over degree-m multi-indices of B^m_i(t) H[i + shift], the shift adding d0 and d1 to the
-// first two exponents (the third follows from the degree n).
-Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d* H, int d0, int d1)
-{
-  Eigen::Vector4d s = Eigen::Vector4d::Zero();
-  int idx = 0;
-  for (int r = 0; r <= m; ++r)
-  {
-    const int i = m - r;
-    for (int k = 0; k <= r; ++k, ++idx)
-    {
-      const int j = r - k;
-      s += B[idx] * H[BezierIndex(n, i + d0, j + d1)];
-    }
-  }
-  return s;
-}
-} // namespace
 
 std::vector<std::array<int, 3>> BezierExponents(int n)
 {
@@ -167,7 +165,7 @@ BezierJet EvaluateBezierTriangle(int n, const Vec3* P, const double* weights, co
 {
   assert(n >= 0 && n <= MaxDegree);
   Eigen::Vector4d H[MaxBezierPoints];
-  Homogeneous(n, P, weights, H);
+  HomogeneousNet(n, P, weights, H);
   double B[MaxBezierPoints];
 
   BezierJet jet;
@@ -255,7 +253,7 @@ Vec3 Blossom(int n, const Vec3* P, const Vec3* args)
 Eigen::Vector4d RationalBlossom(int n, const Vec3* P, const double* weights, const Vec3* args)
 {
   Eigen::Vector4d H[MaxBezierPoints];
-  Homogeneous(n, P, weights, H);
+  HomogeneousNet(n, P, weights, H);
   return BlossomImpl(n, H, args);
 }
 

@@ -62,6 +62,12 @@ struct BezierJet
     Vec3::Zero() };
 };
 
+/// All degree-m Bernstein polynomials at barycentric t, in canonical order (m may be 0).
+void Bernstein(int m, const Vec3& t, double* out);
+
+/// Homogeneous control points (w P, w) of a degree-n net; weights nullptr for a polynomial net.
+void HomogeneousNet(int n, const Vec3* P, const double* weights, Eigen::Vector4d* H);
+
 /// Evaluates a degree-n net P (canonical order, n <= MaxDegree) at barycentric t.
 /// weights: nullptr for polynomial nets. order: 0 value only, 1 with DT, 2 with DT and DTT.
 /// Allocation-free.
