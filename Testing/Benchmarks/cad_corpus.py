@@ -185,11 +185,17 @@ def convert(model, python_path, timeout, work):
     if os.path.exists(summary_path):
         with open(summary_path, encoding="utf-8") as f:
             summary = json.load(f)
-    errors = [line for line in err.splitlines() if line.startswith("error:")]
+    lines = err.splitlines()
+    first = next((i for i, line in enumerate(lines) if line.startswith("error:")), None)
+    error = ""
+    if first is not None:  # the error line and its indented details
+        end = next((i for i in range(first + 1, len(lines)) if not lines[i].startswith(" ")),
+                   len(lines))
+        error = " | ".join(line.strip() for line in lines[first:end])
     stages = next((line for line in out.splitlines() if line.startswith("time [s]:")), "")
     return {"exit_status": code, "signal": -code if code is not None and code < 0 else 0,
             "timed_out": timed_out, "traceback": "Traceback (most recent call last)" in err,
-            "error_line": errors[0] if errors else "", "wall": wall, "summary": summary,
+            "error_line": error, "wall": wall, "summary": summary,
             "stages": stages[len("time [s]: "):], "stderr_tail": err.strip()[-300:]}
 
 
@@ -381,10 +387,18 @@ def read_table(path):
         return [dict(zip(header, line.rstrip("\n").split("\t"))) for line in f if line.strip()]
 
 
+# Aggregates of the table: the geometric guarantees of point 2 (all but the normal deviation),
+# point 2 and 4 whole (all but time), and every criterion.
+AGGREGATES = (("geometry", CRITERION_NAMES[:-2]), ("guarantees", CRITERION_NAMES[:-1]),
+              ("overall", CRITERION_NAMES))
+
+
 def pass_rates(rows):
-    """Criterion -> (closed passed, closed judged, all passed, all judged)."""
+    """Criterion or aggregate -> (closed passed, closed judged, all passed, all judged)."""
+    rows = [dict(r, **{name: "pass" if all(r.get(c) == "pass" for c in names) else "fail"
+                       for name, names in AGGREGATES}) for r in rows]
     rates = {}
-    for name in CRITERION_NAMES + ("overall",):
+    for name in CRITERION_NAMES + tuple(name for name, _ in AGGREGATES):
         cells = [(r["closed"] == "yes", r[name]) for r in rows if r.get(name) in ("pass", "fail")]
         rates[name] = (sum(c and v == "pass" for c, v in cells), sum(c for c, _ in cells),
                        sum(v == "pass" for _, v in cells), len(cells))
@@ -406,21 +420,55 @@ def compare(old_path, new_path):
     old, new = pass_rates(read_table(old_path)), pass_rates(read_table(new_path))
     print(f"{'criterion':<18} {'closed before':>16} {'closed after':>16} {'all before':>16} "
           f"{'all after':>16}")
-    for name in CRITERION_NAMES + ("overall",):
+    for name in old:
         o, n = old.get(name, (0, 0, 0, 0)), new.get(name, (0, 0, 0, 0))
         print(f"{name:<18} {_percent(o[0], o[1]):>16} {_percent(n[0], n[1]):>16} "
               f"{_percent(o[2], o[3]):>16} {_percent(n[2], n[3]):>16}")
 
 
 def print_slowest(rows, count=5):
-    print(f"\nslowest {count} (CLI wall time; stages in seconds):")
+    print(f"\nslowest {count} (CLI wall time; stages in seconds; other: Python, VTK's import, "
+          "writing):")
     for r in sorted(rows, key=lambda r: -float(r["wall"] or 0))[:count]:
+        total = re.search(r"total (\S+)", r["stages"])
+        other = f"; other {float(r['wall']) - float(total.group(1)):.3f}" if total else ""
         print(f"  {float(r['wall']):8.2f} s  {r['faces']:>5} faces  {r['model']}\n"
-              f"            {r['stages'] or r['error']}")
+              f"            {(r['stages'] + other) or r['error']}")
+
+
+def write_failures(rows, path):
+    """Markdown: per failing criterion, the models (path, faces, figure), worst first where
+    the figure is a number."""
+    def figure(r, name):
+        return dict(f.split(": ", 1) for f in r["figures"].split("; ") if ": " in f).get(name, "")
+
+    def size(text):
+        numbers = re.findall(r"[-+]?\d+\.?\d*(?:e[-+]?\d+)?", text)
+        return -float(numbers[0]) if numbers else 0.0
+
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(f"# CAD corpus failures ({len(rows)} models; cad_corpus.py)\n\n")
+        errors = [r for r in rows if r["exit"] != "0"]
+        f.write(f"## did not convert ({len(errors)}; their other criteria fail as not "
+                "converted and are not listed below)\n\n")
+        for r in errors:
+            f.write(f"- `{r['model']}` ({r['faces']} faces, closed {r['closed']}): exit "
+                    f"{r['exit']}: {r['error'] or figure(r, 'converts')}\n")
+        f.write("\n")
+        for name, text in CRITERIA:
+            failed = sorted((r for r in rows if r.get(name) == "fail" and
+                             (r["exit"] == "0" or name == "converts")),
+                            key=lambda r: (r["closed"] != "yes", size(figure(r, name))))
+            f.write(f"## {name}: {text} ({len(failed)} fail)\n\n")
+            for r in failed:
+                f.write(f"- `{r['model']}` ({r['faces']} faces, closed {r['closed']}): "
+                        f"{figure(r, name)}\n")
+            f.write("\n")
 
 
 def model_line(i, total, r, results):
-    failed = ", ".join(results[n][1] for n in CRITERION_NAMES if results[n][0] is False)
+    failed = ", ".join(f"{n}: {results[n][1]}" for n in CRITERION_NAMES
+                       if results[n][0] is False)
     return (f"[{i}/{total}] {r['overall'].upper()} {r['model']} ({r['set']}, {r['faces']} faces, "
             f"closed {r['closed']}, wall {r['wall']} s, read {r['read_time'] or '?'} s)"
             + (f": {failed}" if failed else ""))
@@ -464,21 +512,28 @@ def read_cases(path):
     """name -> {package, member, criteria, xfail, skip}: the lines `NAME PACKAGE MEMBER
     CRITERIA XFAIL` of the cases file (# comments; CRITERIA: all, guarantees (all but time) or
     a comma list; XFAIL: -, skip or the comma list of criteria expected to fail for now)."""
-    cases = {}
+    entries = []
     with open(path, encoding="utf-8") as f:
         for line in f:
             fields = line.split("#", 1)[0].split()
-            if not fields:
-                continue
-            name, package, member, criteria, xfail = fields
-            names = {"all": CRITERION_NAMES, "guarantees": CRITERION_NAMES[:-1]}.get(
-                criteria, tuple(criteria.split(",")))
-            expected = () if xfail in ("-", "skip") else tuple(xfail.split(","))
-            unknown = set(names + expected) - set(CRITERION_NAMES)
-            if unknown:
-                raise ValueError(f"{path}: {name}: unknown criteria {', '.join(sorted(unknown))}")
-            cases[name] = {"package": package, "member": member, "criteria": names,
-                           "xfail": expected, "skip": xfail == "skip"}
+            if fields and line[0].isspace() and entries:  # a continuation line
+                entries[-1] += fields
+            elif fields:
+                entries.append(fields)
+    cases = {}
+    for fields in entries:
+        if len(fields) != 5:
+            raise ValueError(f"{path}: {' '.join(fields)}: not NAME PACKAGE MEMBER CRITERIA "
+                             "XFAIL")
+        name, package, member, criteria, xfail = fields
+        names = {"all": CRITERION_NAMES, "guarantees": CRITERION_NAMES[:-1]}.get(
+            criteria, tuple(criteria.split(",")))
+        expected = () if xfail in ("-", "skip") else tuple(xfail.split(","))
+        unknown = set(names + expected) - set(CRITERION_NAMES)
+        if unknown:
+            raise ValueError(f"{path}: {name}: unknown criteria {', '.join(sorted(unknown))}")
+        cases[name] = {"package": package, "member": member, "criteria": names,
+                       "xfail": expected, "skip": xfail == "skip"}
     return cases
 
 
@@ -578,6 +633,10 @@ def parse_args(argv):
                    help="keep the models already in --out and run the others")
     p.add_argument("--models", nargs="+", metavar="MODEL", help="run these files only")
     p.add_argument("--list", action="store_true", help="print the sample and exit")
+    p.add_argument("--table", metavar="TSV",
+                   help="summarise a results TSV (pass rates, slowest) instead of running")
+    p.add_argument("--failures", metavar="MD",
+                   help="write the failing models per criterion as Markdown")
     p.add_argument("--compare", nargs=2, metavar=("OLD", "NEW"),
                    help="print the pass rates of two result TSVs side by side and exit")
     p.add_argument("--cases", default=os.path.join(here, "cad_corpus_cases.txt"),
@@ -599,15 +658,23 @@ def main(argv=None):
         for model, kind in corpus(args.cache, args.sample, args.seed):
             print(f"{kind}\t{model}")
         return 0
-    find_build_files(args)
+    if not args.table:
+        find_build_files(args)
     if args.case:
         return run_case(args.case, read_cases(args.cases), args)
-    models = ([(os.path.abspath(m), "given") for m in args.models] if args.models
-              else corpus(args.cache, args.sample, args.seed))
-    rows = run_corpus(models, args)
+    if args.table:
+        rows = read_table(args.table)
+    else:
+        models = ([(os.path.abspath(m), "given") for m in args.models] if args.models
+                  else corpus(args.cache, args.sample, args.seed))
+        rows = run_corpus(models, args)
+    if args.failures:
+        write_failures(rows, args.failures)
     print_rates(rows, "pass rates (criterion judged on the models where it applies)")
     for name, text in CRITERIA:
         print(f"  {name}: {text}")
+    for name, names in AGGREGATES:
+        print(f"  {name}: {', '.join(names)}")
     print_slowest(rows)
     return 0
 
