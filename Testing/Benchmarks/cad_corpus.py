@@ -375,7 +375,7 @@ def row(model, kind, facts, run, results):
          "wall": f"{run['wall']:.3f}", "overall": "pass" if overall(results) else "fail",
          "figures": "; ".join(f"{n}: {results[n][1]}" for n in CRITERION_NAMES),
          "stages": run.get("stages", ""),
-         "error": (run.get("error_line") or facts.get("error") or "")[:300]}
+         "error": (run.get("error_line") or facts.get("error") or "")[:800]}
     for name in CRITERION_NAMES:
         r[name] = {True: "pass", False: "fail", None: "n/a"}[results[name][0]]
     return {k: str(v).replace("\t", " ").replace("\n", " ") for k, v in r.items()}
@@ -443,7 +443,7 @@ def write_failures(rows, path):
         return dict(f.split(": ", 1) for f in r["figures"].split("; ") if ": " in f).get(name, "")
 
     def size(text):
-        numbers = re.findall(r"[-+]?\d+\.?\d*(?:e[-+]?\d+)?", text)
+        numbers = re.findall(r"(?:^|\s)([-+]?\d+\.?\d*(?:e[-+]?\d+)?)", text)
         return -float(numbers[0]) if numbers else 0.0
 
     with open(path, "w", encoding="utf-8") as f:
@@ -460,9 +460,12 @@ def write_failures(rows, path):
                              (r["exit"] == "0" or name == "converts")),
                             key=lambda r: (r["closed"] != "yes", size(figure(r, name))))
             f.write(f"## {name}: {text} ({len(failed)} fail)\n\n")
-            for r in failed:
+            shown = failed if len(failed) <= 50 else failed[:20]  # a criterion failing everywhere
+            for r in shown:
                 f.write(f"- `{r['model']}` ({r['faces']} faces, closed {r['closed']}): "
                         f"{figure(r, name)}\n")
+            if len(shown) < len(failed):
+                f.write(f"- and {len(failed) - len(shown)} more (the results table)\n")
             f.write("\n")
 
 
