@@ -242,9 +242,13 @@ def _write_cad_summary(args, options, result, warnings, error=None):
         summary["error"] = f"uncaught {type(error).__name__}: {error}"
     for key, value in (result or {}).items():
         summary[key] = _json_value(value)
-    with open(args.summary_json, "w", encoding="utf-8") as f:
-        json.dump(summary, f, indent=1)
-        f.write("\n")
+    try:
+        with open(args.summary_json, "w", encoding="utf-8") as f:
+            json.dump(summary, f, indent=1)
+            f.write("\n")
+    except OSError as e:  # the conversion's own outcome (and exit code) stays what it was
+        print(f"warning: cannot write the summary {args.summary_json}: {e.strerror}",
+              file=sys.stderr)
 
 
 def _convert_cad(args):
