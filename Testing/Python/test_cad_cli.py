@@ -3,6 +3,7 @@
 command line, on the box with a hole that CAD.WriteTestModel writes and on component8.step when
 CAD.FetchModels could fetch it (both into $CTSPLINES_CAD_MODELS). Skipped without CTSplines::IOCAD
 or without the models."""
+import json
 import os
 import re
 import shutil
@@ -180,6 +181,36 @@ class CADCommandLineTest(CommandLineCase):
         p = self.cli("convert", changed, "-o", self.path("o.vtm"), code=3)
         self.assertIn("OpenCASCADE's translation crashed", p.stderr)
         self.assertIn("self_reference.step", p.stderr)
+
+    def test_summary_json(self):
+        summary = self.path("s.json")
+        text = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--tolerance", "1e-3",
+                        "--summary-json", summary).stdout
+        with open(summary) as f:
+            s = json.load(f)  # strict JSON: unreported figures are null, never NaN
+        self.assertEqual((s["exit_status"], s["error"], s["model"]), (0, None, self.box()))
+        self.assertEqual(s["options"]["tolerance"], 1e-3)
+        self.assertIn(f"({s['faces']} faces, {s['brep_edges']} B-rep edges", text)
+        self.assertEqual((s["free_edges"], s["non_manifold_edges"], s["c0_gap"]), (0, 0, 0.0))
+        self.assertLessEqual(s["max_deviation"], 1e-3)
+        self.assertEqual([name for name, _ in s["stages"]][:2], ["read", "edges"])
+        self.assertIn("g1_angle_tangent", s)
+        # A failure writes the error the CLI prints and its exit status.
+        garbage = self.path("garbage.step")
+        with open(garbage, "w") as f:
+            f.write("this is not ISO-10303-21\n")
+        p = self.cli("convert", garbage, "-o", self.path("o.vtm"), "--summary-json", summary,
+                     code=3)
+        with open(summary) as f:
+            s = json.load(f)
+        self.assertEqual(s["exit_status"], 3)
+        self.assertIn("cannot read", s["error"])
+        self.assertIn(f"error: {s['error']}", p.stderr)
+        self.assertNotIn("faces", s)
+        mesh = self.path("mesh.vtp")
+        self.cli("sample", mesh)
+        p = self.cli("convert", mesh, self.path("m.vtu"), "--summary-json", summary, code=2)
+        self.assertIn("--summary-json applies to CAD models", p.stderr)
 
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout

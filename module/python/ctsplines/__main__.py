@@ -220,6 +220,37 @@ def _cad_usage(args):
             args._parser.error(f"{option} applies to meshes, not to CAD models")
 
 
+def _json_value(value):
+    """NaN (a figure the filters did not report) as null, tuples as lists: strict JSON."""
+    if isinstance(value, float) and value != value:
+        return None
+    if isinstance(value, (list, tuple)):
+        return [_json_value(v) for v in value]
+    return value
+
+
+def _write_cad_summary(args, options, result, warnings, error=None):
+    """--summary-json: every figure of the conversion (cad.convert's dict), the options, the
+    warnings and the exit status; on error the message the CLI prints after `error:`."""
+    import json
+
+    summary = {"model": args.input, "options": options,
+               "warnings": list(dict.fromkeys(warnings)),
+               "exit_status": 0 if error is None else _error_status(error),
+               "error": None if error is None else str(error)}
+    if error is not None and not isinstance(error, _expected_errors()):
+        summary["error"] = f"uncaught {type(error).__name__}: {error}"
+    for key, value in (result or {}).items():
+        summary[key] = _json_value(value)
+    try:
+        with open(args.summary_json, "w", encoding="utf-8") as f:
+            json.dump(summary, f, indent=1)
+            f.write("\n")
+    except OSError as e:  # the conversion's own outcome (and exit code) stays what it was
+        print(f"warning: cannot write the summary {args.summary_json}: {e.strerror}",
+              file=sys.stderr)
+
+
 def _convert_cad(args):
     from . import cad
     from .io import Progress, VTKMessages
@@ -240,9 +271,16 @@ def _convert_cad(args):
     }
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
-        r = cad.convert(args.input, output, options, messages, progress)
+        try:
+            r = cad.convert(args.input, output, options, messages, progress)
+        except BaseException as e:
+            if args.summary_json and not isinstance(e, KeyboardInterrupt):
+                _write_cad_summary(args, options, None, messages.warnings, e)
+            raise
         for w in dict.fromkeys(messages.warnings):
             print(f"warning: {w}", file=sys.stderr)
+    if args.summary_json:
+        _write_cad_summary(args, options, r, messages.warnings)
     d = r["diagonal"]
     print(f"model: {args.input} ({r['faces']} faces, {r['brep_edges']} B-rep edges, "
           f"{r['triangles']} triangles; tolerance {options['tolerance']:g} of the diagonal "
@@ -282,7 +320,8 @@ def _convert(args):
         args._parser.error("the output spline is required for a mesh (OUTPUT or -o)")
     for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio),
                           ("--max-edge-length", args.max_edge_length),
-                          ("--g1", args.g1 or None), ("--g1-threshold", args.g1_threshold)):
+                          ("--g1", args.g1 or None), ("--g1-threshold", args.g1_threshold),
+                          ("--summary-json", args.summary_json)):
         if value is not None:
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
@@ -569,6 +608,10 @@ def build_parser():
                      "abandoned after this time (a malformed file on which it loops or crashes is "
                      "then an error, exit code 3); 0 translates in this process without a limit "
                      "(default %(default)g)")
+    cad.add_argument("--summary-json", metavar="PATH",
+                     help="also write the summary as JSON: every figure printed and more (keys "
+                     "of the conversion's result), the options, the warnings, exit_status and, "
+                     "on failure, error (the message printed after `error:`)")
     convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
                          help="auto: use the file's derivative arrays, estimate them when "
                          "missing; file: only the file's (missing ones are an error); "
@@ -641,18 +684,27 @@ def build_parser():
     return parser
 
 
-def main(argv=None):
+def _expected_errors():
     from .io import FilterError, InputError
 
+    return (InputError, FilterError)
+
+
+def _error_status(e):
+    """The exit code of an error: EXIT_FILE for a file, EXIT_INVALID for the input (1 also for
+    an uncaught exception, as Python exits with a traceback)."""
+    from .io import InputError
+
+    return EXIT_FILE if isinstance(e, InputError) else EXIT_INVALID
+
+
+def main(argv=None):
     args = build_parser().parse_args(argv)
     try:
         return args.func(args)
-    except InputError as e:
+    except _expected_errors() as e:
         print(f"error: {e}", file=sys.stderr)
-        return EXIT_FILE
-    except FilterError as e:
-        print(f"error: {e}", file=sys.stderr)
-        return EXIT_INVALID
+        return _error_status(e)
     except KeyboardInterrupt:
         return 130
 
