@@ -543,13 +543,22 @@ bool HasFreeEdges(const TopoDS_Shape& shape)
 
 /// The sewing makes degenerated edges of the edges it collapses (shorter than the tolerance, or
 /// the ends of a removed sliver), on faces that have no pole there: those edges are dropped from
-/// their wires (the loops join the pcurve ends on either side, within the tolerance). Faces
-/// rebuilt so are recorded in `rebuilt` (sewn face -> its replacement).
-TopoDS_Shape DropCollapsedEdges(const TopoDS_Shape& sewn, const TopTools_IndexedMapOfShape& edgesBefore,
-  TopTools_DataMapOfShapeShape& rebuilt)
+/// their wires (the loops join the pcurve ends on either side, within the tolerance). The
+/// sewing rebuilds the faces' own pole edges too: a degenerated edge is a pole when its sewn
+/// face's original had a degenerated edge within `tol` (`poles`: per sewn face, those points).
+/// Faces rebuilt are recorded in `rebuilt` (sewn face -> its replacement).
+TopoDS_Shape DropCollapsedEdges(const TopoDS_Shape& sewn, const TopTools_IndexedMapOfShape& sewnFaces,
+  const std::vector<std::vector<gp_Pnt>>& poles, double tol, TopTools_DataMapOfShapeShape& rebuilt)
 {
+  const std::vector<gp_Pnt> none;
+  const std::vector<gp_Pnt>* facePoles = &none;
   auto collapsed = [&](const TopoDS_Shape& E) {
-    return BRep_Tool::Degenerated(TopoDS::Edge(E)) && !edgesBefore.Contains(E);
+    if (!BRep_Tool::Degenerated(TopoDS::Edge(E)))
+    {
+      return false;
+    }
+    const gp_Pnt p = BRep_Tool::Pnt(TopExp::FirstVertex(TopoDS::Edge(E)));
+    return std::none_of(facePoles->begin(), facePoles->end(), [&](const gp_Pnt& q) { return p.Distance(q) <= tol; });
   };
   BRep_Builder builder;
   TopoDS_Compound faces;
@@ -557,6 +566,8 @@ TopoDS_Shape DropCollapsedEdges(const TopoDS_Shape& sewn, const TopTools_Indexed
   for (TopExp_Explorer fx(sewn, TopAbs_FACE); fx.More(); fx.Next())
   {
     const TopoDS_Shape& F = fx.Current();
+    const int k = sewnFaces.FindIndex(F);
+    facePoles = k > 0 ? &poles[k - 1] : &none;
     bool drop = false;
     for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More() && !drop; ex.Next())
     {
@@ -618,13 +629,32 @@ void SewFaces(ShapeRead& r, double tol, int shortEdges)
   {
     return; // nothing sewn: the faces stay exactly as they were
   }
-  TopTools_IndexedMapOfShape edgesBefore;
-  TopExp::MapShapes(r.Shape, TopAbs_EDGE, edgesBefore);
+  auto sewnImage = [&](const TopoDS_Shape& f) {
+    return sewing.IsModifiedSubShape(f) ? sewing.ModifiedSubShape(f) : f;
+  };
+  TopTools_IndexedMapOfShape sewnFaces;
+  std::vector<std::vector<gp_Pnt>> poles;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Shape image = sewnImage(faceMap(i));
+    for (TopExp_Explorer fx(image, TopAbs_FACE); !image.IsNull() && fx.More(); fx.Next())
+    {
+      const int k = sewnFaces.Add(fx.Current());
+      poles.resize(std::max<std::size_t>(poles.size(), k));
+      for (TopExp_Explorer ex(faceMap(i), TopAbs_EDGE); ex.More(); ex.Next())
+      {
+        if (BRep_Tool::Degenerated(TopoDS::Edge(ex.Current())))
+        {
+          poles[k - 1].push_back(BRep_Tool::Pnt(TopExp::FirstVertex(TopoDS::Edge(ex.Current()))));
+        }
+      }
+    }
+  }
   TopTools_DataMapOfShapeShape rebuilt;
-  const TopoDS_Shape cleaned = DropCollapsedEdges(sewn, edgesBefore, rebuilt);
+  const TopoDS_Shape cleaned = DropCollapsedEdges(sewn, sewnFaces, poles, tol, rebuilt);
   const std::vector<std::string> names = r.FaceNames;
   KeepFaceOrder(r, faceMap, cleaned, [&](const TopoDS_Shape& f) {
-    const TopoDS_Shape s = sewing.IsModifiedSubShape(f) ? sewing.ModifiedSubShape(f) : f;
+    const TopoDS_Shape s = sewnImage(f);
     return !s.IsNull() && rebuilt.IsBound(s) ? rebuilt(s) : s;
   });
   for (int i = 0; i < sewing.NbDeletedFaces(); ++i)
