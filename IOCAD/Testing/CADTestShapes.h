@@ -5,7 +5,9 @@
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepTools.hxx>
@@ -13,6 +15,9 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Pln.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
@@ -112,6 +117,25 @@ inline TopoDS_Shape SteppedPrism(double step)
   outline.Close();
   const TopoDS_Face base = BRepBuilderAPI_MakeFace(outline.Wire(), Standard_True).Face();
   return BRepPrimAPI_MakePrism(base, gp_Vec(0, 0, 0.5)).Shape();
+}
+/// A box with a zero-area face beside it, as exporters leave them: a planar face bounded by
+/// three collinear edges (on the line from (0, 0, 2) to (1, 0, 2)).
+inline TopoDS_Shape BoxWithZeroAreaFace()
+{
+  BRep_Builder builder;
+  TopoDS_Compound shapes;
+  builder.MakeCompound(shapes);
+  builder.Add(shapes, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 1.0, 1.0, 1.0).Shape());
+  const TopoDS_Vertex a = BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, 2));
+  const TopoDS_Vertex b = BRepBuilderAPI_MakeVertex(gp_Pnt(0.4, 0, 2));
+  const TopoDS_Vertex c = BRepBuilderAPI_MakeVertex(gp_Pnt(1, 0, 2));
+  TopoDS_Wire wire;
+  builder.MakeWire(wire);
+  builder.Add(wire, BRepBuilderAPI_MakeEdge(a, b).Edge());
+  builder.Add(wire, BRepBuilderAPI_MakeEdge(b, c).Edge());
+  builder.Add(wire, BRepBuilderAPI_MakeEdge(c, a).Edge());
+  builder.Add(shapes, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp::DZ()), wire, Standard_True).Face());
+  return shapes;
 }
 } // namespace ctsplines_test
 

@@ -893,3 +893,22 @@ TEST(CADHealing, SliverFaceIsRemoved)
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
   EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
 }
+
+/// A zero-area face (three collinear edges) beside a box: it used to end the conversion
+/// ("empty parameter domain"); it is removed with a warning naming it and the box converts.
+TEST(CADHealing, ZeroAreaFaceIsRemoved)
+{
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("zero_area_face", ctsplines_test::BoxWithZeroAreaFace()), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  EXPECT_NE(warnings.Text.find("1 sliver face(s)"), std::string::npos) << warnings.Text;
+  EXPECT_NE(warnings.Text.find("face 6 0 wide"), std::string::npos) << warnings.Text;
+  EXPECT_EQ(c.Faces->GetNumberOfBlocks(), 6u);
+  EXPECT_EQ(Field(c.Faces->GetFieldData(), "NumberOfRemovedFaces"), 1);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}
