@@ -212,7 +212,7 @@ int CADModel::NumberOfVertices() const
   return this->Internal->VertexMap.Extent();
 }
 
-bool CADModel::Read(const std::string& fileName, double timeoutSeconds)
+bool CADModel::Read(const std::string& fileName, double timeoutSeconds, const HealingOptions& healing)
 {
   const auto start = Clock::now();
   // In the reading child: the sampling at a coarse tolerance, which makes every kind of OCCT
@@ -232,7 +232,7 @@ bool CADModel::Read(const std::string& fileName, double timeoutSeconds)
     return true;
   };
   ShapeRead r;
-  if (!ReadCADFile(fileName, timeoutSeconds, probe, r, this->ErrorMessage) ||
+  if (!ReadCADFile(fileName, timeoutSeconds, healing, probe, r, this->ErrorMessage) ||
     !Stages::Install(*this, r, fileName))
   {
     return false;
@@ -247,7 +247,7 @@ bool CADModel::Stages::Install(CADModel& m, const ShapeRead& r, const std::strin
   Impl& d = *m.Internal;
   d = Impl();
   d.Shape = r.Shape;
-  m.SeamsAdded = r.SeamsAdded;
+  m.Healed = r.Healing;
   m.WarningMessages = r.Warnings;
   const bool ok = Guard(m, [&] { return "cannot read " + fileName + ": mapping its faces, edges and vertices"; },
     [&] {

@@ -79,6 +79,28 @@ struct SamplingOptions
 /// Seconds a file's translation and healing by OpenCASCADE may take (CADModel::Read).
 constexpr double DefaultReadTimeout = 120;
 
+/// The healing of CADModel::Read (CADFileReading.h), at the conversion's tolerance: faces
+/// thinner than it are removed and edges shorter than it collapsed into a vertex (with a
+/// warning naming them), then, with Sew, faces whose free edges lie within it of each other are
+/// sewn (BRepBuilderAPI_Sewing). A model without free edges, slivers or short edges is left
+/// exactly as read.
+struct HealingOptions
+{
+  bool Sew = true;
+  double Tolerance = 1e-4; // relative to the bounding-box diagonal
+};
+
+/// What the healing of CADModel::Read changed.
+struct HealingReport
+{
+  int SeamsAdded = 0;      // faces given their missing seam edge (ShapeFix_Face::FixMissingSeam)
+  int SewnEdges = 0;       // pairs of free edges sewn into one edge
+  int RemovedFaces = 0;    // sliver faces removed (thinner than the tolerance)
+  int CollapsedEdges = 0;  // edges shorter than the tolerance collapsed into a vertex
+  double SewingTolerance = 0; // absolute; 0 when the sewing did not run
+  double SewingSeconds = 0;
+};
+
 /// Runs `body`, which calls into OpenCASCADE, with OCCT's signal handling (OSD::SetSignal, once
 /// per process, for the signals nothing else handles; OCC_CATCH_SIGNALS here): a segmentation
 /// fault or another signal inside OCCT becomes its Standard_Failure. Returns false with
@@ -113,7 +135,9 @@ public:
   /// time: a file on which OpenCASCADE loops or crashes is an error, never a hang or a crash
   /// of this process; the shape comes back through a pipe (BinTools), with the same faces in
   /// the same order and the same names. 0 translates in this process without a time limit.
-  bool Read(const std::string& fileName, double timeoutSeconds = DefaultReadTimeout);
+  /// `healing`: see HealingOptions (Healing() reports what it did, warnings name the faces).
+  bool Read(const std::string& fileName, double timeoutSeconds = DefaultReadTimeout,
+    const HealingOptions& healing = HealingOptions());
   /// Samples edges and builds every face's loops (absolute tolerance = relative x diagonal).
   bool Sample(const SamplingOptions& options);
 
@@ -140,7 +164,9 @@ public:
   double MaxEdgeGap() const { return this->EdgeGap; }
   Id NumberOfEdgeSamples() const { return this->EdgeSamples; }
   /// Faces on closed surfaces that were given their missing seam edge when read.
-  int NumberOfSeamsAdded() const { return this->SeamsAdded; }
+  int NumberOfSeamsAdded() const { return this->Healed.SeamsAdded; }
+  /// What the healing on reading changed (seams, sewing, slivers, short edges).
+  const HealingReport& Healing() const { return this->Healed; }
   const StageTimes& Times() const { return this->Time; }
   const BoundaryChanges& Changes() const { return this->Changed; }
   const std::string& Error() const { return this->ErrorMessage; }
@@ -157,7 +183,7 @@ private:
   double Box[6] = { 0, 0, 0, 0, 0, 0 };
   double VertexGap = 0, EdgeGap = 0;
   Id EdgeSamples = 0;
-  int SeamsAdded = 0;
+  HealingReport Healed;
   StageTimes Time;
   BoundaryChanges Changed;
   std::string ErrorMessage;

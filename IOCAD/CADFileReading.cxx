@@ -6,10 +6,14 @@
 #include "CADBRepSampling.h"
 
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepGProp.hxx>
+#include <BRep_Builder.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Tool.hxx>
 #include <BinTools.hxx>
 #include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Check.hxx>
@@ -26,8 +30,12 @@
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <TopTools_DataMapOfShapeShape.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <Transfer_TransientProcess.hxx>
@@ -299,6 +307,44 @@ bool CheckFileNumbers(const std::string& fileName, std::string& error)
 
 namespace
 {
+/// Rebuilds r.Shape from `healed` as a compound of its faces in the file's order: the faces
+/// that replaced original face i (`image` of it, explored for faces; null when it was removed)
+/// take its place and its name; faces of `healed` that replace none come last, unnamed. Faces
+/// keep their orientation in `healed`; the sampling needs faces and their shared edges only.
+void KeepFaceOrder(ShapeRead& r, const TopTools_IndexedMapOfShape& original, const TopoDS_Shape& healed,
+  const std::function<TopoDS_Shape(const TopoDS_Shape&)>& image)
+{
+  TopTools_IndexedMapOfShape healedMap;
+  TopExp::MapShapes(healed, TopAbs_FACE, healedMap);
+  std::vector<char> used(healedMap.Extent(), 0);
+  std::vector<std::string> names;
+  BRep_Builder builder;
+  TopoDS_Compound faces;
+  builder.MakeCompound(faces);
+  auto take = [&](int j, const std::string& name) {
+    if (j > 0 && !used[j - 1])
+    {
+      used[j - 1] = 1;
+      builder.Add(faces, healedMap(j));
+      names.push_back(name);
+    }
+  };
+  for (int i = 1; i <= original.Extent(); ++i)
+  {
+    const TopoDS_Shape replacement = image(original(i));
+    for (TopExp_Explorer fx(replacement, TopAbs_FACE); !replacement.IsNull() && fx.More(); fx.Next())
+    {
+      take(healedMap.FindIndex(fx.Current()), r.FaceNames[i - 1]);
+    }
+  }
+  for (int j = 1; j <= healedMap.Extent(); ++j)
+  {
+    take(j, std::string());
+  }
+  r.Shape = faces;
+  r.FaceNames = names;
+}
+
 /// Faces on closed surfaces bounded by closed wires but without a seam edge (e.g. a cylinder's
 /// lateral face between two circles) have pcurves that are open curves in the parameter plane:
 /// ShapeFix_Face::FixMissingSeam joins the wires by a seam edge. OCCT's readers do so in their
@@ -338,7 +384,7 @@ bool FixMissingSeams(ShapeRead& r, const std::string& prefix, std::string& error
           {
             context->Replace(F, fix->Face());
           }
-          ++r.SeamsAdded;
+          ++r.Healing.SeamsAdded;
         }
       },
       failure);
@@ -349,28 +395,14 @@ bool FixMissingSeams(ShapeRead& r, const std::string& prefix, std::string& error
       return false;
     }
   }
-  if (r.SeamsAdded == 0)
+  if (r.Healing.SeamsAdded == 0)
   {
     return true;
   }
-  std::vector<std::string> names;
   const bool ok = RunGuarded(
     [&] {
-      r.Shape = context->Apply(r.Shape);
-      TopTools_IndexedMapOfShape newMap;
-      TopExp::MapShapes(r.Shape, TopAbs_FACE, newMap);
-      names.assign(newMap.Extent(), std::string());
-      for (int i = 1; i <= faceMap.Extent(); ++i)
-      {
-        for (TopExp_Explorer fx(context->Value(faceMap(i)), TopAbs_FACE); fx.More(); fx.Next())
-        {
-          const int j = newMap.FindIndex(fx.Current());
-          if (j > 0)
-          {
-            names[j - 1] = r.FaceNames[i - 1];
-          }
-        }
-      }
+      const TopoDS_Shape healed = context->Apply(r.Shape);
+      KeepFaceOrder(r, faceMap, healed, [&](const TopoDS_Shape& f) { return context->Value(f); });
     },
     failure);
   if (!ok)
@@ -378,8 +410,293 @@ bool FixMissingSeams(ShapeRead& r, const std::string& prefix, std::string& error
     error = prefix + "healing: applying the missing seams (ShapeBuild_ReShape::Apply): " + failure;
     return false;
   }
-  r.FaceNames = names;
   return true;
+}
+
+/// "an edge of face 3 (NAME) and face 5" for edge E (faceMap and edgeFaces of the shape).
+std::string EdgeOfFaces(const TopoDS_Shape& E, const TopTools_IndexedMapOfShape& faceMap,
+  const TopTools_IndexedDataMapOfShapeListOfShape& edgeFaces, const std::vector<std::string>& names)
+{
+  std::string faces;
+  const int k = edgeFaces.FindIndex(E);
+  if (k > 0)
+  {
+    for (const TopoDS_Shape& F : edgeFaces(k))
+    {
+      const int i = faceMap.FindIndex(F);
+      faces += (faces.empty() ? "" : " and ") + (i > 0 ? FaceLabel(i - 1, names[i - 1]) : std::string("a face"));
+    }
+  }
+  return faces.empty() ? std::string("a free edge") : "an edge of " + faces;
+}
+
+/// Width of a face as 2 area / perimeter (a strip of width w: w; a disc of radius r: r).
+double FaceWidth(const TopoDS_Shape& F)
+{
+  GProp_GProps area, perimeter;
+  BRepGProp::SurfaceProperties(F, area);
+  BRepGProp::LinearProperties(F, perimeter);
+  // A face without edges (natural bounds) is no sliver.
+  return perimeter.Mass() > 0 ? 2 * std::abs(area.Mass()) / perimeter.Mass() : HUGE_VAL;
+}
+
+/// One warning for many shapes of one kind: the count, the first few named, then "...".
+class NamedList
+{
+public:
+  void Add(const std::string& item)
+  {
+    if (++this->Count <= 4)
+    {
+      this->Items += (this->Items.empty() ? "" : "; ") + item;
+    }
+  }
+  int Size() const { return this->Count; }
+  std::string Text() const { return this->Items + (this->Count > 4 ? "; ..." : ""); }
+
+private:
+  int Count = 0;
+  std::string Items;
+};
+
+std::string Number(double v)
+{
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+/// Sliver faces (thinner than `tol`: zero-area faces, strips, faces smaller than it in every
+/// direction) cannot be meshed, or only into needles, and lie within the tolerance of their
+/// neighbours: they are removed (a warning names them), and the sewing that follows joins the
+/// neighbours across them. Returns the number of edges shorter than `tol` that are left (the
+/// sewing collapses them), named in a warning.
+int RemoveSlivers(ShapeRead& r, double tol, bool sew)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  const Handle(ShapeBuild_ReShape) context = new ShapeBuild_ReShape;
+  NamedList slivers;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const double width = FaceWidth(faceMap(i));
+    if (width < tol && faceMap.Extent() - slivers.Size() > 1)
+    {
+      context->Remove(faceMap(i));
+      slivers.Add(FaceLabel(i - 1, r.FaceNames[i - 1]) + " " + Number(width) + " wide");
+    }
+  }
+  if (slivers.Size() > 0)
+  {
+    r.Healing.RemovedFaces = slivers.Size();
+    r.Warnings.push_back(std::to_string(slivers.Size()) + " sliver face(s) thinner than the tolerance " +
+      Number(tol) + " (width = 2 area / perimeter) removed, " +
+      (sew ? "their neighbours sewn across them: " : "sewing is off, their neighbours stay open: ") +
+      slivers.Text());
+    const TopoDS_Shape healed = context->Apply(r.Shape);
+    KeepFaceOrder(r, faceMap, healed, [&](const TopoDS_Shape& f) { return context->Value(f); });
+    faceMap.Clear();
+    TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  }
+  TopExp::MapShapesAndAncestors(r.Shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  NamedList shortEdges;
+  for (int k = 1; k <= edgeFaces.Extent(); ++k)
+  {
+    const TopoDS_Edge& E = TopoDS::Edge(edgeFaces.FindKey(k));
+    if (BRep_Tool::Degenerated(E))
+    {
+      continue;
+    }
+    GProp_GProps length;
+    BRepGProp::LinearProperties(E, length);
+    if (length.Mass() < tol)
+    {
+      shortEdges.Add(EdgeOfFaces(E, faceMap, edgeFaces, r.FaceNames) + " " + Number(length.Mass()) + " long");
+    }
+  }
+  if (shortEdges.Size() > 0)
+  {
+    r.Warnings.push_back(std::to_string(shortEdges.Size()) + " edge(s) shorter than the tolerance " +
+      Number(tol) + (sew ? " collapsed into a vertex: " : " kept (sewing, which collapses them, is off): ") +
+      shortEdges.Text());
+  }
+  return shortEdges.Size();
+}
+
+/// Whether the shape has free edges: on one face only, neither degenerated nor a seam.
+bool HasFreeEdges(const TopoDS_Shape& shape)
+{
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  for (int k = 1; k <= edgeFaces.Extent(); ++k)
+  {
+    const TopoDS_Edge& E = TopoDS::Edge(edgeFaces.FindKey(k));
+    const TopTools_ListOfShape& faces = edgeFaces(k);
+    if (faces.Extent() == 1 && !BRep_Tool::Degenerated(E) && !BRep_Tool::IsClosed(E, TopoDS::Face(faces.First())))
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// The sewing makes degenerated edges of the edges it collapses (shorter than the tolerance, or
+/// the ends of a removed sliver), on faces that have no pole there: those edges are dropped from
+/// their wires (the loops join the pcurve ends on either side, within the tolerance). The
+/// sewing rebuilds the faces' own pole edges too: a degenerated edge is a pole when its sewn
+/// face's original had a degenerated edge within `tol` (`poles`: per sewn face, those points).
+/// Faces rebuilt are recorded in `rebuilt` (sewn face -> its replacement).
+TopoDS_Shape DropCollapsedEdges(const TopoDS_Shape& sewn, const TopTools_IndexedMapOfShape& sewnFaces,
+  const std::vector<std::vector<gp_Pnt>>& poles, double tol, TopTools_DataMapOfShapeShape& rebuilt)
+{
+  const std::vector<gp_Pnt> none;
+  const std::vector<gp_Pnt>* facePoles = &none;
+  auto collapsed = [&](const TopoDS_Shape& E) {
+    if (!BRep_Tool::Degenerated(TopoDS::Edge(E)))
+    {
+      return false;
+    }
+    const gp_Pnt p = BRep_Tool::Pnt(TopExp::FirstVertex(TopoDS::Edge(E)));
+    return std::none_of(facePoles->begin(), facePoles->end(), [&](const gp_Pnt& q) { return p.Distance(q) <= tol; });
+  };
+  BRep_Builder builder;
+  TopoDS_Compound faces;
+  builder.MakeCompound(faces);
+  for (TopExp_Explorer fx(sewn, TopAbs_FACE); fx.More(); fx.Next())
+  {
+    const TopoDS_Shape& F = fx.Current();
+    const int k = sewnFaces.FindIndex(F);
+    facePoles = k > 0 ? &poles[k - 1] : &none;
+    bool drop = false;
+    for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More() && !drop; ex.Next())
+    {
+      drop = collapsed(ex.Current());
+    }
+    if (!drop)
+    {
+      builder.Add(faces, F);
+      continue;
+    }
+    // Built forward, then given F's orientation (the builder reverses what it adds to a reversed
+    // shape).
+    const TopoDS_Shape forward = F.Oriented(TopAbs_FORWARD);
+    TopoDS_Shape face = forward.EmptyCopied();
+    for (TopoDS_Iterator wi(forward); wi.More(); wi.Next())
+    {
+      TopoDS_Shape wire = wi.Value().Oriented(TopAbs_FORWARD).EmptyCopied();
+      for (TopoDS_Iterator ei(wi.Value().Oriented(TopAbs_FORWARD)); ei.More(); ei.Next())
+      {
+        if (!collapsed(ei.Value()))
+        {
+          builder.Add(wire, ei.Value());
+        }
+      }
+      builder.Add(face, wire.Oriented(wi.Value().Orientation()));
+    }
+    face.Orientation(F.Orientation());
+    rebuilt.Bind(F, face);
+    builder.Add(faces, face);
+  }
+  return faces;
+}
+
+/// Sews free edges that lie within `tol` of each other (BRepBuilderAPI_Sewing, manifold, with
+/// the cutting of free edges at each other's vertices), and collapses edges shorter than `tol`
+/// into a vertex (its analysis of degenerated shapes, MinTolerance = tol). OCCT's stored
+/// tolerances understate the real gaps between faces, so the conversion's tolerance is the
+/// sewing's: gaps within it are below what the conversion resolves, and features that small are
+/// not resolved either. Faces keep their names and the file's order.
+void SewFaces(ShapeRead& r, double tol, int shortEdges)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  const auto start = std::chrono::steady_clock::now();
+  BRepBuilderAPI_Sewing sewing(tol);
+  sewing.SetMinTolerance(tol);
+  sewing.Load(r.Shape);
+  sewing.Perform();
+  r.Healing.SewingSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const TopoDS_Shape sewn = sewing.SewedShape();
+  if (sewn.IsNull())
+  {
+    r.Warnings.push_back("the sewing (BRepBuilderAPI_Sewing) gave no shape: the file's topology is kept");
+    return;
+  }
+  r.Healing.SewingTolerance = tol;
+  r.Healing.SewnEdges = sewing.NbContigousEdges();
+  if (r.Healing.SewnEdges == 0 && sewing.NbDeletedFaces() == 0 && shortEdges == 0)
+  {
+    return; // nothing sewn: the faces stay exactly as they were
+  }
+  auto sewnImage = [&](const TopoDS_Shape& f) {
+    return sewing.IsModifiedSubShape(f) ? sewing.ModifiedSubShape(f) : f;
+  };
+  TopTools_IndexedMapOfShape sewnFaces;
+  std::vector<std::vector<gp_Pnt>> poles;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Shape image = sewnImage(faceMap(i));
+    for (TopExp_Explorer fx(image, TopAbs_FACE); !image.IsNull() && fx.More(); fx.Next())
+    {
+      const int k = sewnFaces.Add(fx.Current());
+      poles.resize(std::max<std::size_t>(poles.size(), k));
+      for (TopExp_Explorer ex(faceMap(i), TopAbs_EDGE); ex.More(); ex.Next())
+      {
+        if (BRep_Tool::Degenerated(TopoDS::Edge(ex.Current())))
+        {
+          poles[k - 1].push_back(BRep_Tool::Pnt(TopExp::FirstVertex(TopoDS::Edge(ex.Current()))));
+        }
+      }
+    }
+  }
+  TopTools_DataMapOfShapeShape rebuilt;
+  const TopoDS_Shape cleaned = DropCollapsedEdges(sewn, sewnFaces, poles, tol, rebuilt);
+  const std::vector<std::string> names = r.FaceNames;
+  KeepFaceOrder(r, faceMap, cleaned, [&](const TopoDS_Shape& f) {
+    const TopoDS_Shape s = sewnImage(f);
+    return !s.IsNull() && rebuilt.IsBound(s) ? rebuilt(s) : s;
+  });
+  for (int i = 0; i < sewing.NbDeletedFaces(); ++i)
+  {
+    const int f = faceMap.FindIndex(sewing.DeletedFace(i + 1));
+    r.Warnings.push_back((f > 0 ? FaceLabel(f - 1, names[f - 1]) : std::string("a face")) +
+      " is smaller than the tolerance in every direction: removed by the sewing");
+    ++r.Healing.RemovedFaces;
+  }
+}
+
+/// The healing of HealingOptions: slivers removed, then (with Sew, and only where there is
+/// something to do) free edges sewn and short edges collapsed. An OCCT failure in it is a
+/// warning and keeps the shape as it was before the step that failed.
+void Heal(ShapeRead& r, const HealingOptions& options, double diagonal)
+{
+  const double tol = options.Tolerance * diagonal;
+  std::string failure;
+  ShapeRead before = r;
+  int shortEdges = 0;
+  if (!RunGuarded([&] { shortEdges = RemoveSlivers(r, tol, options.Sew); }, failure))
+  {
+    r = before;
+    r.Warnings.push_back("removing sliver faces and finding short edges (tolerance " + Number(tol) +
+      ") failed, the shape is kept as read: " + failure);
+    return;
+  }
+  bool free = false;
+  if (!options.Sew || !RunGuarded([&] { free = HasFreeEdges(r.Shape); }, failure) ||
+    (!free && shortEdges == 0))
+  {
+    return;
+  }
+  before = r;
+  if (!RunGuarded([&] { SewFaces(r, tol, shortEdges); }, failure))
+  {
+    r = before;
+    r.Warnings.push_back("sewing the faces (BRepBuilderAPI_Sewing, tolerance " + Number(tol) +
+      ") failed, the faces are kept unsewn: " + failure);
+    return;
+  }
+  r.Healing.CollapsedEdges = shortEdges;
 }
 
 /// Face names come from the STEP entity each face was transferred from.
@@ -532,7 +849,8 @@ bool Transfer(Reader& reader, Format format, const std::string& fileName, ShapeR
 }
 
 /// Translation and the healing that belongs to reading, in this process.
-bool Translate(const std::string& fileName, Format format, ShapeRead& r, std::string& error)
+bool Translate(const std::string& fileName, Format format, const HealingOptions& healing, ShapeRead& r,
+  std::string& error)
 {
   const std::string prefix = Prefix(format, fileName);
   std::string failure;
@@ -586,10 +904,13 @@ bool Translate(const std::string& fileName, Format format, ShapeRead& r, std::st
     error = prefix + "its shape's bounding box is not finite (coordinates out of range)";
     return false;
   }
+  Heal(r, healing, std::sqrt(std::pow(r.Box[1] - r.Box[0], 2) + std::pow(r.Box[3] - r.Box[2], 2) +
+    std::pow(r.Box[5] - r.Box[4], 2)));
   return true;
 }
 
-// The child's answer on the pipe: 'S' + face names + seams + box + BinTools shape, or 'E' + error.
+// The child's answer on the pipe: 'S' + face names + warnings + healing report (a plain struct:
+// same program on both ends) + box + BinTools shape, or 'E' + error.
 void PutU32(std::ostream& out, std::uint32_t v)
 {
   out.write(reinterpret_cast<const char*>(&v), sizeof v);
@@ -631,7 +952,7 @@ std::string Encode(const ShapeRead& r)
   out.put('S');
   PutStrings(out, r.FaceNames);
   PutStrings(out, r.Warnings);
-  PutU32(out, static_cast<std::uint32_t>(r.SeamsAdded));
+  out.write(reinterpret_cast<const char*>(&r.Healing), sizeof r.Healing);
   out.write(reinterpret_cast<const char*>(r.Box), sizeof r.Box);
   BinTools::Write(r.Shape, out);
   return out.str();
@@ -645,17 +966,18 @@ bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r,
     return false;
   }
   std::istringstream in(payload, std::ios::binary);
-  std::uint32_t count = 0, seams = 0;
+  std::uint32_t count = 0;
   bool ok = in.get() == 'S' && GetStrings(in, payload.size(), r.FaceNames);
   count = static_cast<std::uint32_t>(r.FaceNames.size());
-  ok = ok && GetStrings(in, payload.size(), r.Warnings) && GetU32(in, seams) && in.read(reinterpret_cast<char*>(r.Box), sizeof r.Box);
+  ok = ok && GetStrings(in, payload.size(), r.Warnings) &&
+    in.read(reinterpret_cast<char*>(&r.Healing), sizeof r.Healing) &&
+    in.read(reinterpret_cast<char*>(r.Box), sizeof r.Box);
   std::string failure;
   if (!ok || !RunGuarded([&] { BinTools::Read(r.Shape, in); }, failure))
   {
     error = prefix + "the shape sent back by the reading process is incomplete " + failure;
     return false;
   }
-  r.SeamsAdded = static_cast<int>(seams);
   TopTools_IndexedMapOfShape faceMap;
   TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
   if (faceMap.Extent() != static_cast<int>(count))
@@ -669,7 +991,8 @@ bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r,
 
 /// The child: translates, writes its answer to fd and ends without running any of the parent's
 /// exit handlers or destructors.
-[[noreturn]] void ChildRead(const std::string& fileName, Format format, const ShapeCheck& check, int fd)
+[[noreturn]] void ChildRead(const std::string& fileName, Format format, const HealingOptions& healing,
+  const ShapeCheck& check, int fd)
 {
   prctl(PR_SET_PDEATHSIG, SIGKILL);
   // This process is ours: OCCT's handlers for every crash signal, even where the parent had its
@@ -678,7 +1001,7 @@ bool Decode(const std::string& payload, const std::string& prefix, ShapeRead& r,
   signal(SIGINT, SIG_DFL); // Ctrl-C ends the child too (a host's handler would only set a flag)
   ShapeRead r;
   std::string error, payload, failure;
-  if (!Translate(fileName, format, r, error) || (check && !check(r, error)))
+  if (!Translate(fileName, format, healing, r, error) || (check && !check(r, error)))
   {
     payload = "E" + error;
   }
@@ -744,8 +1067,8 @@ std::string SignalText(int sig)
   return "signal " + std::to_string(sig) + (what ? std::string(", ") + what : std::string());
 }
 
-bool ReadInChild(const std::string& fileName, Format format, double timeout, const ShapeCheck& check,
-  ShapeRead& r, std::string& error)
+bool ReadInChild(const std::string& fileName, Format format, double timeout, const HealingOptions& healing,
+  const ShapeCheck& check, ShapeRead& r, std::string& error)
 {
   const std::string prefix = Prefix(format, fileName);
   int fds[2];
@@ -769,7 +1092,7 @@ bool ReadInChild(const std::string& fileName, Format format, double timeout, con
   if (pid == 0)
   {
     close(fds[0]);
-    ChildRead(fileName, format, check, fds[1]);
+    ChildRead(fileName, format, healing, check, fds[1]);
   }
   close(fds[1]);
   std::string payload;
@@ -823,8 +1146,8 @@ void SetOCCTSignals(OSD_SignalMode mode)
   }
 }
 
-bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const ShapeCheck& check,
-  ShapeRead& result, std::string& error)
+bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const HealingOptions& healing,
+  const ShapeCheck& check, ShapeRead& result, std::string& error)
 {
   const Format format = FormatOf(fileName);
   if (format == Format::Unknown)
@@ -837,8 +1160,8 @@ bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const Shape
     return false;
   }
   result = ShapeRead();
-  return timeoutSeconds > 0 ? ReadInChild(fileName, format, timeoutSeconds, check, result, error)
-                            : Translate(fileName, format, result, error);
+  return timeoutSeconds > 0 ? ReadInChild(fileName, format, timeoutSeconds, healing, check, result, error)
+                            : Translate(fileName, format, healing, result, error);
 }
 
 } // namespace ctcad

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Reading a STEP or IGES file into an OpenCASCADE shape, bounded in time and isolated from
 // OCCT's crashes: the numbers of the file are checked first, then OCCT's translation and the
-// healing that belongs to reading (missing seams) run in a child process (fork) whose result
+// healing that belongs to reading (missing seams, slivers and short edges, sewing: see
+// HealingOptions in CADBRepSampling.h) run in a child process (fork) whose result
 // comes back through a pipe. A child that crashes, loops past the time limit or throws is an
 // error naming the file and the stage; this process never crashes or hangs on a malformed file.
 // For OpenCASCADE translation units only (CADBRepSampling.cxx).
 #ifndef CTSplines_IOCAD_CADFileReading_h
 #define CTSplines_IOCAD_CADFileReading_h
+
+#include "CADBRepSampling.h"
 
 #include <OSD_SignalMode.hxx>
 #include <TopoDS_Shape.hxx>
@@ -21,9 +24,9 @@ struct ShapeRead
 {
   TopoDS_Shape Shape;
   /// Per face, in TopExp::MapShapes order: the name of the STEP entity it came from (may be
-  /// empty, "NONE" or "''").
+  /// empty, "NONE" or "''"). Healing keeps the file's order of the faces it leaves.
   std::vector<std::string> FaceNames;
-  int SeamsAdded = 0; // faces given their missing seam edge (ShapeFix_Face::FixMissingSeam)
+  HealingReport Healing;
   double Box[6] = { 0, 0, 0, 0, 0, 0 }; // xmin, xmax, ymin, ymax, zmin, zmax
   /// What OCCT's translation could not do (entities it failed on, and so skipped): the model
   /// may miss faces.
@@ -33,12 +36,12 @@ struct ShapeRead
 /// A check of the shape read, run in the reading child (false with an error rejects the file).
 using ShapeCheck = std::function<bool(const ShapeRead& shape, std::string& error)>;
 
-/// Reads fileName (.step, .stp, .iges, .igs). timeoutSeconds > 0: in a child process killed
-/// after that time, which also runs `check` on the shape; 0: in this process (with OCCT's
-/// signal handling) without a time limit, and without `check`. Returns false with `error`
-/// starting with "cannot read", "no faces in" or "unknown CAD file extension".
-bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const ShapeCheck& check,
-  ShapeRead& result, std::string& error);
+/// Reads fileName (.step, .stp, .iges, .igs) and heals it. timeoutSeconds > 0: in a child
+/// process killed after that time, which also runs `check` on the shape; 0: in this process
+/// (with OCCT's signal handling) without a time limit, and without `check`. Returns false with
+/// `error` starting with "cannot read", "no faces in" or "unknown CAD file extension".
+bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const HealingOptions& healing,
+  const ShapeCheck& check, ShapeRead& result, std::string& error);
 
 /// OSD::SetSignal(mode) without floating-point traps (the rest of the program relies on IEEE
 /// results), and without taking SIGINT, SIGHUP and SIGQUIT, which keep what they had (OCCT's

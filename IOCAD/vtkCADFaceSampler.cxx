@@ -145,7 +145,10 @@ bool vtkCADFaceSampler::ReadModel()
 {
   auto& model = this->Internals->Current;
   model = std::make_unique<ctcad::CADModel>();
-  const bool read = model->Read(this->FileName, this->ReadTimeout);
+  ctcad::HealingOptions healing;
+  healing.Sew = this->Sew;
+  healing.Tolerance = this->Tolerance;
+  const bool read = model->Read(this->FileName, this->ReadTimeout, healing);
   for (const std::string& w : model->Warnings())
   {
     vtkWarningMacro(<< this->FileName << ": " << w);
@@ -382,6 +385,12 @@ void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double face
   AddField(fd, "MaxVertexGap", model->MaxVertexGap());
   AddField(fd, "MaxEdgeGap", model->MaxEdgeGap());
   AddIntField(fd, "NumberOfSeamsAdded", model->NumberOfSeamsAdded());
+  const ctcad::HealingReport& healed = model->Healing();
+  AddIntField(fd, "NumberOfSewnEdges", healed.SewnEdges);
+  AddIntField(fd, "NumberOfRemovedFaces", healed.RemovedFaces);
+  AddIntField(fd, "NumberOfCollapsedEdges", healed.CollapsedEdges);
+  AddField(fd, "SewingTolerance", healed.SewingTolerance);
+  AddField(fd, "SewingTime", healed.SewingSeconds);
   const ctcad::BoundaryChanges& changes = model->Changes();
   AddField(fd, "MaxBoundaryCurveChange", changes.MaxCurveChange);
   AddField(fd, "MaxBoundaryDerivativeChange", changes.MaxDerivativeChange);
@@ -412,6 +421,7 @@ void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "FileName: " << this->FileName << "\n";
   os << indent << "ReadTimeout: " << this->ReadTimeout << "\n";
+  os << indent << "Sew: " << this->Sew << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
   os << indent << "AspectRatio: " << this->AspectRatio << "\n";
   os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";

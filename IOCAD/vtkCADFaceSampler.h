@@ -48,11 +48,14 @@
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
  * than half the tolerance from its shared boundary is refined to twice that distance, with a
- * warning), `NumberOfSeamsAdded`, `RestoreG1`, `NumberOfG1Nodes`,
+ * warning), `NumberOfSeamsAdded`, `NumberOfSewnEdges` (pairs of free edges sewn into one),
+ * `NumberOfRemovedFaces` (slivers), `NumberOfCollapsedEdges` (shorter than the tolerance),
+ * `SewingTolerance` (absolute, 0 when the sewing did not run), `RestoreG1`, `NumberOfG1Nodes`,
  * `NumberOfG1Spans` (nodes where
  * several faces, and spans, got one tangent plane), `MaxBoundaryCurveChange`, `MaxBoundaryDerivativeChange` (what RestoreG1
  * changed), `RefinedConstruction` (-1 without RefineStitchedSpline), `RefinedSplitPoint`,
- * `RefinedBoundaryMode`, `StageTimes` (read, edges, loops, tangent planes, faces in seconds).
+ * `RefinedBoundaryMode`, `StageTimes` (read, edges, loops, tangent planes, faces in seconds;
+ * read includes the healing), `SewingTime` (seconds).
  */
 #ifndef vtkCADFaceSampler_h
 #define vtkCADFaceSampler_h
@@ -86,6 +89,19 @@ public:
   /// Default 120.
   vtkSetClampMacro(ReadTimeout, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(ReadTimeout, double);
+  ///@}
+
+  ///@{
+  /// Sew the faces on reading (default on): faces whose free edges lie within the tolerance
+  /// (Tolerance x diagonal) of each other are joined there (OpenCASCADE's
+  /// BRepBuilderAPI_Sewing; IGES surface models and STEP files of loose faces come out
+  /// connected), and edges shorter than the tolerance are collapsed into a vertex. A model
+  /// without free or short edges is left as read. Off keeps the file's topology. Either way,
+  /// sliver faces (thinner than the tolerance: 2 area / perimeter) are removed; every change is
+  /// a warning naming the faces or edges, and counted in the field data.
+  vtkSetMacro(Sew, bool);
+  vtkGetMacro(Sew, bool);
+  vtkBooleanMacro(Sew, bool);
   ///@}
 
   ///@{
@@ -170,6 +186,7 @@ protected:
 
   std::string FileName;
   double ReadTimeout = 120;
+  bool Sew = true;
   double Tolerance = 1e-4;
   double AspectRatio = 0;
   double MaxEdgeLength = 0;

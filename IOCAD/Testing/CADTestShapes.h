@@ -4,7 +4,22 @@
 #define CTSplines_IOCAD_Testing_CADTestShapes_h
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS_Wire.hxx>
+#include <gp_Pln.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
@@ -58,6 +73,69 @@ inline TopoDS_Shape CylinderOctantTwoFaces(double radius = 300.0, double halfLen
   sewing.Add(b.Face());
   sewing.Perform();
   return sewing.SewedShape();
+}
+/// The faces of a 2 x 1 x 0.5 box as loose faces, as in a STEP file of unconnected faces: each
+/// face is a copy with edges and vertices of its own, moved out along its normal by `gap`, so
+/// that neighbouring faces miss each other by up to ~1.4 gap and nothing connects them until
+/// they are sewn.
+inline TopoDS_Shape LooseBoxFaces(double gap = 1e-5)
+{
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 2.0, 1.0, 0.5).Shape();
+  BRep_Builder builder;
+  TopoDS_Compound faces;
+  builder.MakeCompound(faces);
+  for (TopExp_Explorer fx(box, TopAbs_FACE); fx.More(); fx.Next())
+  {
+    const TopoDS_Face face = TopoDS::Face(BRepBuilderAPI_Copy(fx.Current()).Shape());
+    gp_Pnt centre;
+    gp_Vec du, dv;
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    BRepAdaptor_Surface(face).D1(0.5 * (u0 + u1), 0.5 * (v0 + v1), centre, du, dv);
+    gp_Vec normal = du.Crossed(dv).Normalized();
+    if (face.Orientation() == TopAbs_REVERSED)
+    {
+      normal.Reverse();
+    }
+    gp_Trsf move;
+    move.SetTranslation(gap * normal);
+    builder.Add(faces, BRepBuilderAPI_Transform(face, move, Standard_True).Shape());
+  }
+  return faces;
+}
+
+/// A prism (height 0.5) over an L-shaped outline whose step is `step` high: the step's side is
+/// a sliver face `step` x 0.5, with two edges `step` long (a ledge left by a CAD operation).
+inline TopoDS_Shape SteppedPrism(double step)
+{
+  BRepBuilderAPI_MakePolygon outline;
+  for (const gp_Pnt& p : { gp_Pnt(0, 0, 0), gp_Pnt(1, 0, 0), gp_Pnt(1, 1, 0), gp_Pnt(0.5, 1, 0),
+         gp_Pnt(0.5, 1 - step, 0), gp_Pnt(0, 1 - step, 0) })
+  {
+    outline.Add(p);
+  }
+  outline.Close();
+  const TopoDS_Face base = BRepBuilderAPI_MakeFace(outline.Wire(), Standard_True).Face();
+  return BRepPrimAPI_MakePrism(base, gp_Vec(0, 0, 0.5)).Shape();
+}
+/// A box with a zero-area face beside it, as exporters leave them: a planar face bounded by
+/// three collinear edges (on the line from (0, 0, 2) to (1, 0, 2)).
+inline TopoDS_Shape BoxWithZeroAreaFace()
+{
+  BRep_Builder builder;
+  TopoDS_Compound shapes;
+  builder.MakeCompound(shapes);
+  builder.Add(shapes, BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 1.0, 1.0, 1.0).Shape());
+  const TopoDS_Vertex a = BRepBuilderAPI_MakeVertex(gp_Pnt(0, 0, 2));
+  const TopoDS_Vertex b = BRepBuilderAPI_MakeVertex(gp_Pnt(0.4, 0, 2));
+  const TopoDS_Vertex c = BRepBuilderAPI_MakeVertex(gp_Pnt(1, 0, 2));
+  TopoDS_Wire wire;
+  builder.MakeWire(wire);
+  builder.Add(wire, BRepBuilderAPI_MakeEdge(a, b).Edge());
+  builder.Add(wire, BRepBuilderAPI_MakeEdge(b, c).Edge());
+  builder.Add(wire, BRepBuilderAPI_MakeEdge(c, a).Edge());
+  builder.Add(shapes, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp::DZ()), wire, Standard_True).Face());
+  return shapes;
 }
 } // namespace ctsplines_test
 

@@ -2,7 +2,8 @@
 // ctsplines_write_test_model [--shape NAME] PATH: writes a shape of CADTestShapes.h as STEP, so
 // that the Python and ParaView tests have CAD models without committing any; Python cannot write
 // STEP here. NAME: box_with_hole (default: a small closed solid with planes, a seamed cylinder
-// and faces with holes), hemisphere_quarter, cylinder_octant_two_faces (the shell benchmarks).
+// and faces with holes), hemisphere_quarter, cylinder_octant_two_faces (the shell benchmarks),
+// loose_box_faces (a box's faces unconnected, for the sewing).
 #include "CADTestShapes.h"
 
 #include <STEPControl_Writer.hxx>
@@ -27,6 +28,10 @@ TopoDS_Shape ShapeNamed(const std::string& name)
   {
     return ctsplines_test::CylinderOctantTwoFaces();
   }
+  if (name == "loose_box_faces")
+  {
+    return ctsplines_test::LooseBoxFaces();
+  }
   return TopoDS_Shape();
 }
 } // namespace
@@ -47,7 +52,8 @@ int main(int argc, char* argv[])
   else
   {
     std::fprintf(stderr,
-      "usage: %s [--shape box_with_hole|hemisphere_quarter|cylinder_octant_two_faces] PATH.step\n",
+      "usage: %s [--shape box_with_hole|hemisphere_quarter|cylinder_octant_two_faces|"
+      "loose_box_faces] PATH.step\n",
       argv[0]);
     return 2;
   }

@@ -794,3 +794,121 @@ TEST(CADConversion, StitcherWarnsWhenFacesWereRefinedForAnotherSpline)
   stitcher->Update();
   EXPECT_NE(warnings.Text.find("refined for another spline"), std::string::npos) << warnings.Text;
 }
+
+/// A STEP file of loose faces (a box's six faces, each with edges of its own, 1e-5 apart): sewn
+/// on reading into a closed model, watertight; with Sew off the file's topology stays, open.
+TEST(CADHealing, LooseFacesAreSewn)
+{
+  const std::string file = TempStep("loose_box_faces", ctsplines_test::LooseBoxFaces());
+  for (const bool sew : { true, false })
+  {
+    Conversion c;
+    c.Sampler->SetSew(sew);
+    c.Run(file, 1e-4);
+    vtkFieldData* sf = c.Faces->GetFieldData();
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 6u) << "Sew " << sew;
+    std::printf("loose box faces, Sew %d: %g edges sewn in %.3f s, %g free edges, max deviation "
+                "%.3g\n", sew, Field(sf, "NumberOfSewnEdges"), Field(sf, "SewingTime"),
+      Field(fd, "NumberOfFreeEdges"), Field(fd, "MaxDeviation"));
+    if (!sew)
+    {
+      EXPECT_EQ(Field(sf, "NumberOfSewnEdges"), 0);
+      EXPECT_EQ(Field(sf, "SewingTolerance"), 0);
+      EXPECT_GT(Field(fd, "NumberOfFreeEdges"), 24) << "each face's four edges are free";
+      continue;
+    }
+    EXPECT_EQ(Field(sf, "NumberOfSewnEdges"), 12);
+    EXPECT_EQ(Field(sf, "NumberOfBRepEdges"), 12);
+    EXPECT_NEAR(Field(sf, "SewingTolerance"), 1e-4 * Field(sf, "Diagonal"), 1e-12);
+    CheckSharedNodes(c);
+    EXPECT_GT(CheckInterfacesBitIdentical(c), 0);
+    EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+    EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+    EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  }
+}
+
+/// A model without free edges (the box with a hole), and an open one where nothing is within
+/// the tolerance of anything else (the trimmed patch): the sewing leaves them exactly as read,
+/// same faces in the same order, same names, same samples.
+TEST(CADHealing, SewingLeavesConnectedModelsAsRead)
+{
+  for (const std::string& file : { TempStep("box_with_hole_sew", ctsplines_test::BoxWithHole()),
+         TempStep("bspline_patch_sew", TrimmedBSplinePatch()) })
+  {
+    vtkNew<vtkCADFaceSampler> sewn, asRead;
+    for (vtkCADFaceSampler* s : { sewn.Get(), asRead.Get() })
+    {
+      s->SetFileName(file.c_str());
+      s->SetTolerance(1e-3);
+    }
+    asRead->SetSew(false);
+    sewn->Update();
+    asRead->Update();
+    EXPECT_EQ(Field(sewn->GetOutput()->GetFieldData(), "NumberOfSewnEdges"), 0) << file;
+    const unsigned int n = sewn->GetOutput()->GetNumberOfBlocks();
+    ASSERT_GT(n, 0u);
+    ASSERT_EQ(asRead->GetOutput()->GetNumberOfBlocks(), n);
+    for (unsigned int f = 0; f < n; ++f)
+    {
+      ASSERT_STREQ(sewn->GetOutput()->GetMetaData(f)->Get(vtkCompositeDataSet::NAME()),
+        asRead->GetOutput()->GetMetaData(f)->Get(vtkCompositeDataSet::NAME()));
+      vtkPolyData* a = vtkPolyData::SafeDownCast(sewn->GetOutput()->GetBlock(f));
+      vtkPolyData* b = vtkPolyData::SafeDownCast(asRead->GetOutput()->GetBlock(f));
+      ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints()) << file << " face " << f;
+      for (vtkIdType p = 0; p < a->GetNumberOfPoints(); ++p)
+      {
+        double x[3], y[3];
+        a->GetPoint(p, x);
+        b->GetPoint(p, y);
+        ASSERT_TRUE(x[0] == y[0] && x[1] == y[1] && x[2] == y[2]) << file << " face " << f;
+      }
+    }
+  }
+}
+
+/// A prism over an outline with a 1e-6 step: the step's side is a sliver 1e-6 x 0.5 (the
+/// tolerance is 1.6e-4), with two edges 1e-6 long. It is removed with a warning naming it, its
+/// neighbours are sewn across it, the short edges collapse, and the model stays closed.
+TEST(CADHealing, SliverFaceIsRemoved)
+{
+  const std::string file = TempStep("stepped_prism", ctsplines_test::SteppedPrism(1e-6));
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  c.Run(file, 1e-4);
+  vtkFieldData* sf = c.Faces->GetFieldData();
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("stepped prism: %s\n", warnings.Text.c_str());
+  EXPECT_NE(warnings.Text.find("1 sliver face(s)"), std::string::npos) << warnings.Text;
+  EXPECT_NE(warnings.Text.find("face 3 9.99998e-07 wide"), std::string::npos) << "the step's side";
+  EXPECT_NE(warnings.Text.find("2 edge(s) shorter than the tolerance"), std::string::npos);
+  EXPECT_EQ(c.Faces->GetNumberOfBlocks(), 7u) << "8 faces less the sliver";
+  EXPECT_EQ(Field(sf, "NumberOfRemovedFaces"), 1);
+  EXPECT_EQ(Field(sf, "NumberOfCollapsedEdges"), 2);
+  CheckSharedNodes(c);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}
+
+/// A zero-area face (three collinear edges) beside a box: it used to end the conversion
+/// ("empty parameter domain"); it is removed with a warning naming it and the box converts.
+TEST(CADHealing, ZeroAreaFaceIsRemoved)
+{
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("zero_area_face", ctsplines_test::BoxWithZeroAreaFace()), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  EXPECT_NE(warnings.Text.find("1 sliver face(s)"), std::string::npos) << warnings.Text;
+  EXPECT_NE(warnings.Text.find("face 6 0 wide"), std::string::npos) << warnings.Text;
+  EXPECT_EQ(c.Faces->GetNumberOfBlocks(), 6u);
+  EXPECT_EQ(Field(c.Faces->GetFieldData(), "NumberOfRemovedFaces"), 1);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}

@@ -114,6 +114,20 @@ class CADCommandLineTest(CommandLineCase):
         text = self.convert_and_check(step, 1e-4)
         self.assertIn("(21 faces, 48 B-rep edges", text)
 
+    def test_loose_faces_are_sewn(self):
+        # A box's six faces, each with edges of its own (CAD.WriteTestModel.loose_box_faces).
+        step = model("loose_box_faces.step")
+        if step is None:
+            self.skipTest("loose_box_faces.step not written (fixture CAD.WriteTestModel)")
+        text = self.convert_and_check(step, 1e-4)
+        self.assertRegex(text, r"healing: 12 edges sewn in \d+\.\d{3} s, 0 sliver faces removed")
+        text = self.cli("convert", step, "-o", self.path("open.vtm"), "--no-sew").stdout
+        self.assertIn("healing: 0 edges sewn (--no-sew)", text)
+        free = int(re.search(r"free edges: (\d+)", text).group(1))
+        self.assertGreater(free, 24, text)
+        p = self.cli("convert", self.path("mesh.vtp"), self.path("s.vtu"), "--no-sew", code=2)
+        self.assertIn("--no-sew applies to CAD models", p.stderr)
+
     def test_errors(self):
         p = self.cli("convert", self.path("missing.step"), "-o", self.path("o.vtm"), code=3)
         self.assertIn("no such file", p.stderr)
@@ -215,7 +229,7 @@ class CADCommandLineTest(CommandLineCase):
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
         for text in ("--tolerance", "--aspect-ratio", "--max-edge-length", "--g1",
-                     "--g1-threshold", "--read-timeout", ".step", "OUT.vtu", "-o"):
+                     "--g1-threshold", "--read-timeout", "--no-sew", ".step", "OUT.vtu", "-o"):
             self.assertIn(text, out)
 
 

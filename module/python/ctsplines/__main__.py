@@ -268,6 +268,7 @@ def _convert_cad(args):
         "g1": args.g1,
         "g1_threshold": 10.0 if args.g1_threshold is None else args.g1_threshold,
         "read_timeout": args.read_timeout,
+        "sew": not args.no_sew,
     }
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
@@ -290,6 +291,11 @@ def _convert_cad(args):
     print(f"watertight: {r['merged']} ({r['patches']} patches, {r['bezier_triangles']} Bézier "
           f"triangles, {r['control_points']} control points)")
     print(f"free edges: {r['free_edges']} (non-manifold edges: {r['non_manifold_edges']})")
+    print(f"healing: {r['sewn_edges']} edges sewn"
+          + (f" in {r['sewing_time']:.3f} s" if r["sewing_time"] > 0 else "")
+          + ("" if options["sew"] else " (--no-sew)")
+          + f", {r['removed_faces']} sliver faces removed, {r['collapsed_edges']} short edges "
+          "collapsed")
     print(f"C0 gap: max {r['c0_gap']:.3e} (relative {r['c0_gap'] / d:.3e}); before stitching "
           f"{r['gap_before']:.3e} (relative {r['gap_before'] / d:.3e})")
     print(f"deviation from the CAD surfaces (relative to the diagonal): max "
@@ -321,7 +327,8 @@ def _convert(args):
     for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio),
                           ("--max-edge-length", args.max_edge_length),
                           ("--g1", args.g1 or None), ("--g1-threshold", args.g1_threshold),
-                          ("--summary-json", args.summary_json)):
+                          ("--summary-json", args.summary_json),
+                          ("--no-sew", args.no_sew or None)):
         if value is not None:
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
@@ -603,6 +610,10 @@ def build_parser():
     cad.add_argument("--g1-threshold", type=_angle, metavar="DEGREES",
                      help="largest angle between the faces' normals for an interface to count as "
                      "tangent (default 10)")
+    cad.add_argument("--no-sew", action="store_true",
+                     help="keep the file's topology: by default faces whose free edges lie within "
+                     "the tolerance of each other are sewn on reading (IGES surface models, STEP "
+                     "files of loose faces) and edges shorter than the tolerance collapsed")
     cad.add_argument("--read-timeout", type=_non_negative_float, metavar="SECONDS", default=120.0,
                      help="OpenCASCADE translates the file in a separate process, which is "
                      "abandoned after this time (a malformed file on which it loops or crashes is "

@@ -38,7 +38,8 @@ def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
     it. options: tolerance, aspect_ratio, max_edge_length, construction, split_point,
     boundary_mode, iterations (ints for the enumerations), g1 (RestoreG1), g1_threshold
-    (degrees), read_timeout (seconds; 0 reads in this process). Returns the summary as a dict."""
+    (degrees), read_timeout (seconds; 0 reads in this process), sew (default True: sew the faces
+    on reading). Returns the summary as a dict."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
@@ -54,6 +55,7 @@ def convert(model, output, options, messages, progress):
     sampler.SetRestoreG1(bool(options.get("g1")))
     sampler.SetG1Threshold(options.get("g1_threshold", 10.0))
     sampler.SetReadTimeout(options.get("read_timeout", 120.0))
+    sampler.SetSew(bool(options.get("sew", True)))
     start = time.perf_counter()
     ok, errors = _update(sampler, messages)
     if not ok:
@@ -104,6 +106,10 @@ def convert(model, output, options, messages, progress):
         "max_deviation": _field(merged, "MaxDeviation"),
         "rms_deviation": _field(merged, "RMSDeviation"),
         "edge_gap": _field(faces, "MaxEdgeGap"),
+        "sewn_edges": int(_field(faces, "NumberOfSewnEdges")),
+        "removed_faces": int(_field(faces, "NumberOfRemovedFaces")),
+        "collapsed_edges": int(_field(faces, "NumberOfCollapsedEdges")),
+        "sewing_time": _field(faces, "SewingTime"),
         "g1_angle": _field(merged, "MaxG1Angle"),
         "g1_angle_tangent": _field(merged, "MaxG1AngleTangent"),
         "g1_angle_tangent_mean": _field(merged, "MeanG1AngleTangent"),
