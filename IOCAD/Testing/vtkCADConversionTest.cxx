@@ -537,6 +537,10 @@ TEST(CADConversion, PolesAreClosedAndManifold)
   CheckClosed("pole_cone", ConeWithApex(), 1e-4, 0);
   CheckClosed("pole_revolution", RevolutionTouchingItsAxis());
   CheckClosed("pole_balls", BallGridPackage(3));
+  CheckClosed("pole_wedge", BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0, M_PI / 2).Shape());
+  CheckClosed("pole_half", BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape(),
+    BRepPrimAPI_MakeBox(gp_Pnt(-2, -2, -2), 2.0, 4.0, 4.0).Shape()).Shape());
+  CheckClosed("pole_cone_wedge", BRepPrimAPI_MakeCone(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 0.0, 1.0, M_PI).Shape());
 }
 
 /// Two B-rep edges (an arc and its chord) join the same two vertices: their spans are distinct
