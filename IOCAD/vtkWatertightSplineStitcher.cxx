@@ -110,7 +110,22 @@ struct FaceSpline
   vtkIdTypeArray* Gid = nullptr;
   vtkDataArray* UV = nullptr;
   vtkDataArray* Tangent = nullptr;
+  vtkDataArray* BRepEdge = nullptr; // the sampler's BRepEdgeId: per local edge, -1 inside
 };
+
+/// A boundary macro-edge's identity across faces: its B-rep edge and its end nodes (two B-rep
+/// edges, an arc and its chord, can join the same two nodes).
+using SpanKey = std::array<vtkIdType, 3>;
+
+/// A macro-edge of the merged grid: the merged ids of its cubic's control points, from its end
+/// with the lower (first point, first inner point). Two macro-edges are one only if they share
+/// all four: at a pole, the interior macro-edges from two copies of the pole node to one mesh
+/// point join the same two nodes but are different curves.
+std::array<vtkIdType, 4> MergedEdgeKey(vtkIdType a, vtkIdType ta, vtkIdType tb, vtkIdType b)
+{
+  return std::make_pair(b, tb) < std::make_pair(a, ta) ? std::array<vtkIdType, 4>{ b, tb, ta, a }
+                                                       : std::array<vtkIdType, 4>{ a, ta, tb, b };
+}
 
 } // namespace
 
@@ -218,7 +233,7 @@ int vtkWatertightSplineStitcher::RequestData(
         return 0;
       }
     }
-    for (const char* name : { "EdgeCurvePoints", "StitchEdgeGradients" })
+    for (const char* name : { "EdgeCurvePoints", "StitchEdgeGradients", "BRepEdgeId" })
     {
       if (!block->GetCellData()->GetArray(name))
       {
@@ -231,6 +246,16 @@ int vtkWatertightSplineStitcher::RequestData(
     if (!fs.Gid)
     {
       vtkErrorMacro(<< "block " << f << ": point data array 'GlobalNodeId' is not a vtkIdTypeArray");
+      return 0;
+    }
+    fs.BRepEdge = block->GetCellData()->GetArray("BRepEdgeId");
+    if (fs.BRepEdge->GetNumberOfComponents() != 3 ||
+      fs.BRepEdge->GetNumberOfTuples() != block->GetNumberOfCells())
+    {
+      vtkErrorMacro(<< "block " << f << ": cell data array 'BRepEdgeId' has "
+                    << fs.BRepEdge->GetNumberOfTuples() << " tuples of "
+                    << fs.BRepEdge->GetNumberOfComponents() << " components, not "
+                    << block->GetNumberOfCells() << " of 3");
       return 0;
     }
     vtkDataArray* curve = block->GetCellData()->GetArray("EdgeCurvePoints");
@@ -334,14 +359,15 @@ int vtkWatertightSplineStitcher::RequestData(
     }
   }
 
-  // Merge: V points by GlobalNodeId, boundary T points by (near node, far node), the rest apart.
+  // Merge: V points by GlobalNodeId, boundary T points by (B-rep edge, near node, far node),
+  // the rest apart.
   Clock::time_point start = Clock::now();
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   std::unordered_map<vtkIdType, vtkIdType> nodePoint;
-  std::map<std::pair<vtkIdType, vtkIdType>, vtkIdType> edgePoint;
-  std::map<std::pair<vtkIdType, vtkIdType>, int> macroEdgeUse;
-  std::map<std::pair<vtkIdType, vtkIdType>, Side> firstSide;
+  std::map<SpanKey, vtkIdType> edgePoint;
+  std::map<std::array<vtkIdType, 4>, int> macroEdgeUse;
+  std::map<SpanKey, Side> firstSide;
   double maxC0Gap = 0;
   // G1 angles over interface macro-edges: [0] feature edges, [1] tangent interfaces (the CAD
   // faces meet tangentially there: the sampler's TangentInterface).
@@ -372,34 +398,41 @@ int vtkWatertightSplineStitcher::RequestData(
       }
       map[v] = it.first->second;
     }
+    const auto& cp = fs.Spline.ControlPoints;
+    // A macro-edge whose cubic is one point (a pole segment, a joint across a seam's ends) is
+    // no edge of the surface: it neither closes nor opens it.
+    auto collapsed = [&](ctk::Id a, ctk::Id ta, ctk::Id tb, ctk::Id b) {
+      return cp[ta] == cp[a] && cp[tb] == cp[a] && cp[b] == cp[a];
+    };
     for (ctk::Id e = 0; e < static_cast<ctk::Id>(fs.Topo.Edges.size()); ++e)
     {
-      const ctk::Id a = fs.Topo.Edges[e][0], b = fs.Topo.Edges[e][1];
-      const std::pair<vtkIdType, vtkIdType> key(std::min(gid(a), gid(b)), std::max(gid(a), gid(b)));
-      if (key.first != key.second)
-      {
-        macroEdgeUse[key] += fs.Topo.IsBoundaryEdge(e) ? 1 : 2;
-      }
       if (!fs.Topo.IsBoundaryEdge(e))
       {
         continue;
       }
+      const ctk::Id a = fs.Topo.Edges[e][0], b = fs.Topo.Edges[e][1];
+      const ctk::Id t = fs.Topo.EdgeTriangles[e][0];
+      const int l = fs.Topo.EdgeLocalIndex[e][0];
+      const auto brep = static_cast<vtkIdType>(fs.BRepEdge->GetComponent(t, l));
+      const SpanKey key{ brep, std::min(gid(a), gid(b)), std::max(gid(a), gid(b)) };
       const ctk::Id ta = fs.Spline.Layout.EdgePoint(fs.Topo, e, a), tb = fs.Spline.Layout.EdgePoint(fs.Topo, e, b);
       for (const auto& nearFar : { std::make_pair(a, b), std::make_pair(b, a) })
       {
         const ctk::Id id = nearFar.first == a ? ta : tb;
-        auto it = edgePoint.emplace(std::make_pair(gid(nearFar.first), gid(nearFar.second)), points->GetNumberOfPoints());
+        auto it = edgePoint.emplace(SpanKey{ brep, gid(nearFar.first), gid(nearFar.second) }, points->GetNumberOfPoints());
         if (it.second)
         {
           points->InsertNextPoint(fs.Spline.ControlPoints[id].data());
         }
         map[id] = it.first->second;
       }
+      if (collapsed(a, ta, tb, b))
+      {
+        continue;
+      }
       // The C0 gap and the G1 angle, from this face's own control points against the first
       // side seen.
       const bool forward = gid(a) <= gid(b);
-      const ctk::Id t = fs.Topo.EdgeTriangles[e][0];
-      const int l = fs.Topo.EdgeLocalIndex[e][0];
       const ctk::MacroElementIds ids = ctk::GetMacroElementIds(fs.Spline.Layout, fs.Topo, fs.Triangles.data(), t);
       const bool fromFirst = gid(fs.Triangles[3 * t + l]) <= gid(fs.Triangles[3 * t + (l + 1) % 3]);
       const Side side{ { forward ? fs.Spline.ControlPoints[a] : fs.Spline.ControlPoints[b], forward ? fs.Spline.ControlPoints[ta] : fs.Spline.ControlPoints[tb],
@@ -435,6 +468,17 @@ int vtkWatertightSplineStitcher::RequestData(
       if (map[i] < 0)
       {
         map[i] = points->InsertNextPoint(fs.Spline.ControlPoints[i].data());
+      }
+    }
+    // Free and non-manifold edges are counted on the merged grid itself: a macro-edge is used
+    // by its face's triangles at it, and by other faces' only where they share its points.
+    for (ctk::Id e = 0; e < static_cast<ctk::Id>(fs.Topo.Edges.size()); ++e)
+    {
+      const ctk::Id a = fs.Topo.Edges[e][0], b = fs.Topo.Edges[e][1];
+      const ctk::Id ta = fs.Spline.Layout.EdgePoint(fs.Topo, e, a), tb = fs.Spline.Layout.EdgePoint(fs.Topo, e, b);
+      if (!collapsed(a, ta, tb, b))
+      {
+        macroEdgeUse[MergedEdgeKey(map[a], map[ta], map[tb], map[b])] += fs.Topo.IsBoundaryEdge(e) ? 1 : 2;
       }
     }
     vtkUnstructuredGrid* grid = fs.Grid;

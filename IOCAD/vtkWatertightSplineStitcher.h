@@ -15,14 +15,17 @@
  * curved), across the interior macro-edges at boundary vertices.
  *
  * Input: the vtkMultiBlockDataSet of vtkCADFaceSampler (per face: UV, dFdu, dFdv, StitchDFdu,
- * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, TangentInterface). The spline
+ * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, BRepEdgeId, TangentInterface). The spline
  * reads the Stitch* arrays; the faces should have been refined for this Construction, SplitPoint
  * and BoundaryMode (the sampler's; a warning says when not).
  * Output port 0: vtkMultiBlockDataSet of per-face splines (vtkCloughTocherSplineFilter's output).
  * Output port 1: one vtkUnstructuredGrid of all faces where interface control points are single
- * points (merged by GlobalNodeId and edge identity, never by coordinates); cell data `FaceId`,
+ * points (vertices merged by GlobalNodeId, boundary edge points by B-rep edge and end nodes,
+ * never by coordinates); cell data `FaceId`,
  * `MacroTriangleId`, `MicroTriangleId`; field data `NumberOfFreeEdges`,
- * `NumberOfNonManifoldEdges` (macro-edges used by one face side / more than two), `MaxC0Gap`
+ * `NumberOfNonManifoldEdges` (macro-edges of the merged grid, identified by their merged control
+ * points, used by one macro-triangle / more than two; collapsed macro-edges, one point like a
+ * pole's, are not edges), `MaxC0Gap`
  * (largest distance between the two sides' boundary cubics, evaluated on the per-face outputs),
  * `MaxGapBeforeStitching` (largest distance between a face's own boundary cubic, from its exact
  * derivatives, and the shared edge cubic), `NumberOfMacroTriangles`, `MaxG1Angle` (degrees, the

@@ -30,9 +30,18 @@
 #include <IGESControl_Controller.hxx>
 #include <IGESControl_Writer.hxx>
 #include <BRepLib.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <Geom_BezierCurve.hxx>
+#include <TColgp_Array1OfPnt.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -43,6 +52,10 @@
 #include <TColStd_Array1OfInteger.hxx>
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_ListOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
@@ -100,6 +113,98 @@ TopoDS_Shape KinkedPlanes(double degrees)
 TopoDS_Shape Sphere()
 {
   return BRepPrimAPI_MakeSphere(gp_Pnt(0.1, -0.2, 0.3), 1.0).Shape();
+}
+
+/// A cone with its apex (R2 = 0): a pole of the lateral face, at the end of its seam.
+TopoDS_Shape ConeWithApex()
+{
+  return BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0.2, 0.1, -0.4), gp_Dir(0.3, 0, 1)), 0.8, 0.0, 1.5).Shape();
+}
+
+/// A Bezier profile from the z axis back to it, revolved about the axis: one face of revolution
+/// (not a sphere) with a pole at each end and a seam, closed into a solid.
+TopoDS_Shape RevolutionTouchingItsAxis()
+{
+  TColgp_Array1OfPnt poles(1, 4);
+  poles(1) = gp_Pnt(0, 0, 0);
+  poles(2) = gp_Pnt(1.2, 0, 0.2);
+  poles(3) = gp_Pnt(0.4, 0, 1.6);
+  poles(4) = gp_Pnt(0, 0, 2);
+  const TopoDS_Edge profile = BRepBuilderAPI_MakeEdge(new Geom_BezierCurve(poles)).Edge();
+  const TopoDS_Shape face = BRepPrimAPI_MakeRevol(profile, gp::OZ()).Shape();
+  BRep_Builder B;
+  TopoDS_Shell shell;
+  B.MakeShell(shell);
+  for (TopExp_Explorer x(face, TopAbs_FACE); x.More(); x.Next())
+  {
+    B.Add(shell, x.Current());
+  }
+  shell.Closed(Standard_True);
+  TopoDS_Solid solid = BRepBuilderAPI_MakeSolid(shell).Solid();
+  BRepLib::OrientClosedSolid(solid);
+  return solid;
+}
+
+/// A BGA-like package: a box with a rows x rows grid of balls fused to its underside, each a
+/// sphere cut by the box: one pole, a seam, a circle where it meets the box.
+TopoDS_Shape BallGridPackage(int rows)
+{
+  TopoDS_Shape body = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), rows * 0.8, rows * 0.8, 0.5).Shape();
+  TopTools_ListOfShape balls;
+  for (int i = 0; i < rows; ++i)
+  {
+    for (int j = 0; j < rows; ++j)
+    {
+      balls.Append(BRepPrimAPI_MakeSphere(gp_Pnt(0.4 + 0.8 * i, 0.4 + 0.8 * j, -0.1), 0.25).Shape());
+    }
+  }
+  TopTools_ListOfShape arguments;
+  arguments.Append(body);
+  BRepAlgoAPI_Fuse fuse;
+  fuse.SetArguments(arguments);
+  fuse.SetTools(balls);
+  fuse.Build();
+  return fuse.Shape();
+}
+
+/// A prism over a circular segment (a 30 degree arc and its chord): on each cap two B-rep
+/// edges, the arc and the chord, join the same two vertices, each one span at a coarse
+/// tolerance.
+TopoDS_Shape CircularSegmentPrism()
+{
+  const double half = 15 * M_PI / 180;
+  const gp_Pnt a(std::cos(half), -std::sin(half), 0), m(1, 0, 0), b(std::cos(half), std::sin(half), 0);
+  BRepBuilderAPI_MakeWire wire(BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(a, m, b).Value()).Edge(),
+    BRepBuilderAPI_MakeEdge(b, a).Edge());
+  const TopoDS_Face face = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+  return BRepPrimAPI_MakePrism(face, gp_Vec(0, 0, 4)).Shape();
+}
+
+/// Three planar quadrilaterals sharing one edge (a non-manifold edge of the B-rep itself) and
+/// free elsewhere.
+TopoDS_Shape ThreeFacesOnOneEdge()
+{
+  const gp_Pnt p0(0, 0, 0), p1(0, 0, 1);
+  const TopoDS_Edge shared = BRepBuilderAPI_MakeEdge(p0, p1).Edge();
+  TopoDS_Vertex v0, v1;
+  TopExp::Vertices(shared, v0, v1);
+  BRep_Builder B;
+  TopoDS_Shell shell; // one shell: as a compound, STEP would write each face on its own
+  B.MakeShell(shell);
+  for (int k = 0; k < 3; ++k)
+  {
+    const double angle = 2 * M_PI * k / 3;
+    const gp_Vec out(std::cos(angle), std::sin(angle), 0);
+    const TopoDS_Vertex q0 = BRepBuilderAPI_MakeVertex(p0.Translated(out)).Vertex();
+    const TopoDS_Vertex q1 = BRepBuilderAPI_MakeVertex(p1.Translated(out)).Vertex();
+    BRepBuilderAPI_MakeWire wire;
+    wire.Add(shared);
+    wire.Add(BRepBuilderAPI_MakeEdge(v1, q1).Edge());
+    wire.Add(BRepBuilderAPI_MakeEdge(q1, q0).Edge());
+    wire.Add(BRepBuilderAPI_MakeEdge(q0, v0).Edge());
+    B.Add(shell, BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face());
+  }
+  return shell;
 }
 
 TopoDS_Shape CylinderWithHole()
@@ -392,11 +497,70 @@ TEST(CADConversion, SphereIsClosedAndWatertight)
   EXPECT_GT(CheckInterfacesBitIdentical(c), 0) << "the seam's two sides";
   vtkFieldData* fd = c.Merged->GetFieldData();
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << "the seam and poles close the sphere";
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0) << "the poles' fans";
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
   std::printf("sphere: %lld macro-triangles, max deviation %.3g, RMS %.3g (relative), %.3f s\n",
     static_cast<long long>(Field(fd, "NumberOfMacroTriangles")), Field(fd, "MaxDeviation"),
     Field(fd, "RMSDeviation"), c.Seconds);
   EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4);
+}
+
+/// A closed model converted at `tolerance`: no free edge, no non-manifold edge, no C0 gap, every
+/// face (or only face `deviationFace` if given) within the tolerance.
+void CheckClosed(const std::string& name, const TopoDS_Shape& shape, double tolerance = 1e-4,
+  int deviationFace = -1)
+{
+  ASSERT_FALSE(shape.IsNull()) << name;
+  Conversion c;
+  c.Run(TempStep(name, shape), tolerance);
+  CheckSharedNodes(c);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("%s: %u faces, %g macro-triangles, free edges %g, non-manifold %g, C0 gap %g, max "
+              "deviation %.3g, %.3f s\n", name.c_str(), c.Faces->GetNumberOfBlocks(),
+    Field(fd, "NumberOfMacroTriangles"), Field(fd, "NumberOfFreeEdges"),
+    Field(fd, "NumberOfNonManifoldEdges"), Field(fd, "MaxC0Gap"), Field(fd, "MaxDeviation"), c.Seconds);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << name;
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0) << name;
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0) << name;
+  vtkDataObject* face = deviationFace >= 0 ? c.Splines->GetBlock(deviationFace) : c.Merged;
+  EXPECT_LE(Field(face->GetFieldData(), "MaxDeviation"), tolerance) << name;
+}
+
+/// Poles: at a sphere's poles, a cone's apex and where a surface of revolution touches its axis
+/// every pole segment of the face's loop is the same 3D point, and the interior macro-edges from
+/// its ends to one mesh point are distinct curves with the same end nodes.
+TEST(CADConversion, PolesAreClosedAndManifold)
+{
+  CheckClosed("pole_sphere", Sphere());
+  // The cone's lateral face (face 0) only: the refinement of its planar base, a disk, stalls
+  // (its thin triangles' worst points lie next to the boundary), which is no pole's doing.
+  CheckClosed("pole_cone", ConeWithApex(), 1e-4, 0);
+  CheckClosed("pole_revolution", RevolutionTouchingItsAxis());
+  CheckClosed("pole_balls", BallGridPackage(3));
+  CheckClosed("pole_wedge", BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0, M_PI / 2).Shape());
+  CheckClosed("pole_half", BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape(),
+    BRepPrimAPI_MakeBox(gp_Pnt(-2, -2, -2), 2.0, 4.0, 4.0).Shape()).Shape());
+  CheckClosed("pole_cone_wedge", BRepPrimAPI_MakeCone(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 0.0, 1.0, M_PI).Shape());
+}
+
+/// Two B-rep edges (an arc and its chord) join the same two vertices: their spans are distinct
+/// macro-edges, never merged.
+TEST(CADConversion, TwoEdgesBetweenTheSameVertices)
+{
+  CheckClosed("segment_prism", CircularSegmentPrism(), 1e-2);
+}
+
+/// A non-manifold edge of the B-rep stays one: three faces share it, the rest is free.
+TEST(CADConversion, NonManifoldEdgeOfTheModelIsReported)
+{
+  Conversion c;
+  c.Run(TempStep("three_faces", ThreeFacesOnOneEdge()), 1e-3);
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 3u);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  const double spans = Field(fd, "NumberOfNonManifoldEdges");
+  EXPECT_GT(spans, 0) << "the shared edge";
+  EXPECT_GE(Field(fd, "NumberOfFreeEdges"), 3 * 3 * spans) << "three free sides per face";
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
 }
 
 /// The cylinder with a hole read from `file` (STEP or IGES): closed, watertight, within 1e-4.
