@@ -109,6 +109,9 @@ struct EdgeSampling
   std::vector<Point3> D; // dC/dt
   /// Inner Hermite control points of span k: near sample k, near sample k+1.
   std::vector<std::array<Point3, 2>> Inner;
+  /// Per pcurve use (CADModel::Impl::EdgeUses): the largest distance between its surface and
+  /// the edge's mean curve seen while sampling (the face's own gap along the edge).
+  std::vector<double> UseGap;
 };
 
 /// A pcurve of an edge on one face (a seam has two on the same face).
@@ -188,7 +191,7 @@ struct CADModel::Stages
   static bool Install(CADModel& m, const ShapeRead& r, const std::string& fileName);
   static bool Prepare(CADModel& m);
   static bool CollectEdge(CADModel& m, int e);
-  static void SampleEdge(CADModel& m, int e, double tol, double maxSpan, int maxSamples);
+  static void SampleEdge(CADModel& m, int e, const SamplingOptions& options);
   static bool WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::vector<Run>& runs, std::vector<double>& spanLengths);
   static bool JoinRuns(CADModel& m, int f, std::vector<Run>& runs, std::vector<double>& spanLengths, double tol,
     FaceLoop& loop);
@@ -419,8 +422,11 @@ bool CADModel::Stages::CollectEdge(CADModel& m, int e)
 }
 
 /// Pass 2 for edge e: adaptive Hermite samples of its mean curve.
-void CADModel::Stages::SampleEdge(CADModel& m, int e, double tol, double maxSpan, int maxSamples)
+void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& options)
 {
+  const double tol = options.Tolerance * m.BoxDiagonal;
+  const double maxSpan = options.MaxSpanLength * m.BoxDiagonal;
+  const int maxSamples = options.MaxSamplesPerEdge;
   Impl& d = *m.Internal;
   EdgeSampling& es = d.Edges[e];
   if (es.Degenerate)
@@ -488,11 +494,15 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, double tol, double maxSpan
     samples.push_back(makeSample(t0 + (t1 - t0) * k / n0));
   }
   samples.push_back(last);
-  // A span is split while its Hermite cubic is off the mean curve, or while any adjacent
-  // surface over the pcurve chord (the stitched spline's boundary lies over that chord) is off
-  // the cubic by more than the edge tolerance beyond that surface's own distance from the mean
-  // curve. Half the tolerance: the other half is left to the face interiors.
-  const double edgeTol = 0.5 * tol;
+  // A span is split while its Hermite cubic is off the mean curve by more than half the
+  // tolerance (the other half is left to the face interiors), or off any adjacent surface over
+  // the pcurve chord (the stitched spline's boundary lies over that chord) by more than
+  // max(tol / 2, gap + tol / 4), gap being that surface's own distance from the mean curve
+  // there (the face is held to max(tol, 2 gap), and its interior next to the edge must stay
+  // within 0.8 of that); with an angular tolerance, also while the cubic's tangent leaves a
+  // face's tangent plane by more than half of it. Measured at five points of the span.
+  es.UseGap.assign(uses.size(), 0.0);
+  const double angTol = options.AngularTolerance * M_PI / 180;
   auto spanError = [&](const EdgeSample& a, const EdgeSample& b) {
     const double h = b.T - a.T;
     Point3 ca, cb;
@@ -501,22 +511,41 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, double tol, double maxSpan
       ca[i] = a.P[i] + h * a.D[i] / 3;
       cb[i] = b.P[i] - h * b.D[i] / 3;
     }
-    double err = 0;
-    for (const double s : { 0.25, 0.5, 0.75 })
+    double err = 0; // relative to the bound: a span is split above 1
+    for (const double s : { 1.0 / 6, 1.0 / 3, 0.5, 2.0 / 3, 5.0 / 6 })
     {
       const Point3 hermite = Bezier3(a.P, ca, cb, b.P, s);
       Point3 c, dc;
       pointAt(a.T + s * h, c, dc);
-      err = std::max(err, Distance(hermite, c));
-      for (const PCurveUse& u : uses)
+      err = std::max(err, Distance(hermite, c) / (0.5 * tol));
+      // The cubic's tangent (the Bezier derivative, up to its length).
+      const double r = 1 - s;
+      gp_Vec tangent;
+      for (int i = 0; i < 3; ++i)
       {
+        tangent.SetCoord(i + 1,
+          r * r * (ca[i] - a.P[i]) + 2 * r * s * (cb[i] - ca[i]) + s * s * (b.P[i] - cb[i]));
+      }
+      for (std::size_t k = 0; k < uses.size(); ++k)
+      {
+        const PCurveUse& u = uses[k];
         const gp_Pnt2d ua = u.Curve->Value(a.T), ub = u.Curve->Value(b.T);
         const gp_Pnt2d um = u.Curve->Value(a.T + s * h);
         const BRepAdaptor_Surface& S = d.Surfaces[u.Face];
-        const Point3 chord = ToPoint(
-          S.Value((1 - s) * ua.X() + s * ub.X(), (1 - s) * ua.Y() + s * ub.Y()).XYZ());
+        gp_Pnt chord;
+        gp_Vec du, dv;
+        S.D1((1 - s) * ua.X() + s * ub.X(), (1 - s) * ua.Y() + s * ub.Y(), chord, du, dv);
         const double gap = Distance(ToPoint(S.Value(um.X(), um.Y()).XYZ()), c);
-        err = std::max(err, Distance(chord, hermite) - gap);
+        es.UseGap[k] = std::max(es.UseGap[k], gap);
+        err = std::max(err,
+          Distance(ToPoint(chord.XYZ()), hermite) / std::max(0.5 * tol, gap + 0.25 * tol));
+        const gp_Vec normal = du.Crossed(dv);
+        if (angTol > 0 && normal.Magnitude() > 0 && tangent.Magnitude() > 0)
+        {
+          const double off = std::abs(std::asin(std::min(1.0,
+            std::abs(normal.Dot(tangent)) / (normal.Magnitude() * tangent.Magnitude()))));
+          err = std::max(err, off / (0.5 * angTol));
+        }
       }
     }
     return err;
@@ -534,7 +563,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, double tol, double maxSpan
       // the face mesher, so a face's triangles can meet that bound (and an aspect bound near
       // the boundary) only if the edge samples do.
       const bool tooLong = maxSpan > 0 && Distance(a.P, b.P) > maxSpan;
-      if (std::abs(b.T - a.T) > minSpan && (tooLong || spanError(a, b) > edgeTol) &&
+      if (std::abs(b.T - a.T) > minSpan && (tooLong || spanError(a, b) > 1) &&
         static_cast<int>(samples.size() + next.size()) < 2 * maxSamples)
       {
         next.push_back(makeSample(0.5 * (a.T + b.T)));
@@ -641,6 +670,13 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
         seg.Near0 = es.Inner[span][reversed ? 1 : 0];
         seg.Near1 = es.Inner[span][reversed ? 0 : 1];
         run.Segments.push_back(seg);
+      }
+    }
+    for (std::size_t k = 0; k < es.UseGap.size(); ++k)
+    {
+      if (d.EdgeUses[e][k].Face == f)
+      {
+        face.MaxGap = std::max(face.MaxGap, es.UseGap[k]);
       }
     }
     for (std::size_t i = 0; i + 1 < n; ++i)
@@ -777,7 +813,6 @@ bool CADModel::Sample(const SamplingOptions& options)
 {
   Impl& d = *this->Internal;
   const double tol = options.Tolerance * this->BoxDiagonal;
-  const double maxSpan = options.MaxSpanLength * this->BoxDiagonal;
   const int nF = d.FaceMap.Extent(), nE = d.EdgeMap.Extent(), nV = d.VertexMap.Extent();
   if (!Stages::Prepare(*this))
   {
@@ -813,7 +848,7 @@ bool CADModel::Sample(const SamplingOptions& options)
   {
     if (!Stages::Guard(*this, [&] { return "edge sampling, " + Stages::EdgeLabel(*this, e); },
           [&] {
-            Stages::SampleEdge(*this, e, tol, maxSpan, options.MaxSamplesPerEdge);
+            Stages::SampleEdge(*this, e, options);
             return true;
           }))
     {

@@ -64,12 +64,17 @@ struct CADFace
   std::string Name;
   bool Reversed = false;
   std::vector<FaceLoop> Loops;
-  double MaxGap = 0; // largest measured distance between the edge curves and the surface
+  /// Largest measured distance between the shared edge curves (at the nodes and inside the
+  /// spans) and the face's surface over its pcurves: the model's own gap.
+  double MaxGap = 0;
 };
 
 struct SamplingOptions
 {
   double Tolerance = 1e-4; // relative to the bounding-box diagonal
+  /// Degrees: edge spans are split while their cubic's tangent leaves a face's tangent plane
+  /// by more than half of it; 0 = no bound.
+  double AngularTolerance = 0;
   double MaxSpanLength = 0; // bound on edge span chords, relative to the diagonal; 0 = none
   int MaxSamplesPerEdge = 4096;
   bool RestoreG1 = false;   // see InterfaceTangentPlanes.h

@@ -33,6 +33,108 @@ void StitchEdgeGradient(const LoopSegment& seg, double gradient[6])
   }
 }
 
+void Deviation::Add(const Deviation& o)
+{
+  this->MaxDistance = std::max(this->MaxDistance, o.MaxDistance);
+  this->MaxAngle = std::max(this->MaxAngle, o.MaxAngle);
+  this->SumSquaredDistance += o.SumSquaredDistance;
+  this->SumSquaredAngle += o.SumSquaredAngle;
+  this->Count += o.Count;
+  this->AngleCount += o.AngleCount;
+}
+
+void DeviationPoints(const ctk::Vec3& splitTau, int level, const std::array<bool, 3>& skipEdge,
+  std::vector<ctk::Vec3>& points)
+{
+  points.clear();
+  points.push_back(splitTau);
+  // Micro-triangle k spans (U_{k+1}, U_{k+2}, Z) with weights w = (i, j, l) / level. Its points
+  // with j = 0 (the inner edge to U_{k+1}) are micro-triangle k-1's with i = 0, so each takes
+  // j > 0 only, and Z (j = 0 in all three) is the one point added above.
+  for (int k = 0; k < 3; ++k)
+  {
+    const bool skip = skipEdge[(k + 1) % 3]; // the macro-edge (U_{k+1}, U_{k+2}) is l = 0 below
+    for (int j = 1; j <= level; ++j)
+    {
+      for (int i = 0; i + j <= level; ++i)
+      {
+        const int l = level - i - j;
+        if (l == 0 && skip)
+        {
+          continue;
+        }
+        points.push_back(
+          ctk::MacroBarycentric(splitTau, k, ctk::Vec3(i, j, l) / static_cast<double>(level)));
+      }
+    }
+  }
+}
+
+bool PointDeviation(const SurfaceFunction& surface, const ctk::Vec2& X,
+  const ctk::ParametricJet& jet, bool normals, double& distance, double& angle,
+  std::string& error)
+{
+  Point3 S, Ds, Dt;
+  surface(X.x(), X.y(), S.data(), Ds.data(), Dt.data());
+  distance = (jet.Value - ctk::Vec3(S[0], S[1], S[2])).norm();
+  angle = -1;
+  if (normals)
+  {
+    const ctk::Vec3 su(Ds[0], Ds[1], Ds[2]), sv(Dt[0], Dt[1], Dt[2]);
+    if (!ctk::IsSingularTangentPlane(su, sv) && !ctk::IsSingularTangentPlane(jet.Du, jet.Dv))
+    {
+      const ctk::Vec3 a = su.cross(sv), b = jet.Du.cross(jet.Dv);
+      angle = std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / M_PI;
+    }
+  }
+  if (!std::isfinite(distance) || !std::isfinite(angle))
+  {
+    error = "non-finite surface or spline value at (" + std::to_string(X.x()) + ", " +
+      std::to_string(X.y()) + ") of the face's parameter plane";
+    return false;
+  }
+  return true;
+}
+
+bool MeasureTriangle(const ctk::CubicSpline& spline, const ctk::MeshTopology& topo,
+  const ctk::Id* triangles, ctk::Id t, const std::vector<ctk::Vec3>& points,
+  const SurfaceFunction& surface, bool normals, Deviation& d, std::string& error,
+  ctk::Vec3* worst, double tolerance, double angularTolerance)
+{
+  double worstRatio = -1;
+  for (const ctk::Vec3& tau : points)
+  {
+    ctk::Vec2 X = ctk::Vec2::Zero();
+    for (int i = 0; i < 3; ++i)
+    {
+      X += tau[i] * spline.DomainPoints[triangles[3 * t + i]];
+    }
+    double e, a;
+    if (!PointDeviation(surface, X,
+          ctk::EvaluateSpline(spline, topo, triangles, t, tau, normals ? 1 : 0), normals, e, a,
+          error))
+    {
+      return false;
+    }
+    d.MaxDistance = std::max(d.MaxDistance, e);
+    d.SumSquaredDistance += e * e;
+    ++d.Count;
+    if (a >= 0)
+    {
+      d.MaxAngle = std::max(d.MaxAngle, a);
+      d.SumSquaredAngle += a * a;
+      ++d.AngleCount;
+    }
+    const double ratio = std::max(e / tolerance, a / angularTolerance);
+    if (worst && ratio > worstRatio)
+    {
+      worstRatio = ratio;
+      *worst = tau;
+    }
+  }
+  return true;
+}
+
 namespace
 {
 struct VertexInfo
@@ -151,6 +253,10 @@ struct Steiner
   Point P;
   double MinDistance = 0;
   bool Encroach = false;
+  /// Where to insert instead when P cannot go in (next to a vertex): the triangle's centroid,
+  /// the midpoint of its longest unconstrained edge (so that a triangle over the tolerance is
+  /// split, not skipped round after round).
+  std::vector<Point> Fallbacks;
 };
 
 /// Whether a Steiner point may go into the domain: it lies in an in-domain face (not on a vertex
@@ -244,22 +350,6 @@ const LoopSegment* FaceSegment(const CDT& cdt, const CDT::Face_handle f, int l,
   return it->second.Segment;
 }
 
-/// e = |value - surface(X)| at parameter X of the face; false (with error) when not finite.
-bool DeviationAt(const SurfaceFunction& surface, const ctk::Vec2& X, const ctk::Vec3& value,
-  double& e, std::string& error)
-{
-  Point3 S, Ds, Dt;
-  surface(X.x(), X.y(), S.data(), Ds.data(), Dt.data());
-  e = (value - ctk::Vec3(S[0], S[1], S[2])).norm();
-  if (!std::isfinite(e))
-  {
-    error = "non-finite surface or spline value at (" + std::to_string(X.x()) + ", " +
-      std::to_string(X.y()) + ") of the face's parameter plane";
-    return false;
-  }
-  return true;
-}
-
 /// The kernel input of a spline over points of the face mesh (kernel point k is the k-th point
 /// added) and its build, topology included.
 struct FaceSplineInput : ctk::SplineInput
@@ -300,6 +390,64 @@ struct FaceSplineInput : ctk::SplineInput
   }
 };
 
+/// Whether triangle f has two boundary segments meeting at a vertex in nearly the same or the
+/// opposite 3D direction (within 3 degrees; exactly opposite at a node inside a B-rep edge, whose
+/// spans share its derivative). That corner of the stitched spline is degenerate: its normal at
+/// the vertex is undefined, and flips with round-off. Such triangles (ears on a curved boundary)
+/// are split.
+bool FlatBoundaryCorner(
+  const CDT& cdt, const CDT::Face_handle f, const SegmentMap& segments, const FaceMesh& mesh)
+{
+  for (int l = 0; l < 3; ++l)
+  {
+    bool flipIn = false, flipOut = false;
+    const LoopSegment* in = FaceSegment(cdt, f, (l + 2) % 3, segments, flipIn);
+    const LoopSegment* out = FaceSegment(cdt, f, l, segments, flipOut);
+    if (!in || !out || in->Degenerate || out->Degenerate)
+    {
+      continue;
+    }
+    const Point3& V = mesh.F[f->vertex(l)->info().Index];
+    const Point3& a = flipIn ? in->Near0 : in->Near1;   // near vertex l on edge (l + 2, l)
+    const Point3& b = flipOut ? out->Near1 : out->Near0; // near vertex l on edge (l, l + 1)
+    const ctk::Vec3 da(a[0] - V[0], a[1] - V[1], a[2] - V[2]);
+    const ctk::Vec3 db(b[0] - V[0], b[1] - V[1], b[2] - V[2]);
+    if (da.cross(db).norm() <= std::sin(3 * M_PI / 180) * da.norm() * db.norm())
+    {
+      return true;
+    }
+  }
+  return false;
+}
+
+/// A point splitting triangle f where its error is largest (parameter X), not next to a vertex
+/// (a fifth of the shortest edge in the triangulation's plane), with the fallbacks of Steiner.
+Steiner RefinementPoint(const CDT& cdt, const CDT::Face_handle f, const ctk::Vec2& X,
+  const TriangulationPlane& plane)
+{
+  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
+  Point mid;
+  for (int i = 0; i < 3; ++i)
+  {
+    const Point &a = f->vertex(CDT::ccw(i))->point(), &b = f->vertex(CDT::cw(i))->point();
+    const double len = std::sqrt(CGAL::squared_distance(a, b));
+    shortest = std::min(shortest, len);
+    if (len > longest && !cdt.is_constrained(CDT::Edge(f, i)))
+    {
+      longest = len;
+      mid = CGAL::midpoint(a, b);
+    }
+  }
+  Steiner q{ Point(plane.Scale[0] * X.x(), plane.Scale[1] * X.y()), 0.2 * shortest, false, {} };
+  q.Fallbacks.push_back(
+    CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
+  if (longest > 0)
+  {
+    q.Fallbacks.push_back(mid);
+  }
+  return q;
+}
+
 /// Builds the stitched spline of the current face mesh (options.Spline, boundary edges following
 /// the loop segments' cubics, exact mid-edge gradients) and measures it against the surface at
 /// the check points of every micro-triangle; the worst point of every triangle that is off by
@@ -307,7 +455,7 @@ struct FaceSplineInput : ctk::SplineInput
 bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& faces,
   const FaceMesh& mesh, const SegmentMap& segments, const SurfaceFunction& surface,
   const FaceMeshOptions& options, const TriangulationPlane& plane, std::vector<Steiner>& inserts,
-  double& maxError, std::string& error)
+  double& maxError, double& maxAngle, std::string& error)
 {
   const ctk::Id nT = static_cast<ctk::Id>(faces.size());
   FaceSplineInput in;
@@ -353,51 +501,44 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
   {
     return false;
   }
-  // Barycentric check points of a micro-triangle (U_{k+1}, U_{k+2}, Z); the last is the
-  // macro-edge midpoint, skipped on boundary edges (the edge sampling bounds those).
-  static const ctk::Vec3 pattern[5] = { ctk::Vec3(1, 1, 1) / 3, ctk::Vec3(4, 1, 1) / 6,
-    ctk::Vec3(1, 4, 1) / 6, ctk::Vec3(1, 1, 4) / 6, ctk::Vec3(0.5, 0.5, 0) };
+  // The boundary macro-edges are left out: the face cannot split them (the edge sampling bounds
+  // the error there).
+  const bool normals = options.AngularTolerance > 0;
+  std::vector<ctk::Vec3> points;
   for (ctk::Id t = 0; t < nT; ++t)
   {
-    double worst = 0;
-    ctk::Vec2 worstX;
-    for (int k = 0; k < 3; ++k)
+    DeviationPoints(spline.SplitTau[t], options.CheckLevel, onBoundary[t], points);
+    Deviation d;
+    ctk::Vec3 worst;
+    if (!MeasureTriangle(spline, topo, in.Triangles.data(), t, points, surface, normals, d, error,
+          &worst, options.Tolerance, options.AngularTolerance))
     {
-      const int points = onBoundary[t][(k + 1) % 3] ? 4 : 5;
-      for (int q = 0; q < points; ++q)
-      {
-        const ctk::Vec3 tau = ctk::MacroBarycentric(spline.SplitTau[t], k, pattern[q]);
-        const ctk::Vec2 X = in.ParameterAt(t, tau);
-        double e;
-        if (!DeviationAt(surface, X,
-              ctk::EvaluateSpline(spline, topo, in.Triangles.data(), t, tau).Value, e, error))
-        {
-          return false;
-        }
-        if (e > worst)
-        {
-          worst = e;
-          worstX = X;
-        }
-      }
+      return false;
     }
-    maxError = std::max(maxError, worst);
-    // A margin: five points per micro-triangle see most, not all, of the error.
-    if (worst > 0.8 * options.Tolerance && plane.Refinable(faces[t]))
+    maxError = std::max(maxError, d.MaxDistance);
+    maxAngle = std::max(maxAngle, d.MaxAngle);
+    // A margin: the lattice sees most, not all, of the error.
+    if ((d.MaxDistance > 0.8 * options.Tolerance ||
+          (normals && d.MaxAngle > 0.8 * options.AngularTolerance)) &&
+      plane.Refinable(faces[t]))
     {
-      // Not next to a vertex (a fifth of the shortest edge in the triangulation's plane).
-      const CDT::Face_handle f = faces[t];
-      double shortest = std::numeric_limits<double>::infinity();
-      for (int i = 0; i < 3; ++i)
-      {
-        shortest = std::min(shortest,
-          std::sqrt(CGAL::squared_distance(f->vertex(i)->point(), f->vertex((i + 1) % 3)->point())));
-      }
-      inserts.push_back(
-        { Point(plane.Scale[0] * worstX.x(), plane.Scale[1] * worstX.y()), 0.2 * shortest, false });
+      inserts.push_back(RefinementPoint(cdt, faces[t], in.ParameterAt(t, worst), plane));
     }
   }
   return true;
+}
+/// Why refinement stopped: the cap reached, or triangles over the tolerances too small to split.
+std::string StopReason(bool rounds, bool full, bool unrefinable, const FaceMeshOptions& options)
+{
+  if (full)
+  {
+    return "reached MaxTriangles (" + std::to_string(options.MaxTriangles) + ")";
+  }
+  if (rounds)
+  {
+    return "reached MaxRounds (" + std::to_string(options.MaxRounds) + ")";
+  }
+  return unrefinable ? "triangles over the tolerance are too small to split" : "";
 }
 } // namespace
 
@@ -526,7 +667,13 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     {
       // Never next to another point (two triangles can ask for the same point up to round-off).
       q.MinDistance = std::max(q.MinDistance, std::sqrt(plane.MinArea));
-      if (!CanInsert(cdt, q))
+      bool can = CanInsert(cdt, q);
+      for (std::size_t i = 0; !can && i < q.Fallbacks.size(); ++i)
+      {
+        q.P = q.Fallbacks[i];
+        can = CanInsert(cdt, q);
+      }
+      if (!can)
       {
         continue;
       }
@@ -537,6 +684,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     return added;
   };
   bool unrefinable = false; // a triangle or edge over the tolerance is too small to split
+  const bool normals = options.AngularTolerance > 0;
   for (int round = 0;; ++round)
   {
     collectFaces();
@@ -555,7 +703,7 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       }
       return it.first->second;
     };
-    double maxError = 0;
+    double maxError = 0, maxAngle = 0;
     for (std::size_t i = 0; i < faces.size(); ++i)
     {
       const CDT::Face_handle f = faces[i];
@@ -584,34 +732,37 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
         const CDT::Face_handle f = faces[triFace[j]];
         const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
                  c = f->vertex(2)->info().Index;
+        if (plane.Refinable(f) && FlatBoundaryCorner(cdt, f, segments, mesh))
+        {
+          inserts.push_back({ CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(),
+                                f->vertex(2)->point()),
+            0, false, {} });
+          continue;
+        }
         // The split point Z (the centroid: S) and the centres of the three micro-triangles,
         // which lie next to the macro-edges where the error of CT patches concentrates.
         const ctk::Id tj = static_cast<ctk::Id>(j);
         const ctk::Vec3& split = spline.SplitTau[tj];
-        double err = 0;
-        ctk::Vec2 worst = in.ParameterAt(tj, split);
-        for (int k = -1; k < 3; ++k)
+        std::vector<ctk::Vec3> points{ split };
+        for (int k = 0; k < 3; ++k)
         {
-          const ctk::Vec3 tau = k < 0 ? split : ctk::MacroBarycentric(split, k, ctk::Vec3(1, 1, 1) / 3);
-          const ctk::Vec2 X = in.ParameterAt(tj, tau);
-          double e;
-          if (!DeviationAt(surface, X,
-                ctk::EvaluateSpline(spline, topo, in.Triangles.data(), tj, tau).Value, e, mesh.Error))
-          {
-            return false;
-          }
-          if (e > err)
-          {
-            err = e;
-            worst = X;
-          }
+          points.push_back(ctk::MacroBarycentric(split, k, ctk::Vec3(1, 1, 1) / 3));
         }
-        maxError = std::max(maxError, err);
-        if (err > tol)
+        Deviation d;
+        ctk::Vec3 worst;
+        if (!MeasureTriangle(spline, topo, in.Triangles.data(), tj, points, surface, normals, d,
+              mesh.Error, &worst, tol, options.AngularTolerance))
+        {
+          return false;
+        }
+        maxError = std::max(maxError, d.MaxDistance);
+        maxAngle = std::max(maxAngle, d.MaxAngle);
+        if (d.MaxDistance > tol || (normals && d.MaxAngle > options.AngularTolerance))
         {
           if (plane.Refinable(f))
           {
-            inserts.push_back({ Point(scale[0] * worst.x(), scale[1] * worst.y()), 0, false });
+            const ctk::Vec2 X = in.ParameterAt(tj, worst);
+            inserts.push_back({ Point(scale[0] * X.x(), scale[1] * X.y()), 0, false, {} });
             continue;
           }
           unrefinable = true; // too small to refine further
@@ -698,14 +849,17 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       }
     }
     mesh.MaxEstimatedError = maxError;
+    mesh.MaxEstimatedAngle = maxAngle;
     const bool full = static_cast<long>(faces.size()) >= options.MaxTriangles;
     if (inserts.empty() || round >= options.MaxRounds || full)
     {
       mesh.Converged = inserts.empty() && !unrefinable;
+      mesh.StopReason = StopReason(!inserts.empty() && round >= options.MaxRounds, full, unrefinable, options);
       break;
     }
     if (insertPoints(inserts) == 0)
     {
+      mesh.StopReason = StopReason(false, false, true, options);
       break;
     }
   }
@@ -717,23 +871,24 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   {
     collectFaces();
     std::vector<Steiner> inserts;
-    double maxError = 0;
-    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, plane, inserts, maxError, mesh.Error))
+    double maxError = 0, maxAngle = 0;
+    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, plane, inserts, maxError,
+          maxAngle, mesh.Error))
     {
       return false;
     }
     mesh.MaxEstimatedError = maxError;
+    mesh.MaxEstimatedAngle = maxAngle;
     mesh.CheckRounds = check + 1;
-    if (inserts.empty())
+    const bool within = maxError <= options.Tolerance &&
+      (options.AngularTolerance <= 0 || maxAngle <= options.AngularTolerance);
+    // Within 0.8 of the tolerances where refinable; the rest too small to split.
+    const bool rounds = check >= options.MaxRounds;
+    const bool full = static_cast<long>(faces.size()) >= options.MaxTriangles;
+    if (inserts.empty() || rounds || full || insertPoints(inserts) == 0)
     {
-      // Within 0.8 of the tolerance where refinable; the rest too small to split.
-      mesh.Converged = maxError <= options.Tolerance;
-      break;
-    }
-    if (check >= options.MaxRounds || static_cast<long>(faces.size()) >= options.MaxTriangles ||
-      insertPoints(inserts) == 0)
-    {
-      mesh.Converged = false;
+      mesh.Converged = inserts.empty() && within;
+      mesh.StopReason = mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
       break;
     }
   }

@@ -25,12 +25,17 @@ struct FaceMeshOptions
   double Tolerance = 0;     // absolute
   double AspectRatio = 0;   // bound on the 3D aspect ratio (1 = equilateral); 0 = none
   double MaxEdgeLength = 0; // absolute bound on 3D edge lengths; 0 = none
+  /// Bound in degrees on the angle between the spline's normals and the surface's (like
+  /// OpenCASCADE's angular deflection); 0 = none.
+  double AngularTolerance = 0;
   int MaxRounds = 60;
   long MaxTriangles = 500000;
   /// After the CTo rounds, check the spline the stitcher makes (this construction, following
-  /// the shared edge cubics) on the whole face and refine until it is within the tolerance at
-  /// the check points of every micro-triangle (centre, three inner points, macro-edge midpoint).
+  /// the shared edge cubics) on the whole face and refine until it is within the tolerances at
+  /// the CheckLevel lattice of every micro-triangle (DeviationPoints; the boundary macro-edges,
+  /// which the face cannot refine, are the edge sampling's).
   bool CheckConstruction = false;
+  int CheckLevel = 4;
   ctk::SplineOptions Spline;
 };
 
@@ -51,10 +56,47 @@ struct FaceMesh
   int CheckRounds = 0; // rounds that checked the stitched spline
   bool Converged = false;
   /// Last round's largest error: of the stitched spline at its check points when checked, else
-  /// the CTo estimate at centroids, micro-triangle centres and interior edge midpoints.
+  /// the CTo estimate at centroids, micro-triangle centres and interior edge midpoints; and the
+  /// largest angle between the normals (degrees) there, measured with an AngularTolerance.
   double MaxEstimatedError = 0;
+  double MaxEstimatedAngle = 0;
+  /// Why refinement stopped short of the tolerances (empty when converged).
+  std::string StopReason;
   std::string Error;
 };
+
+/// Deviation of a spline from its CAD surface: distances (absolute) and the angles between the
+/// normals (degrees; not where either normal is degenerate, at poles).
+struct Deviation
+{
+  double MaxDistance = 0, SumSquaredDistance = 0;
+  double MaxAngle = 0, SumSquaredAngle = 0;
+  long Count = 0, AngleCount = 0;
+  void Add(const Deviation& o);
+};
+
+/// The points at which the deviation of a macro-triangle split at splitTau is measured: the
+/// barycentric lattice with `level` subdivisions of each of its micro-triangles (interior,
+/// macro-edges, inner edges, vertices and split point), every point once, as macro barycentric
+/// coordinates. Points on local macro-edge l (vertices l, l+1) are left out where skipEdge[l].
+void DeviationPoints(const ctk::Vec3& splitTau, int level, const std::array<bool, 3>& skipEdge,
+  std::vector<ctk::Vec3>& points);
+
+/// The distance between a spline point (jet of order >= 1 when `normals`) and the surface at
+/// parameter X, and the angle between their normals in degrees (-1 where either is
+/// degenerate; not computed without `normals`). False, with error, when not finite.
+bool PointDeviation(const SurfaceFunction& surface, const ctk::Vec2& X,
+  const ctk::ParametricJet& jet, bool normals, double& distance, double& angle,
+  std::string& error);
+
+/// Measures macro-triangle t of a cubic spline (vertex parameters in spline.DomainPoints)
+/// against its surface at `points` (macro barycentric coordinates) into d. False with error.
+/// With `worst`, also the point where the deviation is largest relative to the tolerances:
+/// max(distance / tolerance, angle / angularTolerance), the angle counting only with normals.
+bool MeasureTriangle(const ctk::CubicSpline& spline, const ctk::MeshTopology& topo,
+  const ctk::Id* triangles, ctk::Id t, const std::vector<ctk::Vec3>& points,
+  const SurfaceFunction& surface, bool normals, Deviation& d, std::string& error,
+  ctk::Vec3* worst = nullptr, double tolerance = 1, double angularTolerance = 1);
 
 /// The mid-edge gradient (f_u then f_v) the stitched spline uses on a boundary span: the
 /// surface's, projected to the span's shared tangent plane where the interface is restored to G1.

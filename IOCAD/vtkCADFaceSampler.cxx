@@ -80,6 +80,13 @@ vtkCADFaceSampler::~vtkCADFaceSampler() = default;
 
 bool vtkCADFaceSampler::EvaluateSurface(int face, double s, double t, double p[3])
 {
+  double ds[3], dt[3];
+  return this->EvaluateSurface(face, s, t, p, ds, dt);
+}
+
+bool vtkCADFaceSampler::EvaluateSurface(
+  int face, double s, double t, double p[3], double ds[3], double dt[3])
+{
   const ctcad::CADModel* model = this->Internals->Model.get();
   if (!model || face < 0 || face >= static_cast<int>(model->Faces().size()))
   {
@@ -87,7 +94,7 @@ bool vtkCADFaceSampler::EvaluateSurface(int face, double s, double t, double p[3
     return false;
   }
   std::string failure;
-  if (!ctcad::RunGuarded([&] { model->Evaluate(face, s, t, p); }, failure))
+  if (!ctcad::RunGuarded([&] { model->Evaluate(face, s, t, p, ds, dt); }, failure))
   {
     this->Internals->EvaluationError = "face " + std::to_string(face) + " (" + model->Faces()[face].Name +
       "): OpenCASCADE's evaluation at (" + std::to_string(s) + ", " + std::to_string(t) + ") failed: " + failure;
@@ -160,6 +167,7 @@ bool vtkCADFaceSampler::ReadModel()
   }
   ctcad::SamplingOptions sampling;
   sampling.Tolerance = this->Tolerance;
+  sampling.AngularTolerance = this->AngularTolerance;
   sampling.MaxSpanLength = this->MaxEdgeLength;
   sampling.RestoreG1 = this->RestoreG1;
   sampling.G1Threshold = this->G1Threshold;
@@ -190,6 +198,7 @@ bool vtkCADFaceSampler::MeshFaces()
   std::vector<char> ok(nF, 0);
   ctcad::FaceMeshOptions& meshOptions = this->Internals->MeshOptions;
   meshOptions.Tolerance = this->Tolerance * model->Diagonal();
+  meshOptions.AngularTolerance = this->AngularTolerance;
   meshOptions.AspectRatio = this->AspectRatio;
   meshOptions.MaxEdgeLength = this->MaxEdgeLength * model->Diagonal();
   meshOptions.MaxRounds = this->MaxRounds;
@@ -261,8 +270,12 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
   if (!mesh.Converged)
   {
     vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << ") stopped refining at estimated error "
-                    << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal after "
-                    << mesh.Rounds + mesh.CheckRounds << " rounds");
+                    << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal"
+                    << (this->AngularTolerance > 0
+                           ? ", normal angle " + std::to_string(mesh.MaxEstimatedAngle) + " degrees"
+                           : std::string())
+                    << " after " << mesh.Rounds + mesh.CheckRounds << " rounds: "
+                    << mesh.StopReason);
   }
   const vtkIdType nP = static_cast<vtkIdType>(mesh.UV.size());
   const vtkIdType nT = static_cast<vtkIdType>(mesh.Triangles.size());
@@ -367,6 +380,7 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
   AddField(fd, "MaxGap", faces[f].MaxGap);
   AddIntField(fd, "Converged", mesh.Converged ? 1 : 0);
   AddField(fd, "MaxEstimatedError", mesh.MaxEstimatedError);
+  AddField(fd, "MaxEstimatedAngle", mesh.MaxEstimatedAngle);
   AddIntField(fd, "RefinementRounds", mesh.Rounds + mesh.CheckRounds);
   output->SetBlock(f, pd);
   output->GetMetaData(static_cast<unsigned int>(f))->Set(vtkCompositeDataSet::NAME(), faces[f].Name.c_str());
@@ -423,6 +437,7 @@ void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ReadTimeout: " << this->ReadTimeout << "\n";
   os << indent << "Sew: " << this->Sew << "\n";
   os << indent << "Tolerance: " << this->Tolerance << "\n";
+  os << indent << "AngularTolerance: " << this->AngularTolerance << "\n";
   os << indent << "AspectRatio: " << this->AspectRatio << "\n";
   os << indent << "MaxEdgeLength: " << this->MaxEdgeLength << "\n";
   os << indent << "MaxRounds: " << this->MaxRounds << "\n";

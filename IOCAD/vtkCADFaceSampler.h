@@ -42,8 +42,8 @@
  * point; NaN inside), `TangentInterface` (3: 1 where the CAD faces along that boundary edge meet
  * tangentially, normals within G1Threshold at its midpoint, 0 on feature edges and free edges, -1
  * inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest distance between
- * this face's surface and the shared boundary nodes), `Converged`, `MaxEstimatedError`,
- * `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
+ * this face's surface and the shared boundary curve), `Converged`, `MaxEstimatedError`,
+ * `MaxEstimatedAngle` (degrees, with an AngularTolerance), `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
  * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
@@ -111,6 +111,18 @@ public:
   ///@}
 
   ///@{
+  /// Bound in degrees on the angle between the normals of the converted spline and the CAD
+  /// surface's, like OpenCASCADE's angular deflection: edge spans are split while the tangent of
+  /// their cubic leaves a face's tangent plane by more than half of it, and faces are refined
+  /// until the normals at their check points are within it. 0 (default): no bound, the
+  /// positional Tolerance alone decides (the normal deviation is still measured by
+  /// vtkWatertightSplineStitcher); a bound costs triangles on curved faces (on a cylinder of
+  /// radius r at Tolerance tol, the normals are already within about sqrt(tol diagonal / r)).
+  vtkSetClampMacro(AngularTolerance, double, 0.0, 90.0);
+  vtkGetMacro(AngularTolerance, double);
+  ///@}
+
+  ///@{
   /// Optional bound on the 3D aspect ratio of the triangles (longest edge over 2 sqrt(3)
   /// inradius: 1 for equilateral); 0 (default) for none. Met by inserting circumcentres where
   /// they can go (in a plane scaled to the surface's mean metric), so triangles at long boundary
@@ -173,6 +185,8 @@ public:
   /// parameters (s, t). Returns false when there is no such face or OpenCASCADE's evaluation
   /// failed (GetEvaluationError says why).
   bool EvaluateSurface(int face, double s, double t, double p[3]);
+  /// The same with the derivatives with respect to s and t.
+  bool EvaluateSurface(int face, double s, double t, double p[3], double ds[3], double dt[3]);
   /// Why the last EvaluateSurface returned false.
   const char* GetEvaluationError();
   /// After an update: the bounding-box diagonal of the model (0 before).
@@ -188,6 +202,7 @@ protected:
   double ReadTimeout = 120;
   bool Sew = true;
   double Tolerance = 1e-4;
+  double AngularTolerance = 0;
   double AspectRatio = 0;
   double MaxEdgeLength = 0;
   int MaxRounds = 60;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkWatertightSplineStitcher.h"
 
+#include "CADFaceMesher.h"
 #include "CADStitchedConstruction.h"
 
 #include "vtkCADFaceSampler.h"
@@ -125,6 +126,67 @@ std::array<vtkIdType, 4> MergedEdgeKey(vtkIdType a, vtkIdType ta, vtkIdType tb, 
 {
   return std::make_pair(b, tb) < std::make_pair(a, ta) ? std::array<vtkIdType, 4>{ b, tb, ta, a }
                                                        : std::array<vtkIdType, 4>{ a, ta, tb, b };
+}
+
+// Deviation from the CAD surfaces, positions and normals, at every point of the DeviationLevel
+// lattice of every micro-triangle (its interior, the macro-edges, shared or not, the inner edges)
+// and DeviationSamples pseudo-random points per macro-triangle.
+bool MeasureDeviation(vtkCADFaceSampler* source, int level, int samples,
+  const std::vector<FaceSpline>& splines, vtkFieldData* fd, std::string& error)
+{
+  std::uint64_t state = 0x2545F4914F6CDD1DULL;
+  auto uniform = [&state]() {
+    state ^= state << 13;
+    state ^= state >> 7;
+    state ^= state << 17;
+    return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
+  };
+  const double diag = source->GetDiagonal();
+  ctcad::Deviation all;
+  std::vector<ctk::Vec3> points;
+  for (std::size_t f = 0; f < splines.size(); ++f)
+  {
+    const FaceSpline& fs = splines[f];
+    std::string failure;
+    const ctcad::SurfaceFunction surface = [&](double s, double t, double* P, double* Ds, double* Dt) {
+      if (!source->EvaluateSurface(static_cast<int>(f), s, t, P, Ds, Dt))
+      {
+        failure = source->GetEvaluationError();
+        P[0] = std::nan("");
+      }
+    };
+    ctcad::Deviation face;
+    for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
+    {
+      ctcad::DeviationPoints(fs.Spline.SplitTau[t], level, { false, false, false }, points);
+      for (int r = 0; r < samples; ++r)
+      {
+        double a = uniform(), b = uniform();
+        if (a + b > 1)
+        {
+          a = 1 - a;
+          b = 1 - b;
+        }
+        points.emplace_back(1 - a - b, a, b);
+      }
+      if (!ctcad::MeasureTriangle(
+            fs.Spline, fs.Topo, fs.Triangles.data(), t, points, surface, true, face, error))
+      {
+        error = "deviation from the CAD surfaces, face " + std::to_string(f) + ": " +
+          (failure.empty() ? error : failure);
+        return false;
+      }
+    }
+    AddField(fs.Grid->GetFieldData(), "MaxDeviation", face.MaxDistance / diag);
+    AddField(fs.Grid->GetFieldData(), "MaxNormalDeviation", face.MaxAngle);
+    all.Add(face);
+  }
+  AddField(fd, "MaxDeviation", all.MaxDistance / diag);
+  AddField(fd, "RMSDeviation", all.Count ? std::sqrt(all.SumSquaredDistance / all.Count) / diag : 0.0);
+  AddField(fd, "MaxNormalDeviation", all.MaxAngle);
+  AddField(fd, "RMSNormalDeviation",
+    all.AngleCount ? std::sqrt(all.SumSquaredAngle / all.AngleCount) : 0.0);
+  return true;
 }
 
 } // namespace
@@ -525,65 +587,14 @@ int vtkWatertightSplineStitcher::RequestData(
   AddField(fd, "MaxG1AngleTangent", G1[1].Max);
   AddField(fd, "MeanG1AngleTangent", G1[1].Count ? G1[1].Sum / G1[1].Count : 0.0);
 
-  // Deviation from the CAD surfaces at centroids, edge midpoints and pseudo-random points.
   start = Clock::now();
-  if (this->SurfaceSource && this->SurfaceSource->GetDiagonal() > 0)
+  std::string deviationError;
+  if (this->SurfaceSource && this->SurfaceSource->GetDiagonal() > 0 &&
+    !MeasureDeviation(this->SurfaceSource, this->DeviationLevel, this->DeviationSamples, splines,
+      fd, deviationError))
   {
-    double maxDev = 0, sum = 0;
-    long count = 0;
-    std::uint64_t state = 0x2545F4914F6CDD1DULL;
-    auto uniform = [&state]() {
-      state ^= state << 13;
-      state ^= state >> 7;
-      state ^= state << 17;
-      return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
-    };
-    const double diag = this->SurfaceSource->GetDiagonal();
-    for (unsigned int f = 0; f < nF; ++f)
-    {
-      const FaceSpline& fs = splines[f];
-      double faceMax = 0;
-      for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
-      {
-        std::vector<ctk::Vec3> bary{ ctk::Vec3(1, 1, 1) / 3, ctk::Vec3(0.5, 0.5, 0),
-          ctk::Vec3(0, 0.5, 0.5), ctk::Vec3(0.5, 0, 0.5) };
-        for (int r = 0; r < this->DeviationSamples; ++r)
-        {
-          double a = uniform(), b = uniform();
-          if (a + b > 1)
-          {
-            a = 1 - a;
-            b = 1 - b;
-          }
-          bary.emplace_back(1 - a - b, a, b);
-        }
-        for (const ctk::Vec3& w : bary)
-        {
-          const ctk::ParametricJet jet =
-            ctk::EvaluateSpline(fs.Spline, fs.Topo, fs.Triangles.data(), t, w);
-          const ctk::Vec3& s = jet.Value;
-          ctk::Vec2 X = ctk::Vec2::Zero();
-          for (int i = 0; i < 3; ++i)
-          {
-            X += w[i] * fs.Spline.DomainPoints[fs.Triangles[3 * t + i]];
-          }
-          double q[3];
-          if (!this->SurfaceSource->EvaluateSurface(static_cast<int>(f), X.x(), X.y(), q))
-          {
-            vtkErrorMacro(<< "deviation from the CAD surfaces: " << this->SurfaceSource->GetEvaluationError());
-            return 0;
-          }
-          const double d = (s - ctk::Vec3(q[0], q[1], q[2])).norm();
-          faceMax = std::max(faceMax, d);
-          sum += d * d;
-          ++count;
-        }
-      }
-      AddField(fs.Grid->GetFieldData(), "MaxDeviation", faceMax / diag);
-      maxDev = std::max(maxDev, faceMax);
-    }
-    AddField(fd, "MaxDeviation", maxDev / diag);
-    AddField(fd, "RMSDeviation", count ? std::sqrt(sum / count) / diag : 0.0);
+    vtkErrorMacro(<< deviationError);
+    return 0;
   }
   vtkNew<vtkDoubleArray> times;
   times->SetName("StageTimes");
@@ -607,6 +618,7 @@ void vtkWatertightSplineStitcher::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "SplitPoint: " << vtkCloughTocherSplineFilter::GetSplitPointName(this->SplitPoint) << "\n";
   os << indent << "BoundaryMode: " << vtkCloughTocherSplineFilter::GetBoundaryModeName(this->BoundaryMode) << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "DeviationLevel: " << this->DeviationLevel << "\n";
   os << indent << "DeviationSamples: " << this->DeviationSamples << "\n";
   os << indent << "SurfaceSource: " << this->SurfaceSource << "\n";
 }

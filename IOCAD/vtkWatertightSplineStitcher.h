@@ -34,7 +34,9 @@
  * `NumberOfTangentInterfaceEdges`, `MaxG1AngleTangent`, `MeanG1AngleTangent` (the same over the
  * interfaces where the CAD faces meet tangentially), `StageTimes` (splines, stitch data, merge,
  * deviation in seconds) and, with a SurfaceSource, `MaxDeviation` and `RMSDeviation` (relative to
- * the diagonal) of the stitched splines from the CAD surfaces, each face's own in its block.
+ * the diagonal) of the stitched splines from the CAD surfaces and `MaxNormalDeviation`,
+ * `RMSNormalDeviation` (degrees between their normals, not at poles), measured on a dense lattice
+ * of every micro-triangle (DeviationLevel), each face's own maxima in its block.
  */
 #ifndef vtkWatertightSplineStitcher_h
 #define vtkWatertightSplineStitcher_h
@@ -75,10 +77,14 @@ public:
 
   ///@{
   /// The sampler whose surfaces the deviation is measured against (optional; not a pipeline
-  /// connection), and the number of pseudo-random points per macro-triangle besides its centroid
-  /// and edge midpoints. Default none, 4.
+  /// connection); the subdivisions of the lattice measured on every micro-triangle (its
+  /// interior, its edges, macro-edges included, and vertices: (L + 1)(L + 2) / 2 points each,
+  /// 3 L (L + 1) / 2 + 1 per macro-triangle); and the number of pseudo-random points per
+  /// macro-triangle besides. Default none, 6 (64 points per macro-triangle), 0.
   void SetSurfaceSource(vtkCADFaceSampler* sampler);
   vtkGetObjectMacro(SurfaceSource, vtkCADFaceSampler);
+  vtkSetClampMacro(DeviationLevel, int, 1, 64);
+  vtkGetMacro(DeviationLevel, int);
   vtkSetClampMacro(DeviationSamples, int, 0, 1000);
   vtkGetMacro(DeviationSamples, int);
   ///@}
@@ -99,7 +105,8 @@ protected:
   int SplitPoint = vtkCloughTocherSplineFilter::Bary;
   int BoundaryMode = vtkCloughTocherSplineFilter::Midpoint;
   int Iterations = 0;
-  int DeviationSamples = 4;
+  int DeviationLevel = 6;
+  int DeviationSamples = 0;
   vtkCADFaceSampler* SurfaceSource = nullptr;
 
 private:

@@ -42,6 +42,7 @@
 #include <GC_MakeArcOfCircle.hxx>
 #include <Geom_BezierCurve.hxx>
 #include <TColgp_Array1OfPnt.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom2d_Line.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -108,6 +109,13 @@ TopoDS_Shape KinkedPlanes(double degrees)
   sewing.Add(BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakePolygon(b, e, f, c, true).Wire()).Shape());
   sewing.Perform();
   return sewing.SewedShape();
+}
+
+/// Half a torus (major radius 1, minor 0.1): two small discs at its ends, whose curved boundary
+/// gives thin boundary triangles (ears), and a torus face.
+TopoDS_Shape HalfTorus()
+{
+  return BRepPrimAPI_MakeTorus(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 0.1, M_PI).Shape();
 }
 
 TopoDS_Shape Sphere()
@@ -1075,4 +1083,68 @@ TEST(CADHealing, ZeroAreaFaceIsRemoved)
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
   EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}
+
+/// The half torus's end discs used to stop refining at once ("stopped refining", 1.3e-4 of the
+/// diagonal at 1e-4, even measured at few points): the worst point of a thin boundary triangle
+/// could not be inserted (it lies next to a boundary segment) and nothing else was tried. Now
+/// those triangles are split, and every face is within the tolerance on a dense lattice.
+TEST(CADConversion, ThinBoundaryTrianglesAreRefinedToTheTolerance)
+{
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  c.Stitcher->SetDeviationLevel(12); // 235 points per macro-triangle, and 16 random ones
+  c.Run(TempStep("half_torus", HalfTorus()), 1e-4);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(warnings.Text.find("stopped refining"), std::string::npos) << warnings.Text;
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 3u);
+  for (unsigned int f = 0; f < 3; ++f)
+  {
+    EXPECT_EQ(Field(c.Face(f)->GetFieldData(), "Converged"), 1) << "face " << f;
+    EXPECT_LE(Field(c.Splines->GetBlock(f)->GetFieldData(), "MaxDeviation"), 1e-4) << "face " << f;
+  }
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  std::printf("half torus: %g macro-triangles, max deviation %.3g, normals max %.3g RMS %.3g "
+              "degrees\n", Field(fd, "NumberOfMacroTriangles"), Field(fd, "MaxDeviation"),
+    Field(fd, "MaxNormalDeviation"), Field(fd, "RMSNormalDeviation"));
+  // Those triangles had a degenerate corner (two boundary spans of one edge meet there in
+  // opposite directions), where the spline's normal flipped with round-off.
+  EXPECT_LT(Field(fd, "MaxNormalDeviation"), 5.0);
+}
+
+/// A thin cylinder held to an angular tolerance (OpenCASCADE's angular deflection): without it
+/// the normals of the lateral face are off by more than 0.25 degrees at the default tolerance;
+/// with it they are within it at every point of a dense lattice (and 16 random points) of every
+/// micro-triangle, and the deviation stays within the tolerance.
+TEST(CADConversion, CylinderHeldToAnAngularTolerance)
+{
+  const std::string file = TempStep("thin_cylinder",
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp::Origin(), gp::DZ()), 0.05, 4.0).Shape());
+  const double bound = 0.25;
+  double normals[2], triangles[2];
+  for (const bool held : { false, true })
+  {
+    Conversion c;
+    MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+    c.Sampler->SetAngularTolerance(held ? bound : 0.0);
+    c.Stitcher->SetDeviationLevel(12);
+    c.Run(file, 1e-4);
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    normals[held] = Field(fd, "MaxNormalDeviation");
+    triangles[held] = Field(fd, "NumberOfMacroTriangles");
+    std::printf("thin cylinder, angular tolerance %g: %g macro-triangles, max deviation %.3g, "
+                "normals max %.3g RMS %.3g degrees\n", held ? bound : 0.0, triangles[held],
+      Field(fd, "MaxDeviation"), normals[held], Field(fd, "RMSNormalDeviation"));
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4) << held;
+    EXPECT_LE(Field(fd, "RMSNormalDeviation"), normals[held]);
+    EXPECT_EQ(warnings.Text.find("stopped refining"), std::string::npos) << warnings.Text;
+    for (unsigned int f = 0; f < c.Faces->GetNumberOfBlocks(); ++f)
+    {
+      EXPECT_LE(Field(c.Splines->GetBlock(f)->GetFieldData(), "MaxNormalDeviation"),
+        normals[held]) << "face " << f;
+    }
+  }
+  EXPECT_GT(normals[0], bound) << "the cylinder does not test the angular tolerance";
+  EXPECT_LE(normals[1], bound);
+  EXPECT_GT(triangles[1], triangles[0]);
 }

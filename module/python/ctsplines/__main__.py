@@ -259,6 +259,7 @@ def _convert_cad(args):
     output = args.output or os.path.splitext(os.path.basename(args.input))[0] + ".vtm"
     options = {
         "tolerance": 1e-4 if args.tolerance is None else args.tolerance,
+        "angular_tolerance": args.angular_tolerance or 0.0,
         "aspect_ratio": args.aspect_ratio or 0.0,
         "max_edge_length": args.max_edge_length or 0.0,
         "construction": args._choices[0].index(args.construction),
@@ -299,7 +300,13 @@ def _convert_cad(args):
     print(f"C0 gap: max {r['c0_gap']:.3e} (relative {r['c0_gap'] / d:.3e}); before stitching "
           f"{r['gap_before']:.3e} (relative {r['gap_before'] / d:.3e})")
     print(f"deviation from the CAD surfaces (relative to the diagonal): max "
-          f"{r['max_deviation']:.3e}, RMS {r['rms_deviation']:.3e}")
+          f"{r['max_deviation']:.3e}, RMS {r['rms_deviation']:.3e}; normals: max "
+          f"{r['max_normal_deviation']:.3g} degrees, RMS {r['rms_normal_deviation']:.3g}"
+          + (f" (angular tolerance {options['angular_tolerance']:g})"
+             if options["angular_tolerance"] else ""))
+    for f, name, gap in r["gap_faces"]:
+        print(f"model gap: face {f} ({name}) lies {gap:.3e} of the diagonal from its shared "
+              f"edge curves, more than half the tolerance: held to {2 * gap:.3e} there")
     print(f"G1 angle across interfaces: max {r['g1_angle']:.3g} degrees; over the "
           f"{r['tangent_edges']} macro-edges where the CAD faces meet tangentially max "
           f"{r['g1_angle_tangent']:.3g}, mean {r['g1_angle_tangent_mean']:.3g}"
@@ -324,7 +331,9 @@ def _convert(args):
         return _convert_cad(args)
     if args.output is None:
         args._parser.error("the output spline is required for a mesh (OUTPUT or -o)")
-    for option, value in (("--tolerance", args.tolerance), ("--aspect-ratio", args.aspect_ratio),
+    for option, value in (("--tolerance", args.tolerance),
+                          ("--angular-tolerance", args.angular_tolerance),
+                          ("--aspect-ratio", args.aspect_ratio),
                           ("--max-edge-length", args.max_edge_length),
                           ("--g1", args.g1 or None), ("--g1-threshold", args.g1_threshold),
                           ("--summary-json", args.summary_json),
@@ -597,6 +606,10 @@ def build_parser():
     cad.add_argument("--tolerance", type=_tolerance, metavar="REL",
                      help="error bound of the edge and face sampling, relative to the model's "
                      "bounding-box diagonal (default 1e-4)")
+    cad.add_argument("--angular-tolerance", type=_angle, metavar="DEG",
+                     help="bound on the angle between the spline's normals and the CAD "
+                     "surfaces' (like OpenCASCADE's angular deflection): edges and faces are "
+                     "refined until it holds; 0 for none (default 0: the tolerance alone)")
     cad.add_argument("--aspect-ratio", type=_non_negative_float, metavar="RATIO",
                      help="bound on the 3D aspect ratio of the sampled triangles (1 is "
                      "equilateral); 0 for none (default 0)")

@@ -28,6 +28,20 @@ def _field(data, name, i=0):
     return a.GetComponent(i, 0) if a is not None else float("nan")
 
 
+def _gap_faces(faces, tolerance):
+    """(block index, name, gap relative to the diagonal) of the faces whose surface lies farther
+    than half the tolerance from the edge curves they share (the model's own gap): the sampler
+    holds those to twice the gap."""
+    diagonal = _field(faces, "Diagonal")
+    out = []
+    for f in range(faces.GetNumberOfBlocks()):
+        gap = _field(faces.GetBlock(f), "MaxGap") / diagonal
+        if 2 * gap > tolerance:
+            name = faces.GetBlock(f).GetFieldData().GetAbstractArray("FaceName")
+            out.append((f, name.GetValue(0) if name is not None else f"Face {f}", gap))
+    return out
+
+
 def _update(algorithm, messages):
     ok = algorithm.GetExecutive().Update()
     errors = list(dict.fromkeys(messages.take_errors()))
@@ -36,16 +50,20 @@ def _update(algorithm, messages):
 
 def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
-    it. options: tolerance, aspect_ratio, max_edge_length, construction, split_point,
-    boundary_mode, iterations (ints for the enumerations), g1 (RestoreG1), g1_threshold
-    (degrees), read_timeout (seconds; 0 reads in this process), sew (default True: sew the faces
-    on reading). Returns the summary as a dict."""
+    it. options: tolerance, angular_tolerance (degrees, 0 for none), aspect_ratio,
+    max_edge_length, construction, split_point, boundary_mode, iterations (ints for the
+    enumerations), g1 (RestoreG1), g1_threshold (degrees), read_timeout (seconds; 0 reads in this
+    process), sew (default True: sew the faces on reading). Returns the summary as a dict:
+    max_deviation, rms_deviation relative to the diagonal, max_normal_deviation,
+    rms_normal_deviation in degrees, gap_faces (the faces whose own edge curves lie farther from
+    them than half the tolerance: (index, name, relative gap), held to twice the gap), ..."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
 
     progress.watch(sampler, "sample faces")
     sampler.SetTolerance(options["tolerance"])
+    sampler.SetAngularTolerance(options.get("angular_tolerance", 0.0))
     sampler.SetAspectRatio(options["aspect_ratio"])
     sampler.SetMaxEdgeLength(options.get("max_edge_length", 0.0))
     # Refine the faces for the spline the stitcher will make.
@@ -105,6 +123,9 @@ def convert(model, output, options, messages, progress):
         "gap_before": _field(merged, "MaxGapBeforeStitching"),
         "max_deviation": _field(merged, "MaxDeviation"),
         "rms_deviation": _field(merged, "RMSDeviation"),
+        "max_normal_deviation": _field(merged, "MaxNormalDeviation"),
+        "rms_normal_deviation": _field(merged, "RMSNormalDeviation"),
+        "gap_faces": _gap_faces(faces, options["tolerance"]),
         "edge_gap": _field(faces, "MaxEdgeGap"),
         "sewn_edges": int(_field(faces, "NumberOfSewnEdges")),
         "removed_faces": int(_field(faces, "NumberOfRemovedFaces")),
