@@ -47,6 +47,7 @@
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Circle.hxx>
 #include <Geom_CylindricalSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TColStd_Array1OfInteger.hxx>
@@ -541,6 +542,47 @@ TEST(CADConversion, PolesAreClosedAndManifold)
   CheckClosed("pole_half", BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape(),
     BRepPrimAPI_MakeBox(gp_Pnt(-2, -2, -2), 2.0, 4.0, 4.0).Shape()).Shape());
   CheckClosed("pole_cone_wedge", BRepPrimAPI_MakeCone(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 0.0, 1.0, M_PI).Shape());
+}
+
+/// An open spherical cap (pole, seam, free circle): every span of the circle is a free edge, the
+/// pole's collapsed segments are none, and nothing is non-manifold.
+TEST(CADConversion, FreeEdgesNextToAPoleAreCounted)
+{
+  Handle(Geom_SphericalSurface) sphere = new Geom_SphericalSurface(gp_Ax3(gp::XOY()), 1.0);
+  Conversion c;
+  c.Run(TempStep("pole_cap", BRepBuilderAPI_MakeFace(sphere, 0, 2 * M_PI, M_PI / 4, M_PI / 2, 1e-7).Shape()), 1e-4);
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+  // Boundary segments of the face by (B-rep edge, end nodes): the seam's occur twice, the
+  // circle's once; the pole's join a node to itself.
+  vtkPolyData* pd = c.Face(0);
+  vtkIdTypeArray* gid = vtkIdTypeArray::SafeDownCast(pd->GetPointData()->GetArray("GlobalNodeId"));
+  vtkDataArray* edge = pd->GetCellData()->GetArray("BRepEdgeId");
+  ASSERT_TRUE(gid && edge);
+  std::map<std::array<vtkIdType, 3>, int> segments;
+  for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType* pts;
+    vtkIdType n;
+    pd->GetCellPoints(t, n, pts);
+    for (int l = 0; l < 3; ++l)
+    {
+      const vtkIdType a = gid->GetValue(pts[l]), b = gid->GetValue(pts[(l + 1) % 3]);
+      if (edge->GetComponent(t, l) >= 0 && a != b)
+      {
+        ++segments[{ static_cast<vtkIdType>(edge->GetComponent(t, l)), std::min(a, b), std::max(a, b) }];
+      }
+    }
+  }
+  int once = 0;
+  for (const auto& s : segments)
+  {
+    once += s.second == 1;
+  }
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_GT(once, 8);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), once);
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
 }
 
 /// Two B-rep edges (an arc and its chord) join the same two vertices: their spans are distinct
