@@ -638,15 +638,16 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
   const std::vector<TopoDS_Edge> edges = WireEdges(W, F, broken);
   if (edges.empty())
   {
+    const int e = d.EdgeMap.FindIndex(broken) - 1;
     m.ErrorMessage = FaceLabel(m, f) + ": a wire's edges do not connect (nothing starts where " +
-      (d.EdgeMap.Contains(broken) ? EdgeLabel(m, d.EdgeMap.FindIndex(broken) - 1) : std::string("an edge")) +
-      " ends)";
+      (e >= 0 ? EdgeLabel(m, e) : std::string("an edge")) + " ends)";
     return false;
   }
   // A run whose pcurve starts a whole number of periods away from where the previous one ended
   // (the same 3D point) is moved by those periods: the loop must be closed in the plane.
   const BRepAdaptor_Surface& S = d.Surfaces[f];
-  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0.0, S.IsVPeriodic() ? S.VPeriod() : 0.0 };
+  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0.0,
+    S.IsVPeriodic() ? S.VPeriod() : 0.0 };
   auto pushRun = [&](Run& run) {
     for (int i = 0; i < 2 && !runs.empty(); ++i)
     {
