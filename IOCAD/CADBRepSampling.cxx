@@ -22,6 +22,7 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Pnt.hxx>
@@ -128,6 +129,58 @@ struct Run
   std::vector<LoopSegment> Segments;
   double Tolerance = 0; // vertex tolerance at the run's start
 };
+
+/// The oriented edges of wire W of face F in the order they connect, or empty if they do not
+/// (naming the first that does not in `broken`). BRepTools_WireExplorer follows the pcurves and
+/// stops where they jump, e.g. by a period on a periodic surface, as some exporters write them;
+/// the wire's edges are then chained by their vertices (internal and external edges are no
+/// part of a loop).
+std::vector<TopoDS_Edge> WireEdges(const TopoDS_Wire& W, const TopoDS_Face& F, TopoDS_Edge& broken)
+{
+  std::vector<TopoDS_Edge> explored, stored;
+  for (BRepTools_WireExplorer we(W, F); we.More(); we.Next())
+  {
+    explored.push_back(we.Current());
+  }
+  for (TopoDS_Iterator it(W); it.More(); it.Next())
+  {
+    const TopAbs_Orientation o = it.Value().Orientation();
+    if (it.Value().ShapeType() == TopAbs_EDGE && (o == TopAbs_FORWARD || o == TopAbs_REVERSED))
+    {
+      stored.push_back(TopoDS::Edge(it.Value()));
+    }
+  }
+  if (explored.size() >= stored.size())
+  {
+    return explored;
+  }
+  // From each edge's last vertex, the next unused edge (in stored order) that starts there.
+  std::vector<TopoDS_Edge> chain{ stored[0] };
+  std::vector<bool> used(stored.size(), false);
+  used[0] = true;
+  for (std::size_t last = 0; chain.size() < stored.size();)
+  {
+    const TopoDS_Vertex end = TopExp::LastVertex(chain.back(), Standard_True);
+    std::size_t k = 1;
+    for (; k <= stored.size(); ++k)
+    {
+      const std::size_t i = (last + k) % stored.size();
+      if (!used[i] && TopExp::FirstVertex(stored[i], Standard_True).IsSame(end))
+      {
+        chain.push_back(stored[i]);
+        used[i] = true;
+        last = i;
+        break;
+      }
+    }
+    if (k > stored.size())
+    {
+      broken = chain.back();
+      return {};
+    }
+  }
+  return chain;
+}
 
 /// An edge sample: parameter, point and derivative of the mean curve.
 struct EdgeSample
@@ -610,9 +663,34 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
     m.Evaluate(f, uv[0], uv[1], P);
     return Point3{ P[0], P[1], P[2] };
   };
-  for (BRepTools_WireExplorer we(W, F); we.More(); we.Next())
+  TopoDS_Edge broken;
+  const std::vector<TopoDS_Edge> edges = WireEdges(W, F, broken);
+  if (edges.empty())
   {
-    const TopoDS_Edge& E = we.Current();
+    const int e = d.EdgeMap.FindIndex(broken) - 1;
+    m.ErrorMessage = FaceLabel(m, f) + ": a wire's edges do not connect (nothing starts where " +
+      (e >= 0 ? EdgeLabel(m, e) : std::string("an edge")) + " ends)";
+    return false;
+  }
+  // A run whose pcurve starts a whole number of periods away from where the previous one ended
+  // (the same 3D point) is moved by those periods: the loop must be closed in the plane.
+  const BRepAdaptor_Surface& S = d.Surfaces[f];
+  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0.0,
+    S.IsVPeriodic() ? S.VPeriod() : 0.0 };
+  auto pushRun = [&](Run& run) {
+    for (int i = 0; i < 2 && !runs.empty(); ++i)
+    {
+      const double jump = runs.back().Nodes.back().UV[i] - run.Nodes.front().UV[i];
+      const double shift = period[i] > 0 ? period[i] * std::round(jump / period[i]) : 0.0;
+      for (LoopNode& node : run.Nodes)
+      {
+        node.UV[i] += shift;
+      }
+    }
+    runs.push_back(run);
+  };
+  for (const TopoDS_Edge& E : edges)
+  {
     const int e = d.EdgeMap.FindIndex(E) - 1;
     if (e < 0)
     {
@@ -629,7 +707,7 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
     }
     const bool reversed = E.Orientation() == TopAbs_REVERSED;
     Run run;
-    run.Tolerance = BRep_Tool::Tolerance(we.CurrentVertex());
+    run.Tolerance = BRep_Tool::Tolerance(TopExp::FirstVertex(E, Standard_True));
     if (es.Degenerate)
     {
       // A pole: one 3D point, a segment in the parameter plane. Its sample count is fixed
@@ -644,7 +722,7 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
       seg.Degenerate = true;
       seg.Near0 = seg.Near1 = m.NodePoints[es.Vertex0];
       run.Segments.push_back(seg);
-      runs.push_back(run);
+      pushRun(run);
       continue;
     }
     const std::size_t n = es.T.size();
@@ -684,7 +762,7 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
       spanLengths.push_back(std::hypot(run.Nodes[i + 1].UV[0] - run.Nodes[i].UV[0],
         run.Nodes[i + 1].UV[1] - run.Nodes[i].UV[1]));
     }
-    runs.push_back(run);
+    pushRun(run);
   }
   return true;
 }

@@ -481,7 +481,8 @@ int vtkWatertightSplineStitcher::RequestData(
       for (const auto& nearFar : { std::make_pair(a, b), std::make_pair(b, a) })
       {
         const ctk::Id id = nearFar.first == a ? ta : tb;
-        auto it = edgePoint.emplace(SpanKey{ brep, gid(nearFar.first), gid(nearFar.second) }, points->GetNumberOfPoints());
+        auto it = edgePoint.emplace(
+          SpanKey{ brep, gid(nearFar.first), gid(nearFar.second) }, points->GetNumberOfPoints());
         if (it.second)
         {
           points->InsertNextPoint(fs.Spline.ControlPoints[id].data());
@@ -537,10 +538,12 @@ int vtkWatertightSplineStitcher::RequestData(
     for (ctk::Id e = 0; e < static_cast<ctk::Id>(fs.Topo.Edges.size()); ++e)
     {
       const ctk::Id a = fs.Topo.Edges[e][0], b = fs.Topo.Edges[e][1];
-      const ctk::Id ta = fs.Spline.Layout.EdgePoint(fs.Topo, e, a), tb = fs.Spline.Layout.EdgePoint(fs.Topo, e, b);
+      const ctk::Id ta = fs.Spline.Layout.EdgePoint(fs.Topo, e, a);
+      const ctk::Id tb = fs.Spline.Layout.EdgePoint(fs.Topo, e, b);
       if (!collapsed(a, ta, tb, b))
       {
-        macroEdgeUse[MergedEdgeKey(map[a], map[ta], map[tb], map[b])] += fs.Topo.IsBoundaryEdge(e) ? 1 : 2;
+        const auto key = MergedEdgeKey(map[a], map[ta], map[tb], map[b]);
+        macroEdgeUse[key] += fs.Topo.IsBoundaryEdge(e) ? 1 : 2;
       }
     }
     vtkUnstructuredGrid* grid = fs.Grid;

@@ -15,9 +15,9 @@
  * curved), across the interior macro-edges at boundary vertices.
  *
  * Input: the vtkMultiBlockDataSet of vtkCADFaceSampler (per face: UV, dFdu, dFdv, StitchDFdu,
- * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, BRepEdgeId, TangentInterface). The spline
- * reads the Stitch* arrays; the faces should have been refined for this Construction, SplitPoint
- * and BoundaryMode (the sampler's; a warning says when not).
+ * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, BRepEdgeId, TangentInterface).
+ * The spline reads the Stitch* arrays; the faces should have been refined for this Construction,
+ * SplitPoint and BoundaryMode (the sampler's; a warning says when not).
  * Output port 0: vtkMultiBlockDataSet of per-face splines (vtkCloughTocherSplineFilter's output).
  * Output port 1: one vtkUnstructuredGrid of all faces where interface control points are single
  * points (vertices merged by GlobalNodeId, boundary edge points by B-rep edge and end nodes,

@@ -48,6 +48,7 @@
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Circle.hxx>
 #include <Geom_CylindricalSurface.hxx>
+#include <Geom_SphericalSurface.hxx>
 #include <Interface_Static.hxx>
 #include <STEPControl_Writer.hxx>
 #include <TColStd_Array1OfInteger.hxx>
@@ -126,7 +127,8 @@ TopoDS_Shape Sphere()
 /// A cone with its apex (R2 = 0): a pole of the lateral face, at the end of its seam.
 TopoDS_Shape ConeWithApex()
 {
-  return BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(0.2, 0.1, -0.4), gp_Dir(0.3, 0, 1)), 0.8, 0.0, 1.5).Shape();
+  const gp_Ax2 axis(gp_Pnt(0.2, 0.1, -0.4), gp_Dir(0.3, 0, 1));
+  return BRepPrimAPI_MakeCone(axis, 0.8, 0.0, 1.5).Shape();
 }
 
 /// A Bezier profile from the z axis back to it, revolved about the axis: one face of revolution
@@ -163,7 +165,8 @@ TopoDS_Shape BallGridPackage(int rows)
   {
     for (int j = 0; j < rows; ++j)
     {
-      balls.Append(BRepPrimAPI_MakeSphere(gp_Pnt(0.4 + 0.8 * i, 0.4 + 0.8 * j, -0.1), 0.25).Shape());
+      const gp_Pnt centre(0.4 + 0.8 * i, 0.4 + 0.8 * j, -0.1);
+      balls.Append(BRepPrimAPI_MakeSphere(centre, 0.25).Shape());
     }
   }
   TopTools_ListOfShape arguments;
@@ -181,7 +184,8 @@ TopoDS_Shape BallGridPackage(int rows)
 TopoDS_Shape CircularSegmentPrism()
 {
   const double half = 15 * M_PI / 180;
-  const gp_Pnt a(std::cos(half), -std::sin(half), 0), m(1, 0, 0), b(std::cos(half), std::sin(half), 0);
+  const gp_Pnt a(std::cos(half), -std::sin(half), 0), m(1, 0, 0);
+  const gp_Pnt b(std::cos(half), std::sin(half), 0);
   BRepBuilderAPI_MakeWire wire(BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(a, m, b).Value()).Edge(),
     BRepBuilderAPI_MakeEdge(b, a).Edge());
   const TopoDS_Face face = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
@@ -526,7 +530,8 @@ void CheckClosed(const std::string& name, const TopoDS_Shape& shape, double tole
   std::printf("%s: %u faces, %g macro-triangles, free edges %g, non-manifold %g, C0 gap %g, max "
               "deviation %.3g, %.3f s\n", name.c_str(), c.Faces->GetNumberOfBlocks(),
     Field(fd, "NumberOfMacroTriangles"), Field(fd, "NumberOfFreeEdges"),
-    Field(fd, "NumberOfNonManifoldEdges"), Field(fd, "MaxC0Gap"), Field(fd, "MaxDeviation"), c.Seconds);
+    Field(fd, "NumberOfNonManifoldEdges"), Field(fd, "MaxC0Gap"), Field(fd, "MaxDeviation"),
+    c.Seconds);
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << name;
   EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0) << name;
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0) << name;
@@ -548,7 +553,52 @@ TEST(CADConversion, PolesAreClosedAndManifold)
   CheckClosed("pole_wedge", BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0, M_PI / 2).Shape());
   CheckClosed("pole_half", BRepAlgoAPI_Cut(BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape(),
     BRepPrimAPI_MakeBox(gp_Pnt(-2, -2, -2), 2.0, 4.0, 4.0).Shape()).Shape());
-  CheckClosed("pole_cone_wedge", BRepPrimAPI_MakeCone(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 0.0, 1.0, M_PI).Shape());
+  CheckClosed("pole_cone_wedge",
+    BRepPrimAPI_MakeCone(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 0.0, 1.0, M_PI).Shape());
+}
+
+/// An open spherical cap (pole, seam, free circle): every span of the circle is a free edge, the
+/// pole's collapsed segments are none, and nothing is non-manifold.
+TEST(CADConversion, FreeEdgesNextToAPoleAreCounted)
+{
+  Handle(Geom_SphericalSurface) sphere = new Geom_SphericalSurface(gp_Ax3(gp::XOY()), 1.0);
+  Conversion c;
+  const TopoDS_Shape cap =
+    BRepBuilderAPI_MakeFace(sphere, 0, 2 * M_PI, M_PI / 4, M_PI / 2, 1e-7).Shape();
+  c.Run(TempStep("pole_cap", cap), 1e-4);
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+  // Boundary segments of the face by (B-rep edge, end nodes): the seam's occur twice, the
+  // circle's once; the pole's join a node to itself.
+  vtkPolyData* pd = c.Face(0);
+  vtkIdTypeArray* gid = vtkIdTypeArray::SafeDownCast(pd->GetPointData()->GetArray("GlobalNodeId"));
+  vtkDataArray* edge = pd->GetCellData()->GetArray("BRepEdgeId");
+  ASSERT_TRUE(gid && edge);
+  std::map<std::array<vtkIdType, 3>, int> segments;
+  for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+  {
+    const vtkIdType* pts;
+    vtkIdType n;
+    pd->GetCellPoints(t, n, pts);
+    for (int l = 0; l < 3; ++l)
+    {
+      const vtkIdType a = gid->GetValue(pts[l]), b = gid->GetValue(pts[(l + 1) % 3]);
+      if (edge->GetComponent(t, l) >= 0 && a != b)
+      {
+        const auto e = static_cast<vtkIdType>(edge->GetComponent(t, l));
+        ++segments[{ e, std::min(a, b), std::max(a, b) }];
+      }
+    }
+  }
+  int once = 0;
+  for (const auto& s : segments)
+  {
+    once += s.second == 1;
+  }
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_GT(once, 8);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), once);
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
 }
 
 /// Two B-rep edges (an arc and its chord) join the same two vertices: their spans are distinct
