@@ -854,7 +854,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     if (inserts.empty() || round >= options.MaxRounds || full)
     {
       mesh.Converged = inserts.empty() && !unrefinable;
-      mesh.StopReason = StopReason(!inserts.empty() && round >= options.MaxRounds, full, unrefinable, options);
+      mesh.StopReason =
+        StopReason(!inserts.empty() && round >= options.MaxRounds, full, unrefinable, options);
       break;
     }
     if (insertPoints(inserts) == 0)
@@ -888,7 +889,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     if (inserts.empty() || rounds || full || insertPoints(inserts) == 0)
     {
       mesh.Converged = inserts.empty() && within;
-      mesh.StopReason = mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
+      mesh.StopReason =
+        mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
       break;
     }
   }

@@ -87,17 +87,24 @@ bool vtkCADFaceSampler::EvaluateSurface(int face, double s, double t, double p[3
 bool vtkCADFaceSampler::EvaluateSurface(
   int face, double s, double t, double p[3], double ds[3], double dt[3])
 {
+  return this->EvaluateSurface(face, s, t, p, ds, dt, this->Internals->EvaluationError);
+}
+
+bool vtkCADFaceSampler::EvaluateSurface(
+  int face, double s, double t, double p[3], double ds[3], double dt[3], std::string& error) const
+{
   const ctcad::CADModel* model = this->Internals->Model.get();
   if (!model || face < 0 || face >= static_cast<int>(model->Faces().size()))
   {
-    this->Internals->EvaluationError = "no face " + std::to_string(face) + " in the sampled model";
+    error = "no face " + std::to_string(face) + " in the sampled model";
     return false;
   }
   std::string failure;
   if (!ctcad::RunGuarded([&] { model->Evaluate(face, s, t, p, ds, dt); }, failure))
   {
-    this->Internals->EvaluationError = "face " + std::to_string(face) + " (" + model->Faces()[face].Name +
-      "): OpenCASCADE's evaluation at (" + std::to_string(s) + ", " + std::to_string(t) + ") failed: " + failure;
+    error = "face " + std::to_string(face) + " (" + model->Faces()[face].Name +
+      "): OpenCASCADE's evaluation at (" + std::to_string(s) + ", " + std::to_string(t) +
+      ") failed: " + failure;
     return false;
   }
   return true;
