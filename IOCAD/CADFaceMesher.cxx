@@ -11,9 +11,11 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <list>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -30,6 +32,29 @@ void StitchEdgeGradient(const LoopSegment& seg, double gradient[6])
     {
       x[i] -= d * n[i];
     }
+  }
+}
+
+void ForEachFaceInParallel(int n, const std::function<void(int)>& body)
+{
+  std::atomic<int> next(0);
+  auto worker = [&]() {
+    for (int f; (f = next++) < n;)
+    {
+      body(f);
+    }
+  };
+  const int nThreads =
+    std::max(1, std::min<int>(n, static_cast<int>(std::thread::hardware_concurrency())));
+  std::vector<std::thread> threads;
+  for (int i = 1; i < nThreads; ++i)
+  {
+    threads.emplace_back(worker);
+  }
+  worker();
+  for (std::thread& t : threads)
+  {
+    t.join();
   }
 }
 

@@ -38,12 +38,10 @@
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <map>
 #include <string>
-#include <thread>
 #include <unordered_map>
 #include <vector>
 
@@ -172,25 +170,9 @@ bool MeasureDeviation(vtkCADFaceSampler* source, int level, int samples,
   std::vector<ctcad::Deviation> faces(nF);
   std::vector<std::string> errors(nF);
   std::vector<char> ok(nF, 0);
-  std::atomic<int> next(0);
-  auto worker = [&]() {
-    for (int f; (f = next++) < nF;)
-    {
-      ok[f] = MeasureFace(source, level, samples, splines[f], f, faces[f], errors[f]);
-    }
-  };
-  const int nThreads =
-    std::max(1, std::min<int>(nF, static_cast<int>(std::thread::hardware_concurrency())));
-  std::vector<std::thread> threads;
-  for (int i = 1; i < nThreads; ++i)
-  {
-    threads.emplace_back(worker);
-  }
-  worker();
-  for (std::thread& t : threads)
-  {
-    t.join();
-  }
+  ctcad::ForEachFaceInParallel(nF, [&](int f) {
+    ok[f] = MeasureFace(source, level, samples, splines[f], f, faces[f], errors[f]);
+  });
   const double diag = source->GetDiagonal();
   ctcad::Deviation all;
   for (int f = 0; f < nF; ++f)
