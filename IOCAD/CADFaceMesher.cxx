@@ -11,9 +11,11 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <list>
+#include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -30,6 +32,29 @@ void StitchEdgeGradient(const LoopSegment& seg, double gradient[6])
     {
       x[i] -= d * n[i];
     }
+  }
+}
+
+void ForEachFaceInParallel(int n, const std::function<void(int)>& body)
+{
+  std::atomic<int> next(0);
+  auto worker = [&]() {
+    for (int f; (f = next++) < n;)
+    {
+      body(f);
+    }
+  };
+  const int nThreads =
+    std::max(1, std::min<int>(n, static_cast<int>(std::thread::hardware_concurrency())));
+  std::vector<std::thread> threads;
+  for (int i = 1; i < nThreads; ++i)
+  {
+    threads.emplace_back(worker);
+  }
+  worker();
+  for (std::thread& t : threads)
+  {
+    t.join();
   }
 }
 
@@ -854,7 +879,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     if (inserts.empty() || round >= options.MaxRounds || full)
     {
       mesh.Converged = inserts.empty() && !unrefinable;
-      mesh.StopReason = StopReason(!inserts.empty() && round >= options.MaxRounds, full, unrefinable, options);
+      mesh.StopReason =
+        StopReason(!inserts.empty() && round >= options.MaxRounds, full, unrefinable, options);
       break;
     }
     if (insertPoints(inserts) == 0)
@@ -888,7 +914,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     if (inserts.empty() || rounds || full || insertPoints(inserts) == 0)
     {
       mesh.Converged = inserts.empty() && within;
-      mesh.StopReason = mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
+      mesh.StopReason =
+        mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
       break;
     }
   }

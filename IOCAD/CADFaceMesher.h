@@ -65,6 +65,11 @@ struct FaceMesh
   std::string Error;
 };
 
+/// Runs body(f) for every f in [0, n), on up to one thread per core, f taken in turn (faces are
+/// independent once their loops exist; each evaluates only its own surface adaptor). body must
+/// let nothing escape (see RunGuarded).
+void ForEachFaceInParallel(int n, const std::function<void(int)>& body);
+
 /// Deviation of a spline from its CAD surface: distances (absolute) and the angles between the
 /// normals (degrees; not where either normal is degenerate, at poles).
 struct Deviation

@@ -24,11 +24,9 @@
 #include "vtkStringArray.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <thread>
 
 class vtkCADFaceSamplerInternals
 {
@@ -87,17 +85,24 @@ bool vtkCADFaceSampler::EvaluateSurface(int face, double s, double t, double p[3
 bool vtkCADFaceSampler::EvaluateSurface(
   int face, double s, double t, double p[3], double ds[3], double dt[3])
 {
+  return this->EvaluateSurface(face, s, t, p, ds, dt, this->Internals->EvaluationError);
+}
+
+bool vtkCADFaceSampler::EvaluateSurface(
+  int face, double s, double t, double p[3], double ds[3], double dt[3], std::string& error) const
+{
   const ctcad::CADModel* model = this->Internals->Model.get();
   if (!model || face < 0 || face >= static_cast<int>(model->Faces().size()))
   {
-    this->Internals->EvaluationError = "no face " + std::to_string(face) + " in the sampled model";
+    error = "no face " + std::to_string(face) + " in the sampled model";
     return false;
   }
   std::string failure;
   if (!ctcad::RunGuarded([&] { model->Evaluate(face, s, t, p, ds, dt); }, failure))
   {
-    this->Internals->EvaluationError = "face " + std::to_string(face) + " (" + model->Faces()[face].Name +
-      "): OpenCASCADE's evaluation at (" + std::to_string(s) + ", " + std::to_string(t) + ") failed: " + failure;
+    error = "face " + std::to_string(face) + " (" + model->Faces()[face].Name +
+      "): OpenCASCADE's evaluation at (" + std::to_string(s) + ", " + std::to_string(t) +
+      ") failed: " + failure;
     return false;
   }
   return true;
@@ -207,40 +212,24 @@ bool vtkCADFaceSampler::MeshFaces()
   meshOptions.Spline.Method = static_cast<ctk::Construction>(this->Construction);
   meshOptions.Spline.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   meshOptions.Spline.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
-  std::atomic<int> next(0);
-  auto worker = [&]() {
-    for (int f; (f = next++) < nF;)
+  ctcad::ForEachFaceInParallel(nF, [&](int f) {
+    const ctcad::SurfaceFunction surface = [&, f](double s, double t, double* P, double* Ds,
+                                             double* Dt) { model->Evaluate(f, s, t, P, Ds, Dt); };
+    // A face whose surface lies farther from the shared boundary than the tolerance (the
+    // model's faces miss each other by more) cannot get within it next to the boundary:
+    // refined to twice that distance instead (and said below), not without end.
+    ctcad::FaceMeshOptions options = meshOptions;
+    options.Tolerance = std::max(meshOptions.Tolerance, 2 * faces[f].MaxGap);
+    // Nothing may escape a thread: OCCT's exceptions (and signals) and CGAL's end here.
+    std::string failure;
+    if (!ctcad::RunGuarded(
+          [&] { ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, options, meshes[f]); },
+          failure))
     {
-      const ctcad::SurfaceFunction surface = [&, f](double s, double t, double* P, double* Ds,
-                                               double* Dt) { model->Evaluate(f, s, t, P, Ds, Dt); };
-      // A face whose surface lies farther from the shared boundary than the tolerance (the
-      // model's faces miss each other by more) cannot get within it next to the boundary:
-      // refined to twice that distance instead (and said below), not without end.
-      ctcad::FaceMeshOptions options = meshOptions;
-      options.Tolerance = std::max(meshOptions.Tolerance, 2 * faces[f].MaxGap);
-      // Nothing may escape a thread: OCCT's exceptions (and signals) and CGAL's end here.
-      std::string failure;
-      if (!ctcad::RunGuarded(
-            [&] { ok[f] = ctcad::MeshFace(faces[f].Loops, model->Nodes(), surface, options, meshes[f]); },
-            failure))
-      {
-        ok[f] = 0;
-        meshes[f].Error = "evaluating its surface or triangulating failed: " + failure;
-      }
+      ok[f] = 0;
+      meshes[f].Error = "evaluating its surface or triangulating failed: " + failure;
     }
-  };
-  const int nThreads =
-    std::max(1, std::min<int>(nF, static_cast<int>(std::thread::hardware_concurrency())));
-  std::vector<std::thread> threads;
-  for (int i = 1; i < nThreads; ++i)
-  {
-    threads.emplace_back(worker);
-  }
-  worker();
-  for (std::thread& t : threads)
-  {
-    t.join();
-  }
+  });
   for (int f = 0; f < nF; ++f)
   {
     if (!ok[f])

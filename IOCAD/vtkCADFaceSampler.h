@@ -7,8 +7,10 @@
  * Study section 4. Every B-rep edge is sampled once, adaptively, as a C1 cubic Hermite spline of
  * the mean of its adjacent surfaces over their pcurves (the faces of a real model miss each other
  * by up to ~1e-4 of the diagonal, and the stored 3D curves can be farther off; the mean halves
- * what any face sees), refined while the cubic is off that mean curve, or off a surface over the
- * pcurve chord beyond that surface's own distance, by more than half the tolerance; vertices are
+ * what any face sees), refined while the cubic is off that mean curve by more than half the
+ * tolerance, or off a surface over the pcurve chord by more than max(tol / 2, gap + tol / 4)
+ * (gap: that surface's own distance from the mean curve), or, with an AngularTolerance, while
+ * its tangent leaves a face's tangent plane by more than half of that; vertices are
  * the means of the surfaces at the pcurve ends. The samples are mapped into each adjacent face
  * through its pcurve. Each face's parameter domain is then triangulated (constrained Delaunay,
  * holes by nesting) and refined with interior points only (boundary segments are never split)
@@ -43,7 +45,8 @@
  * tangentially, normals within G1Threshold at its midpoint, 0 on feature edges and free edges, -1
  * inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest distance between
  * this face's surface and the shared boundary curve), `Converged`, `MaxEstimatedError`,
- * `MaxEstimatedAngle` (degrees, with an AngularTolerance), `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
+ * `MaxEstimatedAngle` (degrees, with an AngularTolerance), `RefinementRounds`. Top-level field
+ * data: `Diagonal`, `AbsoluteTolerance`,
  * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
@@ -151,8 +154,9 @@ public:
   /// The spline the faces are refined for: with RefineStitchedSpline on (default), after the
   /// study's CTo/Bary criterion each face is refined until the spline vtkWatertightSplineStitcher
   /// makes with this Construction, SplitPoint and BoundaryMode (vtkCloughTocherSplineFilter's
-  /// values; give the stitcher the same, it warns otherwise) is within the tolerance at five
-  /// check points per micro-triangle. Defaults KaG, Bary, Midpoint (the stitcher's).
+  /// values; give the stitcher the same, it warns otherwise) is within the tolerance (and the
+  /// AngularTolerance) at 0.8 of it on a lattice of 15 points per micro-triangle (the boundary
+  /// edges are the edge sampling's). Defaults KaG, Bary, Midpoint (the stitcher's).
   vtkSetMacro(RefineStitchedSpline, bool);
   vtkGetMacro(RefineStitchedSpline, bool);
   vtkBooleanMacro(RefineStitchedSpline, bool);
@@ -187,6 +191,12 @@ public:
   bool EvaluateSurface(int face, double s, double t, double p[3]);
   /// The same with the derivatives with respect to s and t.
   bool EvaluateSurface(int face, double s, double t, double p[3], double ds[3], double dt[3]);
+#if !defined(__VTK_WRAP__)
+  /// The same, safe to call from several threads on different faces: why it failed goes into
+  /// `error`, not into GetEvaluationError.
+  bool EvaluateSurface(int face, double s, double t, double p[3], double ds[3], double dt[3],
+    std::string& error) const;
+#endif
   /// Why the last EvaluateSurface returned false.
   const char* GetEvaluationError();
   /// After an update: the bounding-box diagonal of the model (0 before).

@@ -131,58 +131,79 @@ std::array<vtkIdType, 4> MergedEdgeKey(vtkIdType a, vtkIdType ta, vtkIdType tb, 
 // Deviation from the CAD surfaces, positions and normals, at every point of the DeviationLevel
 // lattice of every micro-triangle (its interior, the macro-edges, shared or not, the inner edges)
 // and DeviationSamples pseudo-random points per macro-triangle.
-bool MeasureDeviation(vtkCADFaceSampler* source, int level, int samples,
-  const std::vector<FaceSpline>& splines, vtkFieldData* fd, std::string& error)
+/// The deviation of face f's spline at its lattice points and `samples` pseudo-random points
+/// per macro-triangle (a stream of the face's own, so that faces can be measured in parallel).
+bool MeasureFace(vtkCADFaceSampler* source, int level, int samples, const FaceSpline& fs, int f,
+  ctcad::Deviation& face, std::string& error)
 {
-  std::uint64_t state = 0x2545F4914F6CDD1DULL;
+  std::uint64_t state = 0x2545F4914F6CDD1DULL ^ (0x9E3779B97F4A7C15ULL * (f + 1));
   auto uniform = [&state]() {
     state ^= state << 13;
     state ^= state >> 7;
     state ^= state << 17;
     return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
   };
+  std::string failure;
+  const ctcad::SurfaceFunction surface = [&](double s, double t, double* P, double* Ds,
+                                           double* Dt) {
+    if (!source->EvaluateSurface(f, s, t, P, Ds, Dt, failure))
+    {
+      P[0] = std::nan("");
+    }
+  };
+  std::vector<ctk::Vec3> points;
+  for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
+  {
+    ctcad::DeviationPoints(fs.Spline.SplitTau[t], level, { false, false, false }, points);
+    for (int r = 0; r < samples; ++r)
+    {
+      double a = uniform(), b = uniform();
+      if (a + b > 1)
+      {
+        a = 1 - a;
+        b = 1 - b;
+      }
+      points.emplace_back(1 - a - b, a, b);
+    }
+    if (!ctcad::MeasureTriangle(
+          fs.Spline, fs.Topo, fs.Triangles.data(), t, points, surface, true, face, error))
+    {
+      error = "deviation from the CAD surfaces, face " + std::to_string(f) + ": " +
+        (failure.empty() ? error : failure);
+      return false;
+    }
+  }
+  return true;
+}
+
+/// MeasureFace on every face, faces in parallel (each evaluates only its own surface); the
+/// maxima go into each face's block and, with the RMS values, into fd.
+bool MeasureDeviation(vtkCADFaceSampler* source, int level, int samples,
+  const std::vector<FaceSpline>& splines, vtkFieldData* fd, std::string& error)
+{
+  const int nF = static_cast<int>(splines.size());
+  std::vector<ctcad::Deviation> faces(nF);
+  std::vector<std::string> errors(nF);
+  std::vector<char> ok(nF, 0);
+  ctcad::ForEachFaceInParallel(nF, [&](int f) {
+    ok[f] = MeasureFace(source, level, samples, splines[f], f, faces[f], errors[f]);
+  });
   const double diag = source->GetDiagonal();
   ctcad::Deviation all;
-  std::vector<ctk::Vec3> points;
-  for (std::size_t f = 0; f < splines.size(); ++f)
+  for (int f = 0; f < nF; ++f)
   {
-    const FaceSpline& fs = splines[f];
-    std::string failure;
-    const ctcad::SurfaceFunction surface = [&](double s, double t, double* P, double* Ds, double* Dt) {
-      if (!source->EvaluateSurface(static_cast<int>(f), s, t, P, Ds, Dt))
-      {
-        failure = source->GetEvaluationError();
-        P[0] = std::nan("");
-      }
-    };
-    ctcad::Deviation face;
-    for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
+    if (!ok[f])
     {
-      ctcad::DeviationPoints(fs.Spline.SplitTau[t], level, { false, false, false }, points);
-      for (int r = 0; r < samples; ++r)
-      {
-        double a = uniform(), b = uniform();
-        if (a + b > 1)
-        {
-          a = 1 - a;
-          b = 1 - b;
-        }
-        points.emplace_back(1 - a - b, a, b);
-      }
-      if (!ctcad::MeasureTriangle(
-            fs.Spline, fs.Topo, fs.Triangles.data(), t, points, surface, true, face, error))
-      {
-        error = "deviation from the CAD surfaces, face " + std::to_string(f) + ": " +
-          (failure.empty() ? error : failure);
-        return false;
-      }
+      error = errors[f];
+      return false;
     }
-    AddField(fs.Grid->GetFieldData(), "MaxDeviation", face.MaxDistance / diag);
-    AddField(fs.Grid->GetFieldData(), "MaxNormalDeviation", face.MaxAngle);
-    all.Add(face);
+    AddField(splines[f].Grid->GetFieldData(), "MaxDeviation", faces[f].MaxDistance / diag);
+    AddField(splines[f].Grid->GetFieldData(), "MaxNormalDeviation", faces[f].MaxAngle);
+    all.Add(faces[f]);
   }
   AddField(fd, "MaxDeviation", all.MaxDistance / diag);
-  AddField(fd, "RMSDeviation", all.Count ? std::sqrt(all.SumSquaredDistance / all.Count) / diag : 0.0);
+  AddField(
+    fd, "RMSDeviation", all.Count ? std::sqrt(all.SumSquaredDistance / all.Count) / diag : 0.0);
   AddField(fd, "MaxNormalDeviation", all.MaxAngle);
   AddField(fd, "RMSNormalDeviation",
     all.AngleCount ? std::sqrt(all.SumSquaredAngle / all.AngleCount) : 0.0);

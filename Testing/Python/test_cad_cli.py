@@ -102,6 +102,28 @@ class CADCommandLineTest(CommandLineCase):
                      code=2)
         self.assertIn("not an angle in [0, 90]", p.stderr)
 
+    def test_angular_tolerance(self):
+        # The normal deviation is reported beside the positional one; --angular-tolerance
+        # refines until the normals are within it (the hole's cylinder: 0.06 degrees without).
+        def normals(text):
+            found = re.search(r"normals: max (\S+) degrees, RMS (\S+)", text)
+            self.assertIsNotNone(found, text)
+            return float(found.group(1)), float(found.group(2))
+
+        def triangles(text):
+            return int(re.search(r"B-rep edges, (\d+) triangles", text).group(1))
+
+        free = self.convert_and_check(self.box(), 1e-3)
+        held = self.convert_and_check(self.box(), 1e-3, "--angular-tolerance", "0.02")
+        self.assertGreater(normals(free)[0], 0.02, free)
+        self.assertLessEqual(normals(held)[0], 0.02, held)
+        self.assertLessEqual(normals(held)[1], normals(held)[0])
+        self.assertIn("(angular tolerance 0.02)", held)
+        self.assertGreater(triangles(held), triangles(free))
+        p = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--angular-tolerance",
+                     "-1", code=2)
+        self.assertIn("not an angle in [0, 90]", p.stderr)
+
     def test_default_output_is_named_after_the_model(self):
         self.cli("convert", self.box(), "--tolerance", "1e-2")
         for name in ("box_with_hole.vtm", "box_with_hole.vtu"):
@@ -228,8 +250,9 @@ class CADCommandLineTest(CommandLineCase):
 
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
-        for text in ("--tolerance", "--aspect-ratio", "--max-edge-length", "--g1",
-                     "--g1-threshold", "--read-timeout", "--no-sew", ".step", "OUT.vtu", "-o"):
+        for text in ("--tolerance", "--angular-tolerance", "--aspect-ratio", "--max-edge-length",
+                     "--g1", "--g1-threshold", "--read-timeout", "--no-sew", ".step", "OUT.vtu",
+                     "-o"):
             self.assertIn(text, out)
 
 
