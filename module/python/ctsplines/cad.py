@@ -37,8 +37,9 @@ def _update(algorithm, messages):
 def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
     it. options: tolerance, aspect_ratio, max_edge_length, construction, split_point,
-    boundary_mode, iterations (ints for the enumerations), g1 (RestoreG1), g1_threshold
-    (degrees), read_timeout (seconds; 0 reads in this process). Returns the summary as a dict."""
+    boundary_mode, iterations (ints for the enumerations), g1 (RestoreG1, default True),
+    g1_threshold (degrees), read_timeout (seconds; 0 reads in this process). Returns the summary
+    as a dict."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
@@ -51,7 +52,7 @@ def convert(model, output, options, messages, progress):
     sampler.SetConstruction(options["construction"])
     sampler.SetSplitPoint(options["split_point"])
     sampler.SetBoundaryMode(options["boundary_mode"])
-    sampler.SetRestoreG1(bool(options.get("g1")))
+    sampler.SetRestoreG1(bool(options.get("g1", True)))
     sampler.SetG1Threshold(options.get("g1_threshold", 10.0))
     sampler.SetReadTimeout(options.get("read_timeout", 120.0))
     start = time.perf_counter()
