@@ -859,17 +859,30 @@ bool CADModel::Sample(const SamplingOptions& options)
   planes.MaxMove = 0.25 * tol;
   TangentPlaneReport report;
   this->Time.Loops = this->Time.TangentPlanes = 0;
+  // After the first round only the faces of re-sampled edges are rebuilt; the others get their
+  // loops as built back (the tangent planes start from the edge sampling's data).
+  std::vector<char> rebuild(nF, 1);
+  std::vector<std::vector<FaceLoop>> built(options.RestoreG1 ? nF : 0);
   for (int round = 0;; ++round)
   {
     start = Clock::now();
     for (int f = 0; f < nF; ++f)
     {
+      if (!rebuild[f])
+      {
+        this->FaceList[f].Loops = built[f];
+        continue;
+      }
       this->FaceList[f].Loops.clear();
       this->FaceList[f].MaxGap = 0;
       if (!Stages::Guard(*this, [&] { return "loop building, " + Stages::FaceLabel(*this, f); },
             [&] { return Stages::FaceLoops(*this, f, tol); }))
       {
         return false;
+      }
+      if (options.RestoreG1)
+      {
+        built[f] = this->FaceList[f].Loops;
       }
     }
     this->Time.Loops += Seconds(start);
@@ -906,8 +919,13 @@ bool CADModel::Sample(const SamplingOptions& options)
       edges.push_back(static_cast<int>(span.first));
     }
     edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    std::fill(rebuild.begin(), rebuild.end(), 0);
     for (const int e : edges)
     {
+      for (const PCurveUse& use : d.EdgeUses[e])
+      {
+        rebuild[use.Face] = 1;
+      }
       if (!Stages::Guard(*this, [&] { return "edge sampling, " + Stages::EdgeLabel(*this, e); },
             [&] {
               Stages::SampleEdge(*this, e, tol, maxSpan, options.MaxSamplesPerEdge);

@@ -42,9 +42,8 @@
  * point; NaN inside), `TangentInterface` (3: 1 where the CAD faces along that boundary edge meet
  * tangentially, normals within G1Threshold at its nodes and inside, 0 on feature edges and free
  * edges, -1 inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest
- * distance between
- * this face's surface and the shared boundary nodes), `Converged`, `MaxEstimatedError`,
- * `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
+ * distance between this face's surface and the shared boundary nodes), `Converged`,
+ * `MaxEstimatedError`, `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
  * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
