@@ -36,6 +36,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <mutex>
+#include <map>
 #include <numeric>
 #include <typeinfo>
 
@@ -113,6 +114,8 @@ struct EdgeSampling
   /// Per pcurve use (CADModel::Impl::EdgeUses): the largest distance between its surface and
   /// the edge's mean curve seen while sampling (the face's own gap along the edge).
   std::vector<double> UseGap;
+  /// Parameters sampled besides the adaptive ones (RestoreG1's splits at near-tangent joins).
+  std::vector<double> Forced;
 };
 
 /// A pcurve of an edge on one face (a seam has two on the same face).
@@ -626,6 +629,22 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     }
     samples.swap(next);
   }
+  for (const double t : es.Forced)
+  {
+    const auto at = std::lower_bound(samples.begin(), samples.end(), t,
+      [&](const EdgeSample& a, double b) { return (a.T - b) * (t1 - t0) < 0; });
+    if (at != samples.begin() && at != samples.end() && at->T != t)
+    {
+      samples.insert(at, makeSample(t));
+    }
+  }
+  // A sample of an earlier sampling of this edge keeps its node (RestoreG1's splits re-sample).
+  std::map<double, Id> earlier;
+  for (std::size_t k = 0; k < es.T.size(); ++k)
+  {
+    earlier.emplace(es.T[k], es.Nodes[k]);
+  }
+  m.EdgeSamples -= static_cast<Id>(es.T.size());
   const std::size_t n = samples.size();
   es.T.resize(n);
   es.D.resize(n);
@@ -634,7 +653,11 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
   {
     es.T[k] = samples[k].T;
     es.D[k] = samples[k].D;
-    es.Nodes[k] = k == 0 ? es.Vertex0 : k + 1 == n ? es.Vertex1 : m.AddNode(samples[k].P);
+    const auto old = earlier.find(es.T[k]);
+    es.Nodes[k] = k == 0 ? es.Vertex0
+      : k + 1 == n       ? es.Vertex1
+      : old != earlier.end() ? old->second
+                             : m.AddNode(samples[k].P);
   }
   es.Inner.resize(n - 1);
   for (std::size_t k = 0; k + 1 < n; ++k)
@@ -887,6 +910,9 @@ bool CADModel::Stages::FaceLoops(CADModel& m, int f, double tol)
   return true;
 }
 
+/// Rounds of RestoreG1's span splits (each halves the spans that still move too much).
+constexpr int MaxG1SplitRounds = 16;
+
 bool CADModel::Sample(const SamplingOptions& options)
 {
   Impl& d = *this->Internal;
@@ -936,40 +962,95 @@ bool CADModel::Sample(const SamplingOptions& options)
   this->Time.Edges = Seconds(start);
 
   // 2. Face loops: the edge samples through each face's pcurves, wire by wire, in wire order.
-  start = Clock::now();
-  for (int f = 0; f < nF; ++f)
-  {
-    if (!Stages::Guard(*this, [&] { return "loop building, " + Stages::FaceLabel(*this, f); },
-          [&] { return Stages::FaceLoops(*this, f, tol); }))
-    {
-      return false;
-    }
-  }
-  this->Time.Loops = Seconds(start);
-
-  // 3. Smooth interfaces, and their tangent planes in the stitching data (RestoreG1).
-  start = Clock::now();
+  // 3. Smooth interfaces, and their tangent planes in the stitching data (RestoreG1). Where
+  // faces within the threshold but not exactly tangent meet at a B-rep vertex, the edge cubics
+  // there turn into the shared plane: spans that move by more than a quarter of the tolerance
+  // are halved and the edge re-sampled, then 2 and 3 again (the move halves with the span).
   TangentPlaneOptions planes;
   planes.RestoreG1 = options.RestoreG1;
   planes.G1Threshold = options.G1Threshold;
-  int lastFace = -1;
+  planes.MaxMove = 0.25 * tol;
   TangentPlaneReport report;
-  if (!Stages::Guard(*this,
-        [&] { return "tangent planes at the interfaces, evaluating " + (lastFace >= 0 ? Stages::FaceLabel(*this, lastFace) : std::string("a face")); },
-        [&] {
-          report = SetInterfaceTangentPlanes(this->FaceList, this->NodePoints,
-            [&](int f, double s, double t, double* P, double* Ds, double* Dt) {
-              lastFace = f;
-              this->Evaluate(f, s, t, P, Ds, Dt);
-            },
-            planes);
-          return true;
-        }))
+  this->Time.Loops = this->Time.TangentPlanes = 0;
+  // After the first round only the faces of re-sampled edges are rebuilt; the others get their
+  // loops as built back (the tangent planes start from the edge sampling's data).
+  std::vector<char> rebuild(nF, 1);
+  std::vector<std::vector<FaceLoop>> built(options.RestoreG1 ? nF : 0);
+  for (int round = 0;; ++round)
   {
-    return false;
+    start = Clock::now();
+    for (int f = 0; f < nF; ++f)
+    {
+      if (!rebuild[f])
+      {
+        this->FaceList[f].Loops = built[f];
+        continue;
+      }
+      this->FaceList[f].Loops.clear();
+      this->FaceList[f].MaxGap = 0;
+      if (!Stages::Guard(*this, [&] { return "loop building, " + Stages::FaceLabel(*this, f); },
+            [&] { return Stages::FaceLoops(*this, f, tol); }))
+      {
+        return false;
+      }
+      if (options.RestoreG1)
+      {
+        built[f] = this->FaceList[f].Loops;
+      }
+    }
+    this->Time.Loops += Seconds(start);
+    start = Clock::now();
+    int lastFace = -1;
+    if (!Stages::Guard(*this,
+          [&] {
+            return "tangent planes at the interfaces, evaluating " +
+              (lastFace >= 0 ? Stages::FaceLabel(*this, lastFace) : std::string("a face"));
+          },
+          [&] {
+            report = SetInterfaceTangentPlanes(this->FaceList, this->NodePoints,
+              [&](int f, double s, double t, double* P, double* Ds, double* Dt) {
+                lastFace = f;
+                this->Evaluate(f, s, t, P, Ds, Dt);
+              },
+              planes);
+            return true;
+          }))
+    {
+      return false;
+    }
+    this->Time.TangentPlanes += Seconds(start);
+    if (report.SpansToSplit.empty() || round == MaxG1SplitRounds)
+    {
+      break;
+    }
+    start = Clock::now();
+    std::vector<int> edges;
+    for (const auto& span : report.SpansToSplit)
+    {
+      EdgeSampling& es = d.Edges[span.first];
+      es.Forced.push_back(0.5 * (es.T[span.second] + es.T[span.second + 1]));
+      edges.push_back(static_cast<int>(span.first));
+    }
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    std::fill(rebuild.begin(), rebuild.end(), 0);
+    for (const int e : edges)
+    {
+      for (const PCurveUse& use : d.EdgeUses[e])
+      {
+        rebuild[use.Face] = 1;
+      }
+      if (!Stages::Guard(*this, [&] { return "edge sampling, " + Stages::EdgeLabel(*this, e); },
+            [&] {
+              Stages::SampleEdge(*this, e, tol, maxSpan, options.MaxSamplesPerEdge);
+              return true;
+            }))
+      {
+        return false;
+      }
+    }
+    this->Time.Edges += Seconds(start);
   }
   this->Changed = { report.MaxCurveChange, report.MaxDerivativeChange, report.SmoothNodes, report.SmoothSpans };
-  this->Time.TangentPlanes = Seconds(start);
   return true;
 }
 

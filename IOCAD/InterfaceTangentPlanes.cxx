@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <tuple>
 
 namespace ctcad
@@ -25,6 +26,13 @@ Point3 P3(const Vector3& v)
   return { v.x(), v.y(), v.z() };
 }
 
+Vector3 UnitNormal(const Jacobian& J)
+{
+  const Vector3 n = J.col(0).cross(J.col(1));
+  const double len = n.norm();
+  return len > 0 ? Vector3(n / len) : Vector3::Zero();
+}
+
 /// A face's copy of a boundary node (one per face and parameter position: a seam node has two
 /// in its face).
 struct FaceVertex
@@ -32,21 +40,43 @@ struct FaceVertex
   int Face;
   Id Global;
   Jacobian J0;
-  Vector3 Normal;
+  Vector3 Normal; // zero where the surface is degenerate (a pole)
+  int Group = -1;
   std::vector<std::pair<int, int>> Nodes; // (loop, node) occurrences
 };
 
-/// A face vertex and a span end at its node.
-struct Incidence
+/// One end of an edge span at a node, shared by every face along the span (joints, which
+/// belong to one face, have their own): its inner cubic point minus the node, and the face
+/// vertices there.
+struct SpanEnd
 {
-  int Vertex;
-  int SpanEnd;
+  Vector3 Tau0, Tau;
+  std::vector<int> Vertices;
 };
 
-/// Key of a span end: (B-rep edge, span, node) for edge spans (shared by all faces along the
-/// edge); joints, which belong to one face, get keys of their own.
+/// A loop segment that is not degenerate, with its end vertices and span ends.
+struct SegmentUse
+{
+  int Face, Loop, Segment;
+  int Vertex[2];
+  int End[2];
+};
+
+/// Faces meeting at a node within the threshold (transitively): their mean normal, and the
+/// plane all their stitching data get at the node when the group has a tangent span.
+struct Group
+{
+  std::vector<int> Vertices;
+  Vector3 Normal;
+  bool Tangent = false; // a tangent span ends here
+};
+
 using SpanEndKey = std::tuple<Id, Id, Id>;
 
+/// Largest turn of the surface normal along a tangent span (radians) with RestoreG1.
+constexpr double MaxTurnPerSpan = 3.14159265358979323846 / 8;
+
+/// Key of a span end: (B-rep edge, span, node) for edge spans; joints get keys of their own.
 SpanEndKey KeyOf(const LoopSegment& seg, int face, int loop, int segment, Id node)
 {
   if (seg.Edge >= 0 && seg.Span >= 0)
@@ -56,100 +86,129 @@ SpanEndKey KeyOf(const LoopSegment& seg, int face, int loop, int segment, Id nod
   return { -1 - face, static_cast<Id>(loop) * (Id(1) << 32) + segment, node };
 }
 
-double AngleDegrees(const Vector3& a, const Vector3& b)
+class TangentPlanes
 {
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / 3.14159265358979323846;
-}
-
-Vector3 UnitNormal(const Jacobian& J)
-{
-  const Vector3 n = J.col(0).cross(J.col(1));
-  const double len = n.norm();
-  return len > 0 ? Vector3(n / len) : Vector3::Zero();
-}
-} // namespace
-
-TangentPlaneReport SetInterfaceTangentPlanes(std::vector<CADFace>& faces,
-  const std::vector<Point3>& nodes, const FaceDerivatives& evaluate,
-  const TangentPlaneOptions& options)
-{
-  TangentPlaneReport report;
-  std::vector<FaceVertex> vertices;
-  std::map<std::tuple<int, Id, double, double>, int> vertexIndex;
-  std::vector<Incidence> incidences;
-  std::map<SpanEndKey, int> spanEndIndex;
-  std::vector<Vector3> tau0; // inner point - node, per span end
-  const double cosThreshold = std::cos(options.G1Threshold * 3.14159265358979323846 / 180.0);
-
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+public:
+  TangentPlanes(std::vector<CADFace>& faces, const std::vector<Point3>& nodes,
+    const FaceDerivatives& evaluate, const TangentPlaneOptions& options)
+    : Faces(faces)
+    , Nodes(nodes)
+    , Evaluate(evaluate)
+    , Options(options)
+    , CosThreshold(std::cos(options.G1Threshold * 3.14159265358979323846 / 180.0))
   {
-    for (int l = 0; l < static_cast<int>(faces[f].Loops.size()); ++l)
+  }
+
+  TangentPlaneReport Run();
+
+private:
+  Jacobian Derivatives(int face, double s, double t) const;
+  void Collect();
+  void FormGroups();
+  void ClassifySpans();
+  void ChoosePlanes();
+  void Project();
+  void WriteBack();
+  void SetMidNormals();
+
+  std::vector<CADFace>& Faces;
+  const std::vector<Point3>& Nodes;
+  const FaceDerivatives& Evaluate;
+  const TangentPlaneOptions& Options;
+  const double CosThreshold;
+  std::vector<FaceVertex> Vertices;
+  std::vector<SpanEnd> Ends;
+  std::vector<SegmentUse> Uses;
+  std::vector<Group> Groups;
+  std::vector<Jacobian> J; // the stitching derivatives per face vertex
+  std::map<std::pair<Id, Id>, std::vector<int>> SpanUses; // (edge, span) -> uses
+  std::map<std::pair<Id, Id>, bool> TangentSpan;
+  TangentPlaneReport Report;
+};
+
+Jacobian TangentPlanes::Derivatives(int face, double s, double t) const
+{
+  double P[3], Ds[3], Dt[3];
+  this->Evaluate(face, s, t, P, Ds, Dt);
+  Jacobian D;
+  D.col(0) = Vector3(Ds[0], Ds[1], Ds[2]);
+  D.col(1) = Vector3(Dt[0], Dt[1], Dt[2]);
+  return D;
+}
+
+void TangentPlanes::Collect()
+{
+  std::map<std::tuple<int, Id, double, double>, int> vertexIndex;
+  std::map<SpanEndKey, int> endIndex;
+  for (int f = 0; f < static_cast<int>(this->Faces.size()); ++f)
+  {
+    for (int l = 0; l < static_cast<int>(this->Faces[f].Loops.size()); ++l)
     {
-      const FaceLoop& loop = faces[f].Loops[l];
+      const FaceLoop& loop = this->Faces[f].Loops[l];
       const int n = static_cast<int>(loop.Nodes.size());
+      std::vector<int> vertexOf(n);
       for (int k = 0; k < n; ++k)
       {
         const LoopNode& node = loop.Nodes[k];
-        auto it = vertexIndex.emplace(
-          std::make_tuple(f, node.GlobalNode, node.UV[0], node.UV[1]), static_cast<int>(vertices.size()));
+        const auto key = std::make_tuple(f, node.GlobalNode, node.UV[0], node.UV[1]);
+        const auto it = vertexIndex.emplace(key, static_cast<int>(this->Vertices.size()));
         if (it.second)
         {
-          FaceVertex v;
-          v.Face = f;
-          v.Global = node.GlobalNode;
-          double P[3], Ds[3], Dt[3];
-          evaluate(f, node.UV[0], node.UV[1], P, Ds, Dt);
-          v.J0.col(0) = Vector3(Ds[0], Ds[1], Ds[2]);
-          v.J0.col(1) = Vector3(Dt[0], Dt[1], Dt[2]);
+          FaceVertex v{ f, node.GlobalNode, this->Derivatives(f, node.UV[0], node.UV[1]), {}, -1,
+            {} };
           v.Normal = UnitNormal(v.J0);
-          vertices.push_back(v);
+          this->Vertices.push_back(v);
         }
-        const int vi = it.first->second;
-        vertices[vi].Nodes.emplace_back(l, k);
-        // The segments ending (Near1) and starting (Near0) at node k.
-        for (const int s : { (k + n - 1) % n, k })
+        vertexOf[k] = it.first->second;
+        this->Vertices[vertexOf[k]].Nodes.emplace_back(l, k);
+      }
+      for (int s = 0; s < n; ++s)
+      {
+        const LoopSegment& seg = loop.Segments[s];
+        if (seg.Degenerate)
         {
-          const LoopSegment& seg = loop.Segments[s];
-          if (seg.Degenerate)
-          {
-            continue;
-          }
-          const bool atStart = s == k;
-          auto se = spanEndIndex.emplace(KeyOf(seg, f, l, s, node.GlobalNode), static_cast<int>(tau0.size()));
-          if (se.second)
-          {
-            tau0.push_back(V3(atStart ? seg.Near0 : seg.Near1) - V3(nodes[node.GlobalNode]));
-          }
-          incidences.push_back({ vi, se.first->second });
+          continue;
         }
+        SegmentUse use{ f, l, s, { vertexOf[s], vertexOf[(s + 1) % n] }, { -1, -1 } };
+        for (int side = 0; side < 2; ++side)
+        {
+          const Id node = loop.Nodes[(s + side) % n].GlobalNode;
+          const auto it =
+            endIndex.emplace(KeyOf(seg, f, l, s, node), static_cast<int>(this->Ends.size()));
+          if (it.second)
+          {
+            const Vector3 tau = V3(side == 0 ? seg.Near0 : seg.Near1) - V3(this->Nodes[node]);
+            this->Ends.push_back({ tau, tau, {} });
+          }
+          use.End[side] = it.first->second;
+          this->Ends[use.End[side]].Vertices.push_back(use.Vertex[side]);
+        }
+        if (seg.Edge >= 0 && seg.Span >= 0)
+        {
+          this->SpanUses[{ seg.Edge, seg.Span }].push_back(static_cast<int>(this->Uses.size()));
+        }
+        this->Uses.push_back(use);
       }
     }
   }
+}
 
-  // Per node, the face vertices whose normals agree within the threshold (transitively) form
-  // a group with their mean normal.
-  std::vector<Jacobian> J(vertices.size());
-  std::vector<int> groupOf(vertices.size(), -1);
-  std::vector<Vector3> groupNormal;
+void TangentPlanes::FormGroups()
+{
   std::map<Id, std::vector<int>> vertexOfNode;
-  for (int i = 0; i < static_cast<int>(vertices.size()); ++i)
+  for (int i = 0; i < static_cast<int>(this->Vertices.size()); ++i)
   {
-    J[i] = vertices[i].J0;
-    vertexOfNode[vertices[i].Global].push_back(i);
+    if (this->Vertices[i].Normal.squaredNorm() > 0)
+    {
+      vertexOfNode[this->Vertices[i].Global].push_back(i);
+    }
   }
   for (const auto& entry : vertexOfNode)
   {
     const std::vector<int>& vs = entry.second;
     const int nv = static_cast<int>(vs.size());
-    if (!options.RestoreG1 || nv < 2)
-    {
-      continue;
-    }
     std::vector<int> parent(nv);
-    for (int a = 0; a < nv; ++a)
-    {
-      parent[a] = a;
-    }
+    std::iota(parent.begin(), parent.end(), 0);
     auto find = [&](int a) {
       while (parent[a] != a)
       {
@@ -161,189 +220,367 @@ TangentPlaneReport SetInterfaceTangentPlanes(std::vector<CADFace>& faces,
     {
       for (int b = 0; b < a; ++b)
       {
-        if (vertices[vs[a]].Normal.dot(vertices[vs[b]].Normal) > cosThreshold)
+        if (this->Vertices[vs[a]].Normal.dot(this->Vertices[vs[b]].Normal) > this->CosThreshold)
         {
           parent[find(a)] = find(b);
         }
       }
     }
-    bool smooth = false;
-    for (int root = 0; root < nv; ++root)
+    std::map<int, int> groupOfRoot;
+    for (int a = 0; a < nv; ++a)
     {
-      Vector3 sum = Vector3::Zero();
-      int members = 0;
-      bool twoFaces = false; // not just the two copies of a seam node
-      for (int a = 0; a < nv; ++a)
+      const auto it = groupOfRoot.emplace(find(a), static_cast<int>(this->Groups.size()));
+      if (it.second)
       {
-        if (find(a) == root)
-        {
-          sum += vertices[vs[a]].Normal;
-          twoFaces = twoFaces || (members > 0 && vertices[vs[a]].Face != vertices[vs[root]].Face);
-          ++members;
-        }
+        this->Groups.emplace_back();
       }
-      if (members < 2 || sum.norm() == 0)
-      {
-        continue;
-      }
-      smooth = smooth || twoFaces;
-      const Vector3 n = sum.normalized();
-      const int g = static_cast<int>(groupNormal.size());
-      groupNormal.push_back(n);
-      for (int a = 0; a < nv; ++a)
-      {
-        if (find(a) == root)
-        {
-          groupOf[vs[a]] = g;
-          J[vs[a]] = J[vs[a]] - n * (n.transpose() * J[vs[a]]);
-        }
-      }
+      this->Groups[it.first->second].Vertices.push_back(vs[a]);
+      this->Vertices[vs[a]].Group = it.first->second;
     }
-    report.SmoothNodes += smooth ? 1 : 0;
   }
-  // A span end lies in the plane of every group it touches: one group, its plane; two, the
-  // planes' line.
-  std::vector<std::vector<int>> spanGroups(tau0.size());
-  for (const Incidence& in : incidences)
+  for (Group& g : this->Groups)
   {
-    const int g = groupOf[in.Vertex];
-    std::vector<int>& gs = spanGroups[in.SpanEnd];
-    if (g >= 0 && std::find(gs.begin(), gs.end(), g) == gs.end())
+    Vector3 sum = Vector3::Zero();
+    for (const int v : g.Vertices)
     {
-      gs.push_back(g);
+      sum += this->Vertices[v].Normal;
     }
+    g.Normal = sum.norm() > 0 ? Vector3(sum.normalized()) : Vector3::Zero();
   }
-  std::vector<Vector3> tau = tau0;
-  for (std::size_t e = 0; e < tau.size(); ++e)
-  {
-    const std::vector<int>& gs = spanGroups[e];
-    if (gs.size() == 1)
-    {
-      const Vector3& n = groupNormal[gs[0]];
-      tau[e] = tau0[e] - n.dot(tau0[e]) * n;
-    }
-    else if (gs.size() == 2)
-    {
-      const Vector3 line = groupNormal[gs[0]].cross(groupNormal[gs[1]]);
-      if (line.norm() > 0)
-      {
-        tau[e] = line.normalized().dot(tau0[e]) * line.normalized();
-      }
-    }
-    report.MaxCurveChange = std::max(report.MaxCurveChange, (tau[e] - tau0[e]).norm());
-  }
-  for (const Incidence& in : incidences)
-  {
-    // The change of the face's T point along that span's direction.
-    const double scale = tau0[in.SpanEnd].norm() / std::max(1e-300, vertices[in.Vertex].J0.norm());
-    report.MaxDerivativeChange =
-      std::max(report.MaxDerivativeChange, (J[in.Vertex] - vertices[in.Vertex].J0).norm() * scale);
-  }
+}
 
-  // Write back: derivatives per loop node, inner points per segment (the same doubles on every
-  // face that shares a span end).
-  for (std::size_t i = 0; i < vertices.size(); ++i)
+/// A span is a tangent interface when the faces along it meet within the threshold all along
+/// it: at both nodes (their vertices there are in one group; a pole, where a face has no
+/// normal, does not count) and at three interior points (the faces' normals over their chords).
+/// A span whose faces are tangent at its midpoint only (two cylinders mitred, a fillet running
+/// out into a crease) is a feature edge: no tangent plane can be shared along it.
+void TangentPlanes::ClassifySpans()
+{
+  for (const auto& entry : this->SpanUses)
   {
-    for (const auto& occurrence : vertices[i].Nodes)
+    const std::vector<int>& uses = entry.second;
+    bool tangent = uses.size() >= 2;
+    // Uses may run either way along the span: compare the vertices at the same global node.
+    const Id firstNode = this->Vertices[this->Uses[uses[0]].Vertex[0]].Global;
+    for (int side = 0; side < 2 && tangent; ++side)
     {
-      LoopNode& node = faces[vertices[i].Face].Loops[occurrence.first].Nodes[occurrence.second];
-      node.Ds = P3(J[i].col(0));
-      node.Dt = P3(J[i].col(1));
-      node.Consistent = true;
+      int group = -1;
+      for (const int u : uses)
+      {
+        const int* ends = this->Uses[u].Vertex;
+        const bool same = this->Vertices[ends[0]].Global == firstNode;
+        const FaceVertex& v = this->Vertices[ends[same == (side == 0) ? 0 : 1]];
+        if (v.Group >= 0)
+        {
+          tangent = tangent && (group < 0 || group == v.Group);
+          group = v.Group;
+        }
+      }
+    }
+    double minCos = 1; // of the angle between the faces' normals
+    for (const double s : { 0.25, 0.5, 0.75 })
+    {
+      std::vector<Vector3> normals;
+      for (const int u : uses)
+      {
+        if (!tangent)
+        {
+          break;
+        }
+        const SegmentUse& use = this->Uses[u];
+        const FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+        const LoopNode& a = loop.Nodes[use.Segment];
+        const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
+        // The same 3D position on every face: s from the lower global node.
+        const double r = a.GlobalNode <= b.GlobalNode ? s : 1 - s;
+        normals.push_back(UnitNormal(this->Derivatives(use.Face, (1 - r) * a.UV[0] + r * b.UV[0],
+          (1 - r) * a.UV[1] + r * b.UV[1])));
+        for (std::size_t i = 0; i + 1 < normals.size(); ++i)
+        {
+          minCos = std::min(minCos, normals[i].dot(normals.back()));
+          tangent = tangent && minCos > this->CosThreshold;
+        }
+      }
+    }
+    this->TangentSpan[entry.first] = tangent;
+    if (!tangent)
+    {
+      continue;
+    }
+    for (const int u : uses)
+    {
+      for (const int v : this->Uses[u].Vertex)
+      {
+        if (this->Vertices[v].Group >= 0)
+        {
+          this->Groups[this->Vertices[v].Group].Tangent = true;
+        }
+      }
+    }
+    // Spans to split, with RestoreG1. Between its nodes and midpoint a boundary micro-patch's
+    // cross-boundary derivative is a quadratic: where the normal turns along the span (an arc
+    // of a fillet), each side leaves the shared plane by about the cube of that turn (0.08
+    // degrees at 45 degrees on KiCad's L_Bourns-SRN4018, 0.026 at 22.5). Where the faces are
+    // not exactly tangent, each side turns by half their angle within its boundary triangles:
+    // the surface moves by about their width (a third of the span) times the sine of that.
+    const FaceVertex& a = this->Vertices[this->Uses[uses[0]].Vertex[0]];
+    const FaceVertex& b = this->Vertices[this->Uses[uses[0]].Vertex[1]];
+    const double halfSine = std::sqrt(std::max(0.0, 0.5 * (1 - minCos)));
+    const double length = (V3(this->Nodes[a.Global]) - V3(this->Nodes[b.Global])).norm();
+    const bool turns = a.Normal.squaredNorm() > 0 && b.Normal.squaredNorm() > 0 &&
+      a.Normal.dot(b.Normal) < std::cos(MaxTurnPerSpan);
+    if (this->Options.RestoreG1 && this->Options.MaxMove > 0 &&
+      (turns || length * halfSine / 3 > this->Options.MaxMove))
+    {
+      this->Report.SpansToSplit.push_back(entry.first);
     }
   }
-  // Mid-span normals of smooth interfaces: every face's surface normal at its chord midpoint.
-  std::map<std::pair<Id, Id>, std::vector<Vector3>> spanNormals;
-  for (int f = 0; f < static_cast<int>(faces.size()); ++f)
+}
+
+/// The plane of a tangent group: the faces' mean normal; where every edge cubic at the node
+/// runs along one line (inside a B-rep edge, where the node's two span ends are one Hermite
+/// tangent), made perpendicular to that line, so that the cubics do not move at all. Elsewhere
+/// (a B-rep vertex) they move by their angle to the plane: nothing where the faces are exactly
+/// tangent.
+void TangentPlanes::ChoosePlanes()
+{
+  std::vector<std::vector<int>> endsOfVertex(this->Vertices.size());
+  for (int e = 0; e < static_cast<int>(this->Ends.size()); ++e)
   {
-    for (int l = 0; l < static_cast<int>(faces[f].Loops.size()); ++l)
+    for (const int v : this->Ends[e].Vertices)
     {
-      FaceLoop& loop = faces[f].Loops[l];
-      const int n = static_cast<int>(loop.Nodes.size());
-      for (int s = 0; s < n; ++s)
+      endsOfVertex[v].push_back(e);
+    }
+  }
+  for (Group& g : this->Groups)
+  {
+    Vector3 line = Vector3::Zero();
+    bool oneLine = g.Tangent;
+    for (const int v : g.Vertices)
+    {
+      for (const int e : endsOfVertex[v])
       {
-        LoopSegment& seg = loop.Segments[s];
-        if (seg.Degenerate)
+        const Vector3& tau = this->Ends[e].Tau0;
+        if (tau.squaredNorm() == 0)
         {
           continue;
         }
-        const LoopNode &a = loop.Nodes[s], &b = loop.Nodes[(s + 1) % n];
-        // Only moved points are rewritten (the others stay the edge sampling's doubles).
-        const int ea = spanEndIndex.at(KeyOf(seg, f, l, s, a.GlobalNode));
-        const int eb = spanEndIndex.at(KeyOf(seg, f, l, s, b.GlobalNode));
-        if (tau[ea] != tau0[ea])
+        if (line.squaredNorm() == 0)
         {
-          seg.Near0 = P3(V3(nodes[a.GlobalNode]) + tau[ea]);
+          line = tau.normalized();
         }
-        if (tau[eb] != tau0[eb])
-        {
-          seg.Near1 = P3(V3(nodes[b.GlobalNode]) + tau[eb]);
-        }
-        if (seg.Edge >= 0 && seg.Span >= 0)
-        {
-          double P[3], Ds[3], Dt[3];
-          evaluate(f, 0.5 * (a.UV[0] + b.UV[0]), 0.5 * (a.UV[1] + b.UV[1]), P, Ds, Dt);
-          Jacobian Jm;
-          Jm.col(0) = Vector3(Ds[0], Ds[1], Ds[2]);
-          Jm.col(1) = Vector3(Dt[0], Dt[1], Dt[2]);
-          spanNormals[{ seg.Edge, seg.Span }].push_back(UnitNormal(Jm));
-        }
+        oneLine = oneLine && line.cross(tau.normalized()).norm() < 1e-6;
       }
     }
-  }
-  std::vector<FaceLoop*> loops;
-  for (CADFace& face : faces)
-  {
-    for (FaceLoop& l : face.Loops)
+    if (oneLine && line.squaredNorm() > 0)
     {
-      loops.push_back(&l);
+      const Vector3 n = g.Normal - g.Normal.dot(line) * line;
+      g.Normal = n.norm() > 0 ? Vector3(n.normalized()) : g.Normal;
     }
   }
-  for (FaceLoop* loop : loops)
+}
+
+/// Derivatives of tangent groups onto their plane; each span end onto the planes of the
+/// vertices it touches (a tangent group's, or the face's own where the face's vertex is in no
+/// tangent group): one plane, or the line of two.
+void TangentPlanes::Project()
+{
+  this->J.resize(this->Vertices.size());
+  for (std::size_t i = 0; i < this->Vertices.size(); ++i)
   {
-    const int n = static_cast<int>(loop->Nodes.size());
-    for (int s = 0; s < n; ++s)
+    const FaceVertex& v = this->Vertices[i];
+    this->J[i] = v.J0;
+    if (v.Group >= 0 && this->Groups[v.Group].Tangent)
     {
-      LoopSegment& seg = loop->Segments[s];
-      const auto it = spanNormals.find({ seg.Edge, seg.Span });
-      if (seg.Degenerate || it == spanNormals.end() || it->second.size() < 2)
-      {
-        continue;
-      }
-      Vector3 sum = Vector3::Zero();
-      bool close = true;
-      for (const Vector3& a : it->second)
-      {
-        sum += a;
-        for (const Vector3& b : it->second)
-        {
-          close = close && a.dot(b) > cosThreshold;
-        }
-      }
-      seg.Tangent = close;
-      if (!close || !options.RestoreG1)
-      {
-        continue;
-      }
-      // The normal must be perpendicular to the edge cubic's tangent at its midpoint (the same
-      // on both sides); orient it along the sum so that all copies agree up to round-off, then
-      // compute it from the segment's canonical direction so that they agree bit for bit.
-      const LoopNode &a = loop->Nodes[s], &b = loop->Nodes[(s + 1) % n];
-      const bool forward = a.GlobalNode <= b.GlobalNode;
-      const Vector3 b0 = V3(nodes[forward ? a.GlobalNode : b.GlobalNode]);
-      const Vector3 b1 = V3(forward ? seg.Near0 : seg.Near1), b2 = V3(forward ? seg.Near1 : seg.Near0);
-      const Vector3 b3 = V3(nodes[forward ? b.GlobalNode : a.GlobalNode]);
-      const Vector3 tangent = (b3 + b2 - b1 - b0).normalized();
-      Vector3 m = sum - sum.dot(tangent) * tangent;
-      if (m.norm() == 0)
-      {
-        continue;
-      }
-      seg.MidNormal = P3(m.normalized());
-      ++report.SmoothSpans;
+      const Vector3& n = this->Groups[v.Group].Normal;
+      this->J[i] = v.J0 - n * (n.transpose() * v.J0);
     }
   }
-  return report;
+  for (SpanEnd& end : this->Ends)
+  {
+    std::vector<Vector3> planes;
+    bool moved = false;
+    for (const int v : end.Vertices)
+    {
+      const FaceVertex& vertex = this->Vertices[v];
+      const bool grouped = vertex.Group >= 0 && this->Groups[vertex.Group].Tangent;
+      moved = moved || grouped;
+      const Vector3& n = grouped ? this->Groups[vertex.Group].Normal : vertex.Normal;
+      bool seen = n.squaredNorm() == 0;
+      for (const Vector3& m : planes)
+      {
+        seen = seen || m.cross(n).norm() < 1e-12;
+      }
+      if (!seen)
+      {
+        planes.push_back(n);
+      }
+    }
+    if (!moved || planes.empty())
+    {
+      continue;
+    }
+    if (planes.size() == 1)
+    {
+      end.Tau = end.Tau0 - planes[0].dot(end.Tau0) * planes[0];
+    }
+    else
+    {
+      // Two faces in different groups: the planes' line (they differ by more than the
+      // threshold, so it is well defined). A span end touches at most two faces' planes.
+      const Vector3 line = planes[0].cross(planes[1]).normalized();
+      end.Tau = line.dot(end.Tau0) * line;
+    }
+    this->Report.MaxCurveChange =
+      std::max(this->Report.MaxCurveChange, (end.Tau - end.Tau0).norm());
+  }
+  for (const SegmentUse& use : this->Uses)
+  {
+    const LoopSegment& seg = this->Faces[use.Face].Loops[use.Loop].Segments[use.Segment];
+    const FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+    const LoopNode& a = loop.Nodes[use.Segment];
+    const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
+    const Eigen::Vector2d chord(b.UV[0] - a.UV[0], b.UV[1] - a.UV[1]);
+    double move = 0;
+    for (int side = 0; side < 2; ++side)
+    {
+      const int v = use.Vertex[side];
+      const SpanEnd& end = this->Ends[use.End[side]];
+      // The change of the face's T point along that span's direction.
+      const double scale = end.Tau0.norm() / std::max(1e-300, this->Vertices[v].J0.norm());
+      const Jacobian dJ = this->J[v] - this->Vertices[v].J0;
+      this->Report.MaxDerivativeChange =
+        std::max(this->Report.MaxDerivativeChange, dJ.norm() * scale);
+      move = std::max({ move, (end.Tau - end.Tau0).norm(), (dJ * chord).norm() / 3 });
+    }
+    if (this->Options.MaxMove > 0 && move > this->Options.MaxMove && seg.Edge >= 0 && seg.Span >= 0)
+    {
+      this->Report.SpansToSplit.emplace_back(seg.Edge, seg.Span);
+    }
+  }
+  std::sort(this->Report.SpansToSplit.begin(), this->Report.SpansToSplit.end());
+  this->Report.SpansToSplit.erase(
+    std::unique(this->Report.SpansToSplit.begin(), this->Report.SpansToSplit.end()),
+    this->Report.SpansToSplit.end());
+  for (const Group& g : this->Groups)
+  {
+    bool twoFaces = false; // not just the two copies of a seam node
+    for (const int v : g.Vertices)
+    {
+      twoFaces = twoFaces || this->Vertices[v].Face != this->Vertices[g.Vertices[0]].Face;
+    }
+    this->Report.SmoothNodes += g.Tangent && twoFaces ? 1 : 0;
+  }
+}
+
+/// Derivatives per loop node; inner points of moved span ends (the same doubles on every face
+/// that shares a span end; the others stay the edge sampling's doubles).
+void TangentPlanes::WriteBack()
+{
+  for (std::size_t i = 0; i < this->Vertices.size(); ++i)
+  {
+    for (const auto& occurrence : this->Vertices[i].Nodes)
+    {
+      FaceLoop& loop = this->Faces[this->Vertices[i].Face].Loops[occurrence.first];
+      LoopNode& node = loop.Nodes[occurrence.second];
+      node.Ds = P3(this->J[i].col(0));
+      node.Dt = P3(this->J[i].col(1));
+      node.Consistent = true;
+    }
+  }
+  for (const SegmentUse& use : this->Uses)
+  {
+    FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+    LoopSegment& seg = loop.Segments[use.Segment];
+    for (int side = 0; side < 2; ++side)
+    {
+      const SpanEnd& end = this->Ends[use.End[side]];
+      if (end.Tau != end.Tau0)
+      {
+        const Id node = this->Vertices[use.Vertex[side]].Global;
+        (side == 0 ? seg.Near0 : seg.Near1) = P3(V3(this->Nodes[node]) + end.Tau);
+      }
+    }
+    seg.Tangent = seg.Edge >= 0 && seg.Span >= 0 && this->TangentSpan[{ seg.Edge, seg.Span }];
+  }
+}
+
+/// The shared normal at the midpoint of each tangent span (RestoreG1): the faces' mean normal
+/// at their chord midpoints, perpendicular to the edge cubic's tangent there, computed from
+/// the span's canonical direction so that every copy agrees bit for bit.
+void TangentPlanes::SetMidNormals()
+{
+  for (const auto& entry : this->SpanUses)
+  {
+    if (!this->TangentSpan[entry.first])
+    {
+      continue;
+    }
+    Vector3 sum = Vector3::Zero();
+    for (const int u : entry.second)
+    {
+      const SegmentUse& use = this->Uses[u];
+      const FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+      const LoopNode& a = loop.Nodes[use.Segment];
+      const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
+      sum += UnitNormal(this->Derivatives(
+        use.Face, 0.5 * (a.UV[0] + b.UV[0]), 0.5 * (a.UV[1] + b.UV[1])));
+    }
+    const SegmentUse& first = this->Uses[entry.second[0]];
+    const FaceLoop& loop = this->Faces[first.Face].Loops[first.Loop];
+    const LoopSegment& seg = loop.Segments[first.Segment];
+    const Id ga = loop.Nodes[first.Segment].GlobalNode;
+    const Id gb = loop.Nodes[(first.Segment + 1) % loop.Nodes.size()].GlobalNode;
+    const bool forward = ga <= gb;
+    const Vector3 b0 = V3(this->Nodes[forward ? ga : gb]), b3 = V3(this->Nodes[forward ? gb : ga]);
+    const Vector3 b1 = V3(forward ? seg.Near0 : seg.Near1);
+    const Vector3 b2 = V3(forward ? seg.Near1 : seg.Near0);
+    const Vector3 tangent = (b3 + b2 - b1 - b0).normalized();
+    const Vector3 m = sum - sum.dot(tangent) * tangent;
+    if (m.norm() == 0)
+    {
+      continue;
+    }
+    for (const int u : entry.second)
+    {
+      const SegmentUse& use = this->Uses[u];
+      this->Faces[use.Face].Loops[use.Loop].Segments[use.Segment].MidNormal = P3(m.normalized());
+    }
+    this->Report.SmoothSpans += static_cast<Id>(entry.second.size());
+  }
+}
+
+TangentPlaneReport TangentPlanes::Run()
+{
+  this->Collect();
+  this->FormGroups();
+  this->ClassifySpans();
+  if (this->Options.RestoreG1)
+  {
+    this->ChoosePlanes();
+  }
+  else
+  {
+    for (Group& g : this->Groups)
+    {
+      g.Tangent = false; // classification only: the data stay the surfaces'
+    }
+  }
+  this->Project();
+  this->WriteBack();
+  if (this->Options.RestoreG1)
+  {
+    this->SetMidNormals();
+  }
+  return this->Report;
+}
+} // namespace
+
+TangentPlaneReport SetInterfaceTangentPlanes(std::vector<CADFace>& faces,
+  const std::vector<Point3>& nodes, const FaceDerivatives& evaluate,
+  const TangentPlaneOptions& options)
+{
+  return TangentPlanes(faces, nodes, evaluate, options).Run();
 }
 
 } // namespace ctcad

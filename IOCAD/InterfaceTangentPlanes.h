@@ -1,18 +1,32 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // Tangent planes of the stitching data at face interfaces: which spans are smooth interfaces
-// (the CAD faces meet tangentially) rather than feature edges, and, optionally, G1 across them
-// (beyond the study, its future work).
+// (the CAD faces meet tangentially) rather than feature edges, and, with RestoreG1 (the
+// default), G1 across them (beyond the study).
+//
+// A span is a tangent interface when its faces' normals are within the threshold all along it:
+// at both nodes (the faces' vertices there are in one group: normals within the threshold,
+// transitively) and at three interior points. A span tangent at its midpoint only (two
+// cylinders mitred, fillets meeting in a mitre) is a feature edge: G1 is impossible along it.
 //
 // The stitched spline's tangent plane at a boundary node is spanned by the node's macro-edge
 // points T - V: the shared edge-cubic points on the boundary and J d / 3 inside (Step 1, eq. 11).
-// With RestoreG1, the faces whose normals at a node differ by less than the threshold get their
-// mean normal n there: their derivatives J and the edge cubics' inner points at the node are
-// projected onto the plane normal to n, so all their T points lie in one plane. At the midpoint
-// of a span between such faces, the shared normal (made perpendicular to the edge cubic's
+// With RestoreG1, the face vertices of a group with a tangent span get one plane n: their
+// derivatives J and the edge cubics' inner points at the node are projected onto it, so all
+// their T points lie in one plane. n is the mean normal, made perpendicular to the edge cubic
+// inside a B-rep edge (the cubic does not move). At a B-rep vertex where faces within the
+// threshold but not exactly tangent meet, the cubics turn into n (a crease cubic onto the line
+// of its two planes): exact G1 there needs that move, which is kept below a quarter of the
+// tolerance by splitting the span (SpansToSplit; the sampling re-samples and comes back).
+// At the midpoint of a tangent span the shared normal (made perpendicular to the edge cubic's
 // tangent there) is stored in LoopSegment::MidNormal; the stitcher's mid-edge gradients are
 // projected onto its plane, so the constructions that read them on the boundary (KaG, MGo, MGi,
-// gradient modes) give both faces the same tangent plane at the midpoint too. A projection of
-// the data keeps every macro-patch C1 inside. No OpenCASCADE or CGAL here.
+// gradient modes) give both faces the same tangent plane at the midpoint too. Between nodes and
+// midpoint each side's cross-boundary derivative is a quadratic and G1 holds approximately: the
+// error grows with the cube of the normal's turn along the span, and tangent spans are split
+// until it turns by at most 22.5 degrees (below 0.03 degrees on the KiCad models measured), and
+// where the faces are not exactly tangent until turning into the shared plane moves the surface
+// by less than a quarter of the tolerance. Nodes where a face has no normal (poles) join no
+// group. A projection of the data keeps every macro-patch C1 inside. No OpenCASCADE or CGAL.
 #ifndef CTSplines_IOCAD_InterfaceTangentPlanes_h
 #define CTSplines_IOCAD_InterfaceTangentPlanes_h
 
@@ -30,6 +44,10 @@ struct TangentPlaneOptions
 {
   bool RestoreG1 = false;
   double G1Threshold = 10; // degrees
+  /// With RestoreG1: the spans whose stitching data move by more than this (absolute; an edge
+  /// cubic's inner point, or the face's eq. 11 point along the span) are reported for
+  /// splitting; 0 reports none.
+  double MaxMove = 0;
 };
 
 struct TangentPlaneReport
@@ -38,6 +56,10 @@ struct TangentPlaneReport
   double MaxDerivativeChange = 0; // largest |J - J0| d / 3 over a node's chords
   Id SmoothNodes = 0;             // nodes where several faces were given a shared tangent plane
   Id SmoothSpans = 0;             // span occurrences given a MidNormal
+  /// (B-rep edge, span) of the spans that moved by more than MaxMove: where faces within the
+  /// threshold but not exactly tangent meet at a B-rep vertex, the edge cubics there must turn
+  /// into the shared plane, by their angle to it times their length.
+  std::vector<std::pair<Id, Id>> SpansToSplit;
 };
 
 /// Sets LoopNode::Ds/Dt/Consistent of every loop node (the surface's derivatives, projected at

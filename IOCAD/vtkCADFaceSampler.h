@@ -42,11 +42,11 @@
  * -1 inside the face, -2 for a joint between pcurve ends), `EdgeCurvePoints` (18: per boundary
  * local edge the inner control points of the edge's Hermite cubic near its first and second
  * point; NaN inside), `TangentInterface` (3: 1 where the CAD faces along that boundary edge meet
- * tangentially, normals within G1Threshold at its midpoint, 0 on feature edges and free edges, -1
- * inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest distance between
- * this face's surface and the shared boundary curve), `Converged`, `MaxEstimatedError`,
- * `MaxEstimatedAngle` (degrees, with an AngularTolerance), `RefinementRounds`. Top-level field
- * data: `Diagonal`, `AbsoluteTolerance`,
+ * tangentially, normals within G1Threshold at its nodes and inside, 0 on feature edges and free
+ * edges, -1 inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest
+ * distance between this face's surface and the shared boundary curve), `Converged`,
+ * `MaxEstimatedError`, `MaxEstimatedAngle` (degrees, with an AngularTolerance),
+ * `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
  * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
@@ -172,12 +172,14 @@ public:
   ///@}
 
   ///@{
-  /// G1 across smooth interfaces (beyond the study): faces whose normals at a boundary node, or
-  /// at a span midpoint, differ by less than G1Threshold degrees get one tangent plane there in
-  /// the stitching data (StitchDFdu/StitchDFdv, EdgeCurvePoints, StitchEdgeGradients), so that the
-  /// stitched spline's tangent planes agree at every node and span midpoint of those interfaces
-  /// (the midpoints with the constructions that read mid-edge gradients on the boundary: KaG,
-  /// MGo, MGi, gradient boundary modes). Faces stay C1 inside. Default off, 10 degrees.
+  /// G1 across smooth interfaces (beyond the study): where the faces' normals differ by less
+  /// than G1Threshold degrees all along an edge span (at its nodes and inside), the faces get
+  /// one tangent plane at its nodes and midpoint in the stitching data (StitchDFdu/StitchDFdv,
+  /// EdgeCurvePoints, StitchEdgeGradients), so that the stitched spline's tangent planes agree
+  /// there (the midpoints with the constructions that read mid-edge gradients on the boundary:
+  /// KaG, MGo, MGi, gradient boundary modes), and spans are split where the normal turns along
+  /// them or where faces not exactly tangent would move beyond a quarter of the tolerance
+  /// (InterfaceTangentPlanes.h). Faces stay C1 inside. Default on, 10 degrees.
   vtkSetMacro(RestoreG1, bool);
   vtkGetMacro(RestoreG1, bool);
   vtkBooleanMacro(RestoreG1, bool);
@@ -221,7 +223,7 @@ protected:
   int Construction = vtkCloughTocherSplineFilter::KaG;
   int SplitPoint = vtkCloughTocherSplineFilter::Bary;
   int BoundaryMode = vtkCloughTocherSplineFilter::Midpoint;
-  bool RestoreG1 = false;
+  bool RestoreG1 = true;
   double G1Threshold = 10;
 
 private:

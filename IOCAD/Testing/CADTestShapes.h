@@ -21,10 +21,17 @@
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepFilletAPI_MakeFillet.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
+#include <BRep_Tool.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Vertex.hxx>
+#include <TopoDS.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Ax3.hxx>
 
@@ -136,6 +143,34 @@ inline TopoDS_Shape BoxWithZeroAreaFace()
   builder.Add(wire, BRepBuilderAPI_MakeEdge(c, a).Edge());
   builder.Add(shapes, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2), gp::DZ()), wire, Standard_True).Face());
   return shapes;
+}
+
+/// A box (-1..1, -0.6..0.6, 0..0.8) with edges rounded by OCCT's fillets
+/// (BRepFilletAPI_MakeFillet), which meet the box's faces tangentially: all 12 edges
+/// (cylinders along the edges, spheres at the corners), or only the two top edges at the
+/// corner (1, 0.6, 0.8). Those two fillets meet each other in a mitre: tangent at the top,
+/// where both touch the top face, at 90 degrees where they reach the box's sides.
+inline TopoDS_Shape FilletedBox(double radius, bool allEdges)
+{
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(-1.0, -0.6, 0.0), 2.0, 1.2, 0.8).Shape();
+  BRepFilletAPI_MakeFillet fillet(box);
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(box, TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i)
+  {
+    const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+    TopoDS_Vertex a, b;
+    TopExp::Vertices(edge, a, b);
+    const gp_Pnt p = BRep_Tool::Pnt(a), q = BRep_Tool::Pnt(b);
+    const gp_Pnt corner(1.0, 0.6, 0.8);
+    const bool top = p.Z() > 0.7 && q.Z() > 0.7;
+    if (allEdges || (top && (p.Distance(corner) < 1e-9 || q.Distance(corner) < 1e-9)))
+    {
+      fillet.Add(radius, edge);
+    }
+  }
+  fillet.Build();
+  return fillet.IsDone() ? fillet.Shape() : TopoDS_Shape();
 }
 } // namespace ctsplines_test
 

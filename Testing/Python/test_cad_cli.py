@@ -98,6 +98,15 @@ class CADCommandLineTest(CommandLineCase):
         self.assertLess(float(tangent.group(2)), 0.1, text)
         # --g1 takes no value (the option after it is not mistaken for one); angles are checked.
         self.cli("convert", self.box(), "--g1", "-o", self.path("o.vtm"), "--tolerance", "1e-2")
+        # G1 is the default (--g1 is its explicit form); --no-g1 turns it off.
+        text = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--tolerance",
+                        "1e-2").stdout
+        self.assertIn("(tangent within 10 degrees, RestoreG1)", text)
+        text = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--tolerance", "1e-2",
+                        "--no-g1").stdout
+        self.assertIn("(tangent within 10 degrees)", text)
+        p = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--g1", "--no-g1", code=2)
+        self.assertIn("not allowed with argument", p.stderr)
         p = self.cli("convert", self.box(), "-o", self.path("o.vtm"), "--g1-threshold", "200",
                      code=2)
         self.assertIn("not an angle in [0, 90]", p.stderr)
@@ -171,6 +180,8 @@ class CADCommandLineTest(CommandLineCase):
         self.cli("sample", mesh)
         p = self.cli("convert", mesh, self.path("s.vtu"), "--g1", code=2)
         self.assertIn("--g1 applies to CAD models", p.stderr)
+        p = self.cli("convert", mesh, self.path("s.vtu"), "--no-g1", code=2)
+        self.assertIn("--no-g1 applies to CAD models", p.stderr)
 
     def test_malformed_files_are_clean_errors(self):
         # Each was a crash or a hang of OpenCASCADE before; now exit code 3 naming the file.
@@ -251,8 +262,8 @@ class CADCommandLineTest(CommandLineCase):
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
         for text in ("--tolerance", "--angular-tolerance", "--aspect-ratio", "--max-edge-length",
-                     "--g1", "--g1-threshold", "--read-timeout", "--no-sew", ".step", "OUT.vtu",
-                     "-o"):
+                     "--g1", "--no-g1", "--g1-threshold", "--read-timeout", "--no-sew", ".step",
+                     "OUT.vtu", "-o"):
             self.assertIn(text, out)
 
 

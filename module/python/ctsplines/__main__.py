@@ -266,7 +266,7 @@ def _convert_cad(args):
         "split_point": args._choices[1].index(args.split_point),
         "boundary_mode": args._choices[2].index(args.boundary_mode),
         "iterations": args.iterations,
-        "g1": args.g1,
+        "g1": args.g1 is not False,
         "g1_threshold": 10.0 if args.g1_threshold is None else args.g1_threshold,
         "read_timeout": args.read_timeout,
         "sew": not args.no_sew,
@@ -335,7 +335,8 @@ def _convert(args):
                           ("--angular-tolerance", args.angular_tolerance),
                           ("--aspect-ratio", args.aspect_ratio),
                           ("--max-edge-length", args.max_edge_length),
-                          ("--g1", args.g1 or None), ("--g1-threshold", args.g1_threshold),
+                          ("--g1" if args.g1 else "--no-g1", args.g1),
+                          ("--g1-threshold", args.g1_threshold),
                           ("--summary-json", args.summary_json),
                           ("--no-sew", args.no_sew or None)):
         if value is not None:
@@ -617,9 +618,14 @@ def build_parser():
                      help="bound on the 3D length of triangle edges and edge spans, relative to "
                      "the diagonal (with --aspect-ratio, meets the bound next to the boundary "
                      "too); 0 for none (default 0)")
-    cad.add_argument("--g1", action="store_true",
-                     help="give interfaces where the CAD faces meet tangentially one tangent plane "
-                     "at every boundary node and span midpoint (G1 there)")
+    g1 = cad.add_mutually_exclusive_group()
+    g1.add_argument("--g1", dest="g1", action="store_true", default=None,
+                    help="make interfaces where the CAD faces meet tangentially G1 (within 0.1 "
+                    "degrees, the deviation within the tolerance): one tangent plane at every "
+                    "boundary node and span midpoint there, spans split where needed (default)")
+    g1.add_argument("--no-g1", dest="g1", action="store_false",
+                    help="leave the tangent interfaces as the faces' own data make them (the G1 "
+                    "angle is still measured)")
     cad.add_argument("--g1-threshold", type=_angle, metavar="DEGREES",
                      help="largest angle between the faces' normals for an interface to count as "
                      "tangent (default 10)")

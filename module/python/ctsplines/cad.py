@@ -52,9 +52,9 @@ def convert(model, output, options, messages, progress):
     """Samples, converts and stitches MODEL; writes OUTPUT (.vtm) and the merged .vtu beside
     it. options: tolerance, angular_tolerance (degrees, 0 for none), aspect_ratio,
     max_edge_length, construction, split_point, boundary_mode, iterations (ints for the
-    enumerations), g1 (RestoreG1), g1_threshold (degrees), read_timeout (seconds; 0 reads in this
-    process), sew (default True: sew the faces on reading). Returns the summary as a dict:
-    max_deviation, rms_deviation relative to the diagonal, max_normal_deviation,
+    enumerations), g1 (RestoreG1, default True), g1_threshold (degrees), read_timeout (seconds; 0
+    reads in this process), sew (default True: sew the faces on reading). Returns the summary as
+    a dict: max_deviation, rms_deviation relative to the diagonal, max_normal_deviation,
     rms_normal_deviation in degrees, gap_faces (the faces whose own edge curves lie farther from
     them than half the tolerance: (index, name, relative gap), held to twice the gap), ..."""
     splines_path, merged_path = output_paths(output)
@@ -70,7 +70,7 @@ def convert(model, output, options, messages, progress):
     sampler.SetConstruction(options["construction"])
     sampler.SetSplitPoint(options["split_point"])
     sampler.SetBoundaryMode(options["boundary_mode"])
-    sampler.SetRestoreG1(bool(options.get("g1")))
+    sampler.SetRestoreG1(bool(options.get("g1", True)))
     sampler.SetG1Threshold(options.get("g1_threshold", 10.0))
     sampler.SetReadTimeout(options.get("read_timeout", 120.0))
     sampler.SetSew(bool(options.get("sew", True)))
