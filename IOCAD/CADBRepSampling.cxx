@@ -1041,7 +1041,7 @@ bool CADModel::Sample(const SamplingOptions& options)
       }
       if (!Stages::Guard(*this, [&] { return "edge sampling, " + Stages::EdgeLabel(*this, e); },
             [&] {
-              Stages::SampleEdge(*this, e, tol, maxSpan, options.MaxSamplesPerEdge);
+              Stages::SampleEdge(*this, e, options);
               return true;
             }))
       {
