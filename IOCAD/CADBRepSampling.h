@@ -84,11 +84,13 @@ struct SamplingOptions
 /// Seconds a file's translation and healing by OpenCASCADE may take (CADModel::Read).
 constexpr double DefaultReadTimeout = 120;
 
-/// The healing of CADModel::Read (CADFileReading.h), at the conversion's tolerance: faces
-/// thinner than it are removed and edges shorter than it collapsed into a vertex (with a
-/// warning naming them), then, with Sew, faces whose free edges lie within it of each other are
-/// sewn (BRepBuilderAPI_Sewing). A model without free edges, slivers or short edges is left
-/// exactly as read.
+/// The healing of CADModel::Read (CADFileReading.h), at the conversion's tolerance (Tolerance x
+/// diagonal): sliver faces of no width (zero area, or thinner than a thousandth of it) are
+/// removed with a warning naming them, then, with Sew, faces whose free edges lie within the
+/// tolerance of each other are sewn (BRepBuilderAPI_Sewing), which also closes the gaps the
+/// slivers leave (edges that collapse there are dropped). Removals the sewing cannot close are
+/// undone. Edges shorter than half the tolerance are named in a warning. A model without free
+/// edges or slivers is left exactly as read.
 struct HealingOptions
 {
   bool Sew = true;
@@ -100,8 +102,8 @@ struct HealingReport
 {
   int SeamsAdded = 0;      // faces given their missing seam edge (ShapeFix_Face::FixMissingSeam)
   int SewnEdges = 0;       // pairs of free edges sewn into one edge
-  int RemovedFaces = 0;    // sliver faces removed (thinner than the tolerance)
-  int CollapsedEdges = 0;  // edges shorter than the tolerance collapsed into a vertex
+  int RemovedFaces = 0;    // sliver faces removed
+  int CollapsedEdges = 0;  // edges the sewing collapsed into a vertex (ends of removed slivers)
   double SewingTolerance = 0; // absolute; 0 when the sewing did not run
   double SewingSeconds = 0;
 };

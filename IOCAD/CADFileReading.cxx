@@ -466,12 +466,13 @@ std::string Number(double v)
   return s.str();
 }
 
-/// Sliver faces (thinner than `tol`: zero-area faces, strips, faces smaller than it in every
-/// direction) cannot be meshed, or only into needles, and lie within the tolerance of their
-/// neighbours: they are removed (a warning names them), and the sewing that follows joins the
-/// neighbours across them. Returns the number of edges shorter than `tol` that are left (the
-/// sewing collapses them), named in a warning.
-int RemoveSlivers(ShapeRead& r, double tol, bool sew)
+/// Sliver faces (thinner than `tol`: zero-area faces, strips of no width) have an empty
+/// parameter domain or one the face meshing cannot triangulate, and lie within `tol` of their
+/// neighbours: with `remove` they are removed (a warning names them), and the sewing that
+/// follows joins the neighbours across them. Returns the number of edges shorter than
+/// `shortEdge` (named in a warning: the sampling follows them; the sewing collapses those whose
+/// ends it merges).
+int RemoveSlivers(ShapeRead& r, double tol, double shortEdge, bool sew, bool remove)
 {
   TopTools_IndexedMapOfShape faceMap;
   TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
@@ -480,7 +481,7 @@ int RemoveSlivers(ShapeRead& r, double tol, bool sew)
   NamedList slivers;
   for (int i = 1; i <= faceMap.Extent(); ++i)
   {
-    const double width = FaceWidth(faceMap(i));
+    const double width = remove ? FaceWidth(faceMap(i)) : HUGE_VAL;
     if (width < tol && faceMap.Extent() - slivers.Size() > 1)
     {
       context->Remove(faceMap(i));
@@ -490,10 +491,9 @@ int RemoveSlivers(ShapeRead& r, double tol, bool sew)
   if (slivers.Size() > 0)
   {
     r.Healing.RemovedFaces = slivers.Size();
-    r.Warnings.push_back(std::to_string(slivers.Size()) + " sliver face(s) thinner than the tolerance " +
-      Number(tol) + " (width = 2 area / perimeter) removed, " +
-      (sew ? "their neighbours sewn across them: " : "sewing is off, their neighbours stay open: ") +
-      slivers.Text());
+    r.Warnings.push_back(std::to_string(slivers.Size()) + " sliver face(s) thinner than " + Number(tol) +
+      " (width = 2 area / perimeter; a thousandth of the tolerance) removed" +
+      (sew ? ", their neighbours sewn across them: " : ": ") + slivers.Text());
     const TopoDS_Shape healed = context->Apply(r.Shape);
     KeepFaceOrder(r, faceMap, healed, [&](const TopoDS_Shape& f) { return context->Value(f); });
     faceMap.Clear();
@@ -510,39 +510,36 @@ int RemoveSlivers(ShapeRead& r, double tol, bool sew)
     }
     GProp_GProps length;
     BRepGProp::LinearProperties(E, length);
-    if (length.Mass() < tol)
+    if (length.Mass() < shortEdge)
     {
       shortEdges.Add(EdgeOfFaces(E, faceMap, edgeFaces, r.FaceNames) + " " + Number(length.Mass()) + " long");
     }
   }
   if (shortEdges.Size() > 0)
   {
-    r.Warnings.push_back(std::to_string(shortEdges.Size()) + " edge(s) shorter than the tolerance " +
-      Number(tol) + (sew ? " collapsed into a vertex: " : " kept (sewing, which collapses them, is off): ") +
-      shortEdges.Text());
+    r.Warnings.push_back(std::to_string(shortEdges.Size()) + " edge(s) shorter than half the tolerance (" +
+      Number(shortEdge) + "), sampled as they are: " + shortEdges.Text());
   }
   return shortEdges.Size();
 }
 
-/// Whether the shape has free edges: on one face only, neither degenerated nor a seam.
-bool HasFreeEdges(const TopoDS_Shape& shape)
+/// The shape's free edges: on one face only, neither degenerated nor a seam.
+int CountFreeEdges(const TopoDS_Shape& shape)
 {
   TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
   TopExp::MapShapesAndAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  int free = 0;
   for (int k = 1; k <= edgeFaces.Extent(); ++k)
   {
     const TopoDS_Edge& E = TopoDS::Edge(edgeFaces.FindKey(k));
     const TopTools_ListOfShape& faces = edgeFaces(k);
-    if (faces.Extent() == 1 && !BRep_Tool::Degenerated(E) && !BRep_Tool::IsClosed(E, TopoDS::Face(faces.First())))
-    {
-      return true;
-    }
+    free += faces.Extent() == 1 && !BRep_Tool::Degenerated(E) && !BRep_Tool::IsClosed(E, TopoDS::Face(faces.First()));
   }
-  return false;
+  return free;
 }
 
-/// The sewing makes degenerated edges of the edges it collapses (shorter than the tolerance, or
-/// the ends of a removed sliver), on faces that have no pole there: those edges are dropped from
+/// The sewing makes degenerated edges of the edges whose ends it merges (the ends of a removed
+/// sliver, edges shorter than the tolerance between free edges), on faces that have no pole there: those edges are dropped from
 /// their wires (the loops join the pcurve ends on either side, within the tolerance). The
 /// sewing rebuilds the faces' own pole edges too: a degenerated edge is a pole when its sewn
 /// face's original had a degenerated edge within `tol` (`poles`: per sewn face, those points).
@@ -601,19 +598,27 @@ TopoDS_Shape DropCollapsedEdges(const TopoDS_Shape& sewn, const TopTools_Indexed
   return faces;
 }
 
+/// The edges of `sewn` that `cleaned` no longer has (the collapsed ones DropCollapsedEdges dropped).
+int CountCollapsed(const TopoDS_Shape& sewn, const TopoDS_Shape& cleaned)
+{
+  TopTools_IndexedMapOfShape before, after;
+  TopExp::MapShapes(sewn, TopAbs_EDGE, before);
+  TopExp::MapShapes(cleaned, TopAbs_EDGE, after);
+  return before.Extent() - after.Extent();
+}
+
 /// Sews free edges that lie within `tol` of each other (BRepBuilderAPI_Sewing, manifold, with
-/// the cutting of free edges at each other's vertices), and collapses edges shorter than `tol`
-/// into a vertex (its analysis of degenerated shapes, MinTolerance = tol). OCCT's stored
-/// tolerances understate the real gaps between faces, so the conversion's tolerance is the
-/// sewing's: gaps within it are below what the conversion resolves, and features that small are
-/// not resolved either. Faces keep their names and the file's order.
-void SewFaces(ShapeRead& r, double tol, int shortEdges)
+/// the cutting of free edges at each other's vertices; OCCT's own minimal tolerance, so that no
+/// edge of the model is taken for a degenerated one). OCCT's stored tolerances understate the
+/// real gaps between faces, so the conversion's tolerance is the sewing's: gaps within it are
+/// below what the conversion resolves. Edges whose ends the sewing merges collapse (the ends of a
+/// removed sliver). Faces keep their names and the file's order.
+void SewFaces(ShapeRead& r, double tol)
 {
   TopTools_IndexedMapOfShape faceMap;
   TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
   const auto start = std::chrono::steady_clock::now();
   BRepBuilderAPI_Sewing sewing(tol);
-  sewing.SetMinTolerance(tol);
   sewing.Load(r.Shape);
   sewing.Perform();
   r.Healing.SewingSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -625,7 +630,7 @@ void SewFaces(ShapeRead& r, double tol, int shortEdges)
   }
   r.Healing.SewingTolerance = tol;
   r.Healing.SewnEdges = sewing.NbContigousEdges();
-  if (r.Healing.SewnEdges == 0 && sewing.NbDeletedFaces() == 0 && shortEdges == 0)
+  if (r.Healing.SewnEdges == 0 && sewing.NbDeletedFaces() == 0)
   {
     return; // nothing sewn: the faces stay exactly as they were
   }
@@ -652,6 +657,7 @@ void SewFaces(ShapeRead& r, double tol, int shortEdges)
   }
   TopTools_DataMapOfShapeShape rebuilt;
   const TopoDS_Shape cleaned = DropCollapsedEdges(sewn, sewnFaces, poles, tol, rebuilt);
+  r.Healing.CollapsedEdges = rebuilt.Extent() > 0 ? CountCollapsed(sewn, cleaned) : 0;
   const std::vector<std::string> names = r.FaceNames;
   KeepFaceOrder(r, faceMap, cleaned, [&](const TopoDS_Shape& f) {
     const TopoDS_Shape s = sewnImage(f);
@@ -666,37 +672,53 @@ void SewFaces(ShapeRead& r, double tol, int shortEdges)
   }
 }
 
-/// The healing of HealingOptions: slivers removed, then (with Sew, and only where there is
-/// something to do) free edges sewn and short edges collapsed. An OCCT failure in it is a
-/// warning and keeps the shape as it was before the step that failed.
+/// One pass of the healing: slivers removed (with `removeSlivers`), then, with Sew and where
+/// there are free edges, free edges sewn. Returns false with
+/// `failure` when OCCT failed (r is then partly healed). freeAfter: the free edges left.
+bool HealPass(ShapeRead& r, const HealingOptions& options, double tol, int freeBefore, bool removeSlivers,
+  int& freeAfter, std::string& failure)
+{
+  // Zero-area faces and strips of no width (thinner than a thousandth of the tolerance) go:
+  // thin faces the face meshing can triangulate stay, with the model's topology around them
+  // (removing them moves the neighbours' shared edges by up to their width).
+  return RunGuarded(
+    [&] {
+      RemoveSlivers(r, 1e-3 * tol, 0.5 * tol, options.Sew, removeSlivers);
+      if (options.Sew && (freeBefore > 0 || r.Healing.RemovedFaces > 0))
+      {
+        SewFaces(r, tol);
+      }
+      freeAfter = CountFreeEdges(r.Shape);
+    },
+    failure);
+}
+
+/// The healing of HealingOptions. Removing slivers must not open the model: where the sewing
+/// cannot close the gaps they leave (or is off), the slivers stay. An OCCT failure in it is a
+/// warning and keeps the shape as read.
 void Heal(ShapeRead& r, const HealingOptions& options, double diagonal)
 {
   const double tol = options.Tolerance * diagonal;
+  const ShapeRead asRead = r;
   std::string failure;
-  ShapeRead before = r;
-  int shortEdges = 0;
-  if (!RunGuarded([&] { shortEdges = RemoveSlivers(r, tol, options.Sew); }, failure))
+  int freeBefore = 0, freeAfter = 0;
+  bool ok = RunGuarded([&] { freeBefore = CountFreeEdges(r.Shape); }, failure) &&
+    HealPass(r, options, tol, freeBefore, true, freeAfter, failure);
+  if (ok && r.Healing.RemovedFaces > 0 && freeAfter > freeBefore)
   {
-    r = before;
-    r.Warnings.push_back("removing sliver faces and finding short edges (tolerance " + Number(tol) +
+    const int removed = r.Healing.RemovedFaces;
+    r = asRead;
+    r.Warnings.push_back(std::to_string(removed) + " sliver face(s) kept: " +
+      "without them " + std::to_string(freeAfter) + " free edges would be left instead of " +
+      std::to_string(freeBefore) + (options.Sew ? " (the sewing cannot close their gaps)" : " (sewing is off)"));
+    ok = HealPass(r, options, tol, freeBefore, false, freeAfter, failure);
+  }
+  if (!ok)
+  {
+    r = asRead;
+    r.Warnings.push_back("healing (sliver faces, sewing at " + Number(tol) +
       ") failed, the shape is kept as read: " + failure);
-    return;
   }
-  bool free = false;
-  if (!options.Sew || !RunGuarded([&] { free = HasFreeEdges(r.Shape); }, failure) ||
-    (!free && shortEdges == 0))
-  {
-    return;
-  }
-  before = r;
-  if (!RunGuarded([&] { SewFaces(r, tol, shortEdges); }, failure))
-  {
-    r = before;
-    r.Warnings.push_back("sewing the faces (BRepBuilderAPI_Sewing, tolerance " + Number(tol) +
-      ") failed, the faces are kept unsewn: " + failure);
-    return;
-  }
-  r.Healing.CollapsedEdges = shortEdges;
 }
 
 /// Face names come from the STEP entity each face was transferred from.

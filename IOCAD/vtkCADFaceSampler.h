@@ -52,7 +52,7 @@
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
  * than half the tolerance from its shared boundary is refined to twice that distance, with a
  * warning), `NumberOfSeamsAdded`, `NumberOfSewnEdges` (pairs of free edges sewn into one),
- * `NumberOfRemovedFaces` (slivers), `NumberOfCollapsedEdges` (shorter than the tolerance),
+ * `NumberOfRemovedFaces` (slivers), `NumberOfCollapsedEdges` (collapsed by the sewing),
  * `SewingTolerance` (absolute, 0 when the sewing did not run), `RestoreG1`, `NumberOfG1Nodes`,
  * `NumberOfG1Spans` (nodes where
  * several faces, and spans, got one tangent plane), `MaxBoundaryCurveChange`, `MaxBoundaryDerivativeChange` (what RestoreG1
@@ -98,10 +98,11 @@ public:
   /// Sew the faces on reading (default on): faces whose free edges lie within the tolerance
   /// (Tolerance x diagonal) of each other are joined there (OpenCASCADE's
   /// BRepBuilderAPI_Sewing; IGES surface models and STEP files of loose faces come out
-  /// connected), and edges shorter than the tolerance are collapsed into a vertex. A model
-  /// without free or short edges is left as read. Off keeps the file's topology. Either way,
-  /// sliver faces (thinner than the tolerance: 2 area / perimeter) are removed; every change is
-  /// a warning naming the faces or edges, and counted in the field data.
+  /// connected). A model without free edges is left as read. Off keeps the file's topology.
+  /// Either way, sliver faces of no width (zero area, or 2 area / perimeter below a thousandth
+  /// of the tolerance: they cannot be meshed) are removed where that leaves no new free edge
+  /// (with Sew, the sewing closes the gap); every change is a warning naming the faces or edges
+  /// (also edges shorter than half the tolerance), and counted in the field data.
   vtkSetMacro(Sew, bool);
   vtkGetMacro(Sew, bool);
   vtkBooleanMacro(Sew, bool);

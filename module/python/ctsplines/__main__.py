@@ -295,7 +295,7 @@ def _convert_cad(args):
     print(f"healing: {r['sewn_edges']} edges sewn"
           + (f" in {r['sewing_time']:.3f} s" if r["sewing_time"] > 0 else "")
           + ("" if options["sew"] else " (--no-sew)")
-          + f", {r['removed_faces']} sliver faces removed, {r['collapsed_edges']} short edges "
+          + f", {r['removed_faces']} sliver faces removed, {r['collapsed_edges']} edges "
           "collapsed")
     print(f"C0 gap: max {r['c0_gap']:.3e} (relative {r['c0_gap'] / d:.3e}); before stitching "
           f"{r['gap_before']:.3e} (relative {r['gap_before'] / d:.3e})")
@@ -632,7 +632,7 @@ def build_parser():
     cad.add_argument("--no-sew", action="store_true",
                      help="keep the file's topology: by default faces whose free edges lie within "
                      "the tolerance of each other are sewn on reading (IGES surface models, STEP "
-                     "files of loose faces) and edges shorter than the tolerance collapsed")
+                     "files of loose faces), also across removed sliver faces of no width")
     cad.add_argument("--read-timeout", type=_non_negative_float, metavar="SECONDS", default=120.0,
                      help="OpenCASCADE translates the file in a separate process, which is "
                      "abandoned after this time (a malformed file on which it loops or crashes is "
