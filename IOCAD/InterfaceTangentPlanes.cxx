@@ -74,7 +74,7 @@ struct Group
 using SpanEndKey = std::tuple<Id, Id, Id>;
 
 /// Largest turn of the surface normal along a tangent span (radians) with RestoreG1.
-constexpr double MaxTurnPerSpan = 3.14159265358979323846 / 8;
+constexpr double MaxTurnPerSpan = 3.14159265358979323846 / 16;
 
 /// Key of a span end: (B-rep edge, span, node) for edge spans; joints get keys of their own.
 SpanEndKey KeyOf(const LoopSegment& seg, int face, int loop, int segment, Id node)
@@ -320,7 +320,9 @@ void TangentPlanes::ClassifySpans()
     // Spans to split, with RestoreG1. Between its nodes and midpoint a boundary micro-patch's
     // cross-boundary derivative is a quadratic: where the normal turns along the span (an arc
     // of a fillet), each side leaves the shared plane by about the cube of that turn (0.08
-    // degrees at 45 degrees on KiCad's L_Bourns-SRN4018, 0.026 at 22.5). Where the faces are
+    // degrees at 45 degrees on KiCad's L_Bourns-SRN4018, 0.026 at 22.5); spans are split to
+    // 11.25 degrees (the error also grows with the boundary triangles' skew: 0.12 degrees
+    // remain on Resonator-3Pin_W6.0mm_H3.0mm at spans turning less). Where the faces are
     // not exactly tangent, each side turns by half their angle within its boundary triangles:
     // the surface moves by about their width (a third of the span) times the sine of that.
     const FaceVertex& a = this->Vertices[this->Uses[uses[0]].Vertex[0]];
