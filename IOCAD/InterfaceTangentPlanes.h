@@ -27,7 +27,8 @@
 // where the faces are not exactly tangent until turning into the shared plane moves the surface
 // by less than a quarter of the tolerance. A face vertex at a degenerate point (a pole, the
 // apex of a corner blend) takes its limit normal from just inside its loop segments (DirectFET_MP
-// 0.83 -> 0.12 degrees; the patch stays degenerate there). A projection of the data keeps every macro-patch C1 inside. No OpenCASCADE or CGAL.
+// 0.83 -> 0.12 degrees; the patch stays degenerate there). A projection of the data keeps
+// every macro-patch C1 inside. No OpenCASCADE or CGAL.
 #ifndef CTSplines_IOCAD_InterfaceTangentPlanes_h
 #define CTSplines_IOCAD_InterfaceTangentPlanes_h
 
