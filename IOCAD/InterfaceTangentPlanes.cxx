@@ -40,7 +40,7 @@ struct FaceVertex
   int Face;
   Id Global;
   Jacobian J0;
-  Vector3 Normal; // the limit normal at a degenerate point; zero if none
+  Vector3 Normal; // zero where the surface is degenerate (a pole)
   int Group = -1;
   std::vector<std::pair<int, int>> Nodes; // (loop, node) occurrences
 };
@@ -157,19 +157,6 @@ void TangentPlanes::Collect()
           FaceVertex v{ f, node.GlobalNode, this->Derivatives(f, node.UV[0], node.UV[1]), {}, -1,
             {} };
           v.Normal = UnitNormal(v.J0);
-          // A degenerate point (a pole, the apex of a corner blend): the limit normal along the
-          // loop, from just inside the two segments at the node.
-          for (const int k2 : { (k + 1) % n, (k + n - 1) % n })
-          {
-            const LoopNode& o = loop.Nodes[k2];
-            const double e = 1e-4;
-            if (v.J0.col(0).cross(v.J0.col(1)).norm() <= 1e-12 * v.J0.squaredNorm())
-            {
-              v.Normal += UnitNormal(this->Derivatives(f, node.UV[0] + e * (o.UV[0] - node.UV[0]),
-                node.UV[1] + e * (o.UV[1] - node.UV[1])));
-            }
-          }
-          v.Normal = v.Normal.norm() > 0 ? Vector3(v.Normal.normalized()) : Vector3::Zero();
           this->Vertices.push_back(v);
         }
         vertexOf[k] = it.first->second;
@@ -263,8 +250,8 @@ void TangentPlanes::FormGroups()
 }
 
 /// A span is a tangent interface when the faces along it meet within the threshold all along
-/// it: at both nodes (their vertices there are in one group; a vertex without any normal does
-/// not count) and at three interior points (the faces' normals over their chords).
+/// it: at both nodes (their vertices there are in one group; a pole, where a face has no
+/// normal, does not count) and at three interior points (the faces' normals over their chords).
 /// A span whose faces are tangent at its midpoint only (two cylinders mitred, a fillet running
 /// out into a crease) is a feature edge: no tangent plane can be shared along it.
 void TangentPlanes::ClassifySpans()

@@ -25,10 +25,8 @@
 // error grows with the cube of the normal's turn along the span (and with the boundary
 // triangles' skew), and tangent spans are split until it turns by at most 11.25 degrees, and
 // where the faces are not exactly tangent until turning into the shared plane moves the surface
-// by less than a quarter of the tolerance. A face vertex at a degenerate point (a pole, the
-// apex of a corner blend) takes its limit normal from just inside its loop segments (DirectFET_MP
-// 0.83 -> 0.12 degrees; the patch stays degenerate there). A projection of the data keeps
-// every macro-patch C1 inside. No OpenCASCADE or CGAL.
+// by less than a quarter of the tolerance. Nodes where a face has no normal (poles) join no
+// group. A projection of the data keeps every macro-patch C1 inside. No OpenCASCADE or CGAL.
 #ifndef CTSplines_IOCAD_InterfaceTangentPlanes_h
 #define CTSplines_IOCAD_InterfaceTangentPlanes_h
 
