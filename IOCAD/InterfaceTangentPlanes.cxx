@@ -26,11 +26,13 @@ Point3 P3(const Vector3& v)
   return { v.x(), v.y(), v.z() };
 }
 
+/// Zero where the derivatives span no plane: at a pole or a cone's apex their cross product is
+/// round-off, whose direction means nothing (it grouped an apex with unrelated faces).
 Vector3 UnitNormal(const Jacobian& J)
 {
   const Vector3 n = J.col(0).cross(J.col(1));
   const double len = n.norm();
-  return len > 0 ? Vector3(n / len) : Vector3::Zero();
+  return len > 1e-10 * J.squaredNorm() ? Vector3(n / len) : Vector3::Zero();
 }
 
 /// A face's copy of a boundary node (one per face and parameter position: a seam node has two
