@@ -67,6 +67,9 @@ struct SplineOptions
   SplitPointRule SplitPoint = SplitPointRule::Bary;
   BoundaryMode Boundary = BoundaryMode::Midpoint;
   int Iterations = 0; // IM steps, or fairing rounds for Kashyap
+  /// Visit the triangles in a locality order (LocalityOrder.h) on large meshes; the result is
+  /// the same either way, bit for bit (false: the input's order, for comparisons).
+  bool LocalityOrder = true;
 };
 
 /// The boundary rule in force: KaG and MGi turn a non-gradient mode into GradientToSplitPoint.
