@@ -112,6 +112,7 @@ void Usage(const char* argv0)
               "          [--probe-points 1e6] [--max-tessellated 2e7] [--im-steps 10]\n"
               "          [--stages source,spline,im,tessellate,probe]\n"
               "          [--mesh grid|delaunay] [--renumber none|morton] [--memory 0|1]\n"
+              "          [--clock wall|cpu]\n"
               "          [--constructions CTo,CTi,Fa,FO,Ka,MGo,MGi,KaG,Kashyap,Quartic]\n"
               "  --sizes            approximate triangle counts of the grids (comma separated)\n"
               "  --repeat           runs per figure; the best is reported\n"
@@ -126,7 +127,9 @@ void Usage(const char* argv0)
               "                     Delaunay triangulation of size/2 random points, numbered as\n"
               "                     the points and the triangulation come (no locality order)\n"
               "  --renumber         morton: renumber the mesh by Morton keys first\n"
-              "  --memory           1: peak resident memory of each spline row (one more run)\n",
+              "  --memory           1: peak resident memory of each spline row (one more run)\n"
+              "  --clock            cpu: this process' CPU time instead of wall-clock time (with\n"
+              "                     --threads 1 on a machine shared with other jobs)\n",
     argv0);
 }
 
@@ -217,6 +220,10 @@ bool Parse(int argc, char** argv, Options& o)
     {
       o.Memory = x != 0;
     }
+    else if (a == "--clock" && (std::string(v) == "wall" || std::string(v) == "cpu"))
+    {
+      bench::UseProcessCpuClock() = std::string(v) == "cpu";
+    }
     else if (a == "--constructions")
     {
       o.Constructions = SplitList(v);
@@ -238,19 +245,12 @@ bool Parse(int argc, char** argv, Options& o)
   return !o.Sizes.empty();
 }
 
-/// Best wall-clock seconds of `repeat` calls of `run`; `run` returns false on failure.
+/// Best seconds (bench::Clock: wall or this process' CPU) of `repeat` calls of `run`; `run`
+/// returns false on failure.
 double Best(int repeat, const std::function<bool()>& run, bool& ok)
 {
-  double best = 1e300;
   ok = true;
-  for (int r = 0; r < repeat; ++r)
-  {
-    const auto t0 = std::chrono::steady_clock::now();
-    ok = run() && ok;
-    const auto t1 = std::chrono::steady_clock::now();
-    best = std::min(best, std::chrono::duration<double>(t1 - t0).count());
-  }
-  return best;
+  return bench::BestSeconds(repeat, [&] { ok = run() && ok; });
 }
 
 /// One table row; ns/triangle only for the stages that process the input triangles, and the
@@ -400,10 +400,11 @@ int main(int argc, char** argv)
   }
   vtkSMPTools::Initialize(opt.Threads);
 
-  std::printf("ctsplines_benchmark: %s, %s, best of %d run(s)\n",
+  std::printf("ctsplines_benchmark: %s, %s, best of %d run(s), %s time\n",
     opt.Mesh == "grid" ? "Franke on regular grids of [0,1]^2 (vtkSampledSurfaceSource)"
                        : "sin 3x cos 2y on random Delaunay meshes of [0,1]^2 (CGAL)",
-    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered", opt.Repeat);
+    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered", opt.Repeat,
+    bench::UseProcessCpuClock() ? "process CPU" : "wall-clock");
   std::printf("VTK %s, SMP backend %s, %d thread(s), CTSPLINES_NUM_THREADS %s\n",
     vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend(),
     vtkSMPTools::GetEstimatedNumberOfThreads(),

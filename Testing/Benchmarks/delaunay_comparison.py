@@ -44,16 +44,18 @@ from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray,
 from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
 from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData  # noqa: E402
 
-AGREEMENT_TOL = 1e-11
+# Round-off on the random convex hull's sliver triangles reaches ~1e-8 (our CTo vs Matplotlib).
+AGREEMENT_TOL = 1e-6
+clock = time.perf_counter  # --clock cpu: time.process_time (one thread on a shared machine)
 
 
 def best(fn, repeat):
     """(best wall-clock seconds, last result) of `repeat` calls."""
     t, result = float("inf"), None
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0 = clock()
         result = fn()
-        t = min(t, time.perf_counter() - t0)
+        t = min(t, clock() - t0)
     return t, result
 
 
@@ -162,8 +164,13 @@ def main():
                     help="SciPy's random probe is timed on this many points and scaled")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                    help="cpu: this process' CPU time (honest with one thread on a shared machine)")
     ap.add_argument("--quick", action="store_true", help="small sizes (smoke test)")
     args = ap.parse_args()
+    global clock
+    if args.clock == "cpu":
+        clock = time.process_time
     if args.quick:
         args.points, args.queries, args.scipy_random_queries, args.repeat = 2000, 10000, 2000, 1
 
@@ -180,7 +187,8 @@ def main():
         load = " ".join(f.read().split()[:3])
     print(f"{len(uv)} random points, {len(triangles)} triangles (SciPy's Delaunay, qhull's order), "
           f"z = sin 3x cos 2y with exact gradients; {len(sorted_q)} queries; best of {args.repeat}")
-    print(f"CTSplines threads {os.environ.get('CTSPLINES_NUM_THREADS')}, load average {load}")
+    print(f"CTSplines threads {os.environ.get('CTSPLINES_NUM_THREADS')}, load average {load}, "
+          f"{'process CPU' if args.clock == 'cpu' else 'wall-clock'} time")
 
     mesh = mesh_polydata(uv, z, zx, zy, triangles)
     CTi, CTo = ctsplines.vtkCloughTocherSplineFilter.CTi, ctsplines.vtkCloughTocherSplineFilter.CTo
@@ -188,9 +196,9 @@ def main():
     def mpl_build():
         triang = mtri.Triangulation(uv[:, 0], uv[:, 1], triangles)
         finder = triang.get_trifinder()
-        t0 = time.perf_counter()
+        t0 = clock()
         ip = mtri.CubicTriInterpolator(triang, z, kind="user", dz=(zx, zy), trifinder=finder)
-        return time.perf_counter() - t0, ip
+        return clock() - t0, ip
 
     # Construction, alternating ours and theirs so that load changes hit both.
     times = {k: float("inf") for k in ("CTi", "CTo", "scipy", "matplotlib")}
