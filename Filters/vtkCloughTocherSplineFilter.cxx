@@ -27,12 +27,16 @@
 #include "vtkPointSet.h"
 #include "vtkPolyData.h"
 #include "vtkSignedCharArray.h"
+#include "vtkSmartPointer.h"
 #include "vtkStringArray.h"
 #include "vtkUnsignedCharArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <mutex>
+#include <unordered_map>
 
 vtkStandardNewMacro(vtkCloughTocherSplineFilter);
 
@@ -396,31 +400,73 @@ std::string ReadPieceArrays(vtkPointSet* input, std::vector<vtkIdType>& globalId
   return error;
 }
 
+// The kernel's control and domain points become the output's arrays without a copy (half the
+// construction's memory, and no second first touch of it). VTK releases an array's storage
+// through a plain function pointer, so the vectors are kept here, by their data pointer, until
+// VTK releases it. The registry is never destroyed: arrays may outlive static destruction.
+class AdoptedVectors
+{
+public:
+  /// A double array of `components` per element that owns v's storage (v is left empty).
+  template <typename Vec>
+  static vtkSmartPointer<vtkDoubleArray> Adopt(std::vector<Vec>&& v, int components)
+  {
+    static_assert(sizeof(Vec) == sizeof(double) * Vec::SizeAtCompileTime, "packed vectors");
+    auto array = vtkSmartPointer<vtkDoubleArray>::New();
+    array->SetNumberOfComponents(components);
+    if (v.empty())
+    {
+      return array;
+    }
+    auto kept = std::make_shared<std::vector<Vec>>(std::move(v));
+    double* data = kept->data()->data();
+    {
+      std::lock_guard<std::mutex> lock(Registry().Mutex);
+      Registry().Kept[data] = kept;
+    }
+    array->SetArray(data, static_cast<vtkIdType>(components * kept->size()), 0,
+      vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
+    array->SetArrayFreeFunction(&AdoptedVectors::Release);
+    return array;
+  }
+
+private:
+  struct Store
+  {
+    std::mutex Mutex;
+    std::unordered_map<void*, std::shared_ptr<void>> Kept;
+  };
+  static Store& Registry()
+  {
+    static Store* store = new Store;
+    return *store;
+  }
+  static void Release(void* data)
+  {
+    std::shared_ptr<void> last; // freed outside the lock
+    std::lock_guard<std::mutex> lock(Registry().Mutex);
+    auto it = Registry().Kept.find(data);
+    if (it != Registry().Kept.end())
+    {
+      last = std::move(it->second);
+      Registry().Kept.erase(it);
+    }
+  }
+};
+
 // 3. The output: shared control points with their domain points, three Bézier cells per
-// triangle with MacroTriangleId and MicroTriangleId.
-void FillSplineGrid(const ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
+// triangle with MacroTriangleId and MicroTriangleId. Consumes the spline's points.
+void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output)
 {
-  const std::vector<ctk::Vec3>& controlPoints = spline.ControlPoints();
-  const std::vector<ctk::Vec2>& domainPoints = spline.DomainPoints();
-  const vtkIdType nP = static_cast<vtkIdType>(controlPoints.size());
-  // Output arrays are first touched in the parallel loops below (see AllocateTuples).
-  vtkNew<vtkDoubleArray> coords;
-  coords->SetNumberOfComponents(3);
-  ctsplines::AllocateTuples(coords, nP);
-  vtkNew<vtkDoubleArray> uvOut;
+  ctk::CubicSpline& cubic = spline.Cubic;
+  ctk::QuarticSpline& quartic = spline.Quartic;
+  std::vector<ctk::Vec3>().swap(spline.Degree == 4 ? quartic.SplitTau : cubic.SplitTau);
+  vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(
+    std::move(spline.Degree == 4 ? quartic.ControlPoints : cubic.ControlPoints), 3);
+  vtkSmartPointer<vtkDoubleArray> uvOut = AdoptedVectors::Adopt(
+    std::move(spline.Degree == 4 ? quartic.DomainPoints : cubic.DomainPoints), 2);
   uvOut->SetName(uvName);
-  uvOut->SetNumberOfComponents(2);
-  ctsplines::AllocateTuples(uvOut, nP);
-  double* xyz = coords->GetPointer(0);
-  double* uvw = uvOut->GetPointer(0);
-  ctsplines::ParallelFor(0, nP, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType i = b; i < e; ++i)
-    {
-      std::copy_n(controlPoints[i].data(), 3, xyz + 3 * i);
-      std::copy_n(domainPoints[i].data(), 2, uvw + 2 * i);
-    }
-  });
 
   const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
   const vtkIdType nT = in.NumberOfTriangles(), nCells = 3 * nT;

@@ -6,6 +6,7 @@
 #include "CrossDerivativeRules.h"
 #include "KashyapFairing.h"
 #include "LargeArrays.h"
+#include "LocalityOrder.h"
 #include "MacroEdgeCubicPrecision.h"
 #include "MicroEdgeC2Minimisation.h"
 #include "RuleA.h"
@@ -81,13 +82,14 @@ class Builder
 {
 public:
   Builder(const SplineData& data, const MeshTopology& topo, const SplineOptions& options,
-    CubicSpline& spline, const ParallelFor& parallelFor)
+    CubicSpline& spline, const ParallelFor& parallelFor, const std::vector<Id>& order)
     : Data(data)
     , Topo(topo)
     , Options(options)
     , Boundary(EffectiveBoundaryMode(options))
     , Spline(spline)
     , For(parallelFor)
+    , Order(order)
   {
   }
 
@@ -127,7 +129,13 @@ private:
   void Step3();
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
   Vec3 CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const;
-  // Per interior edge: body(e, t0, l0, t1, l1), in parallel.
+  // body(t) per triangle, in parallel, in the locality order.
+  template <typename Body>
+  void ForTriangles(Body&& body)
+  {
+    ForTrianglesInOrder(this->For, this->Data.NumberOfTriangles, this->Order, body);
+  }
+  // Per interior edge: body(e, t0, l0, t1, l1), in parallel, in the locality order.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
   void InitialEdgeCentres(Id t0, int l0, Id t1, int l1);
@@ -140,6 +148,9 @@ private:
   const BoundaryMode Boundary;
   CubicSpline& Spline;
   const ParallelFor& For;
+  // Triangles in a locality order (empty: their own); every value is still written at its
+  // place in the input's numbering, so the result does not depend on it.
+  const std::vector<Id>& Order;
   std::vector<Vec2> SplitPoints;
   std::vector<Vec3> EdgeGradients; // f_u, f_v per edge
 };
@@ -156,11 +167,8 @@ void Builder::Run()
     {
       this->MinimiseC2AcrossMacroEdges(); // exterior fairing, eq. (1)-(3)
       this->Step3();
-      this->For(this->Data.NumberOfTriangles, [&](Id b, Id e) {
-        for (Id t = b; t < e; ++t)
-        {
-          KashyapInteriorFairing(this->Ids(t), this->Spline.SplitTau[t], P); // eq. (4)-(6)
-        }
+      this->ForTriangles([&](Id t) {
+        KashyapInteriorFairing(this->Ids(t), this->Spline.SplitTau[t], P); // eq. (4)-(6)
       });
       this->Step3();
     }
@@ -192,17 +200,14 @@ void Builder::SplitPointsAndStep1()
   Vec3* P = this->Spline.ControlPoints.data();
   Vec2* D = this->Spline.DomainPoints.data();
 
-  this->For(nT, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
-    {
-      const Id* p = d.Triangles + 3 * t;
-      const Vec3 tau = d.SplitTau ? d.SplitTau[t]
-                                  : SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
-                                      this->U(t, 1), this->U(t, 2), Row3(d.F, p[0]),
-                                      Row3(d.F, p[1]), Row3(d.F, p[2]));
-      this->Spline.SplitTau[t] = tau;
-      this->SplitPoints[t] = tau[0] * this->U(t, 0) + tau[1] * this->U(t, 1) + tau[2] * this->U(t, 2);
-    }
+  this->ForTriangles([&](Id t) {
+    const Id* p = d.Triangles + 3 * t;
+    const Vec3 tau = d.SplitTau ? d.SplitTau[t]
+                                : SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
+                                    this->U(t, 1), this->U(t, 2), Row3(d.F, p[0]),
+                                    Row3(d.F, p[1]), Row3(d.F, p[2]));
+    this->Spline.SplitTau[t] = tau;
+    this->SplitPoints[t] = tau[0] * this->U(t, 0) + tau[1] * this->U(t, 1) + tau[2] * this->U(t, 2);
   });
 
   // Eq. (11): vertices and macro-edge points, each edge once.
@@ -214,69 +219,63 @@ void Builder::SplitPointsAndStep1()
     }
   });
   ResizeForOverwrite(this->EdgeGradients, d.EdgeGradients ? 2 * nE : 0);
-  this->For(nE, [&](Id begin, Id end) {
-    for (Id e = begin; e < end; ++e)
+  ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
+    for (int s = 0; s < 2; ++s)
     {
-      for (int s = 0; s < 2; ++s)
+      const Id a = this->Topo.Edges[e][s], b = this->Topo.Edges[e][1 - s];
+      const Id id = layout.EdgePoint(this->Topo, e, a);
+      P[id] = EdgeControlPoint(Row3(d.F, a), Row3(d.Fu, a), Row3(d.Fv, a), UVOf(d, a), UVOf(d, b));
+      D[id] = (2.0 * UVOf(d, a) + UVOf(d, b)) / 3.0;
+    }
+    const Id t = this->Topo.EdgeTriangles[e][0];
+    if (d.BoundaryCurvePoints && this->Topo.EdgeTriangles[e][1] < 0 && t >= 0)
+    {
+      const int l = this->Topo.EdgeLocalIndex[e][0];
+      const double* c = d.BoundaryCurvePoints + 18 * t + 6 * l;
+      if (!std::isnan(c[0]))
       {
-        const Id a = this->Topo.Edges[e][s], b = this->Topo.Edges[e][1 - s];
-        const Id id = layout.EdgePoint(this->Topo, e, a);
-        P[id] = EdgeControlPoint(Row3(d.F, a), Row3(d.Fu, a), Row3(d.Fv, a), UVOf(d, a), UVOf(d, b));
-        D[id] = (2.0 * UVOf(d, a) + UVOf(d, b)) / 3.0;
-      }
-      const Id t = this->Topo.EdgeTriangles[e][0];
-      if (d.BoundaryCurvePoints && this->Topo.EdgeTriangles[e][1] < 0 && t >= 0)
-      {
-        const int l = this->Topo.EdgeLocalIndex[e][0];
-        const double* c = d.BoundaryCurvePoints + 18 * t + 6 * l;
-        if (!std::isnan(c[0]))
-        {
-          // c[0..2] is near the edge's first point in the triangle, p_l.
-          const Id first = d.Triangles[3 * t + l];
-          for (int s = 0; s < 2; ++s)
-          {
-            const Id a = this->Topo.Edges[e][s];
-            P[layout.EdgePoint(this->Topo, e, a)] = Row3(c, a == first ? 0 : 1);
-          }
-        }
-      }
-      if (d.EdgeGradients)
-      {
-        Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();
-        int count = 0;
+        // c[0..2] is near the edge's first point in the triangle, p_l.
+        const Id first = d.Triangles[3 * t + l];
         for (int s = 0; s < 2; ++s)
         {
-          const Id t = this->Topo.EdgeTriangles[e][s];
-          if (t < 0)
-          {
-            continue;
-          }
-          const double* g = d.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
-          gu += Vec3(g[0], g[1], g[2]);
-          gv += Vec3(g[3], g[4], g[5]);
-          ++count;
+          const Id a = this->Topo.Edges[e][s];
+          P[layout.EdgePoint(this->Topo, e, a)] = Row3(c, a == first ? 0 : 1);
         }
-        this->EdgeGradients[2 * e] = gu / count;
-        this->EdgeGradients[2 * e + 1] = gv / count;
       }
+    }
+    if (d.EdgeGradients)
+    {
+      Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();
+      int count = 0;
+      for (int s = 0; s < 2; ++s)
+      {
+        const Id t = this->Topo.EdgeTriangles[e][s];
+        if (t < 0)
+        {
+          continue;
+        }
+        const double* g = d.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
+        gu += Vec3(g[0], g[1], g[2]);
+        gv += Vec3(g[3], g[4], g[5]);
+        ++count;
+      }
+      this->EdgeGradients[2 * e] = gu / count;
+      this->EdgeGradients[2 * e + 1] = gv / count;
     }
   });
 
   // Eq. (12), and the domain points of the triangle-owned control points.
-  this->For(nT, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
+  this->ForTriangles([&](Id t) {
+    const MacroElementIds ids = this->Ids(t);
+    ComputeInnerRing1(ids, this->Spline.SplitTau[t], P);
+    const Vec2& Z = this->SplitPoints[t];
+    for (int i = 0; i < 3; ++i)
     {
-      const MacroElementIds ids = this->Ids(t);
-      ComputeInnerRing1(ids, this->Spline.SplitTau[t], P);
-      const Vec2& Z = this->SplitPoints[t];
-      for (int i = 0; i < 3; ++i)
-      {
-        D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
-        D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
-        D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
-      }
-      D[ids.S] = Z;
+      D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
+      D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
+      D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
     }
+    D[ids.S] = Z;
   });
 }
 
@@ -336,15 +335,12 @@ Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) con
 template <typename Body>
 void Builder::ForInteriorEdges(Body&& body)
 {
-  this->For(static_cast<Id>(this->Topo.Edges.size()), [&](Id begin, Id end) {
-    for (Id e = begin; e < end; ++e)
+  ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
+    const auto& et = this->Topo.EdgeTriangles[e];
+    if (et[1] >= 0)
     {
-      const auto& et = this->Topo.EdgeTriangles[e];
-      if (et[1] >= 0)
-      {
-        const auto& el = this->Topo.EdgeLocalIndex[e];
-        body(e, et[0], int(el[0]), et[1], int(el[1]));
-      }
+      const auto& el = this->Topo.EdgeLocalIndex[e];
+      body(e, et[0], int(el[0]), et[1], int(el[1]));
     }
   });
 }
@@ -353,16 +349,13 @@ void Builder::Step2()
 {
   // Rules that read one side only (every edge of the local constructions, boundary edges).
   const bool edgeBased = Info(this->Options.Method).EdgeBased;
-  this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
+  this->ForTriangles([&](Id t) {
+    const MacroElementIds ids = this->Ids(t);
+    for (int l = 0; l < 3; ++l)
     {
-      const MacroElementIds ids = this->Ids(t);
-      for (int l = 0; l < 3; ++l)
+      if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
       {
-        if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
-        {
-          this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
-        }
+        this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
       }
     }
   });
@@ -433,12 +426,8 @@ void Builder::RestoreC1AcrossMacroEdges()
 void Builder::Step3()
 {
   Vec3* P = this->Spline.ControlPoints.data();
-  this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
-    {
-      ComputeInnerRing2AndSplitPoint(this->Ids(t), this->Spline.SplitTau[t], P);
-    }
-  });
+  this->ForTriangles(
+    [&](Id t) { ComputeInnerRing2AndSplitPoint(this->Ids(t), this->Spline.SplitTau[t], P); });
 }
 } // namespace
 
@@ -466,12 +455,18 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
       " with boundary mode " + ToString(EffectiveBoundaryMode(options)) + " needs mid-edge gradients";
     return status;
   }
-  status = ValidateSplineData(data, topo);
+  // Ids are in range once the topology matches the triangles (checked by BuildMeshTopology).
+  const bool ordered = options.LocalityOrder && data.Triangles && data.UV &&
+    static_cast<Id>(topo.TriangleEdges.size()) == data.NumberOfTriangles;
+  const std::vector<Id> order = ordered
+    ? TriangleLocalityOrder(data.NumberOfVertices, data.NumberOfTriangles, data.Triangles, data.UV)
+    : std::vector<Id>();
+  status = ValidateSplineData(data, topo, order);
   if (!status.Ok)
   {
     return status;
   }
-  Builder(data, topo, options, spline, parallelFor).Run();
+  Builder(data, topo, options, spline, parallelFor, order).Run();
   return CheckFiniteControlPoints(spline.ControlPoints, topo, data.Triangles,
     data.NumberOfVertices, 2, CubicSplineLayout::PointsPerTriangle);
 }

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "SplineDataValidation.h"
 
+#include "LocalityOrder.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -98,7 +100,7 @@ Vec2 UVOf(const SplineData& data, Id v)
   return Vec2(data.UV[2 * v], data.UV[2 * v + 1]);
 }
 
-BuildStatus CheckAreas(const SplineData& data)
+BuildStatus CheckAreas(const SplineData& data, const std::vector<Id>& order)
 {
   Vec2 lo = UVOf(data, 0), hi = lo;
   for (Id v = 1; v < data.NumberOfVertices; ++v)
@@ -114,29 +116,39 @@ BuildStatus CheckAreas(const SplineData& data)
        << " (at least " << MinDomainDiagonal << " is needed; rescale (u, v))";
     return Failure(os.str());
   }
-  for (Id t = 0; t < data.NumberOfTriangles; ++t)
-  {
+  // The lowest degenerate triangle, found in the locality order.
+  Id first = data.NumberOfTriangles;
+  ForTrianglesInOrder(SerialFor, data.NumberOfTriangles, order, [&](Id t) {
     const Id* p = data.Triangles + 3 * t;
-    if (!(std::abs(SignedArea2(UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]))) >
-          1e-13 * diag2))
+    if (t < first &&
+      !(std::abs(SignedArea2(UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]))) >
+        1e-13 * diag2))
     {
-      std::ostringstream os;
-      os << "degenerate parameter triangle: cell " << t << " (points " << p[0] << ", " << p[1]
-         << ", " << p[2] << ") has zero area in (u, v)";
-      return Failure(os.str());
+      first = t;
     }
+  });
+  if (first < data.NumberOfTriangles)
+  {
+    const Id t = first;
+    const Id* p = data.Triangles + 3 * t;
+    std::ostringstream os;
+    os << "degenerate parameter triangle: cell " << t << " (points " << p[0] << ", " << p[1]
+       << ", " << p[2] << ") has zero area in (u, v)";
+    return Failure(os.str());
   }
   return {};
 }
 
-BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology)
+BuildStatus CheckFolds(
+  const SplineData& data, const MeshTopology& topology, const std::vector<Id>& order)
 {
+  // The lowest folded edge, found in the locality order.
   const Id nE = static_cast<Id>(topology.Edges.size());
-  for (Id e = 0; e < nE; ++e)
-  {
-    if (topology.IsBoundaryEdge(e))
+  Id first = nE;
+  ForEdgesInOrder(SerialFor, topology, order, [&](Id e) {
+    if (topology.IsBoundaryEdge(e) || e > first)
     {
-      continue;
+      return;
     }
     const Vec2 A = UVOf(data, topology.Edges[e][0]), B = UVOf(data, topology.Edges[e][1]);
     double side[2];
@@ -148,18 +160,24 @@ BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology)
     }
     if ((side[0] > 0) == (side[1] > 0))
     {
-      std::ostringstream os;
-      os << "folded parameterisation: triangles " << topology.EdgeTriangles[e][0] << " and "
-         << topology.EdgeTriangles[e][1] << " lie on the same side of their shared edge ("
-         << topology.Edges[e][0] << ", " << topology.Edges[e][1] << ") in (u, v)";
-      return Failure(os.str());
+      first = e;
     }
+  });
+  if (first < nE)
+  {
+    const Id e = first;
+    std::ostringstream os;
+    os << "folded parameterisation: triangles " << topology.EdgeTriangles[e][0] << " and "
+       << topology.EdgeTriangles[e][1] << " lie on the same side of their shared edge ("
+       << topology.Edges[e][0] << ", " << topology.Edges[e][1] << ") in (u, v)";
+    return Failure(os.str());
   }
   return {};
 }
 } // namespace
 
-BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology)
+BuildStatus ValidateSplineData(
+  const SplineData& data, const MeshTopology& topology, const std::vector<Id>& order)
 {
   if (data.NumberOfVertices <= 0 || data.NumberOfTriangles <= 0 || !data.Triangles || !data.UV ||
     !data.F || !data.Fu || !data.Fv)
@@ -178,11 +196,11 @@ BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topol
   }
   if (status.Ok)
   {
-    status = CheckAreas(data);
+    status = CheckAreas(data, order);
   }
   if (status.Ok)
   {
-    status = CheckFolds(data, topology);
+    status = CheckFolds(data, topology, order);
   }
   return status;
 }

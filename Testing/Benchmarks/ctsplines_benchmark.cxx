@@ -1,15 +1,26 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
-// ctsplines_benchmark: wall-clock figures of the module's filters on Franke's function sampled on
-// regular grids of about --sizes triangles, printed as one plain table:
-//   source          vtkSampledSurfaceSource itself (sampling + exact derivatives + edge gradients)
+// ctsplines_benchmark: wall-clock figures of the module's filters on meshes of about --sizes
+// triangles, printed as one plain table. --mesh grid: Franke's function on regular grids
+// (vtkSampledSurfaceSource); --mesh delaunay: the mesh SciPy's and Matplotlib's users have, the
+// Delaunay triangulation (CGAL) of size/2 uniform random points of the unit square, vertices in
+// the points' order and triangles in the triangulation's (neither is a locality order), with
+// the exact values and gradients of sin 3x cos 2y; --renumber morton renumbers either mesh by a
+// Morton key (for comparison). Rows:
+//   source          the mesh itself (grid: vtkSampledSurfaceSource; delaunay: CGAL + sampling)
 //   spline <c>      vtkCloughTocherSplineFilter, every construction (Bary, Midpoint boundary,
 //                   Iterations 0); "x CTo" is its time over CTo's on the same mesh
 //   IM step (CTi)   one IM step: (time at Iterations N - time at Iterations 0) / N on CTi
 //   tessellate L4   vtkBezierTriangleTessellator at SubdivisionLevel 4 on the CTi spline
 //   probe           vtkSplineParameterProbe, random (u, v) points on the CTi spline
 // --stages and --constructions select rows (e.g. to profile one of them).
+// The machine's bounds are measured first (BenchmarkSupport.h): copy and first-touch write
+// bandwidth, and the time of one cubic Bézier jet with normal. "of bound" is the fraction
+// reached: output bytes / time over the first-touch bandwidth (source, spline, tessellate), or
+// queries x jet time over the time (probe). --memory adds each spline row's peak resident memory
+// over its output's size (one extra run).
 // The last two are built only when those filters are part of the module. Every figure is the best
 // of --repeat runs (the minimum is the least noisy estimate on a shared machine).
+#include "BenchmarkSupport.h"
 #include "vtkCloughTocherSplineFilter.h"
 #include "vtkSampledSurfaceSource.h"
 #if __has_include("vtkBezierTriangleTessellator.h")
@@ -22,8 +33,12 @@
 #endif
 
 #include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
+#include "vtkIdTypeArray.h"
 #include "vtkNew.h"
+#include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
@@ -53,6 +68,9 @@ struct Options
   double ProbePoints = 1e6;
   double MaxTessellatedTriangles = 2e7; // output triangles; bounds the memory of one run
   int IMSteps = 10;
+  std::string Mesh = "grid";   // or "delaunay"
+  std::string Renumber = "none"; // or "morton"
+  bool Memory = false;
   std::vector<std::string> Stages{ "source", "spline", "im", "tessellate", "probe" };
   std::vector<std::string> Constructions{ "CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG",
     "Kashyap", "Quartic" };
@@ -93,6 +111,8 @@ void Usage(const char* argv0)
   std::printf("usage: %s [--sizes 1e4,1e5,1e6] [--repeat 3] [--threads N] [--level 4]\n"
               "          [--probe-points 1e6] [--max-tessellated 2e7] [--im-steps 10]\n"
               "          [--stages source,spline,im,tessellate,probe]\n"
+              "          [--mesh grid|delaunay] [--renumber none|morton] [--memory 0|1]\n"
+              "          [--clock wall|cpu]\n"
               "          [--constructions CTo,CTi,Fa,FO,Ka,MGo,MGi,KaG,Kashyap,Quartic]\n"
               "  --sizes            approximate triangle counts of the grids (comma separated)\n"
               "  --repeat           runs per figure; the best is reported\n"
@@ -102,7 +122,14 @@ void Usage(const char* argv0)
               "  --max-tessellated  skip tessellations producing more triangles than this\n"
               "  --im-steps         Iterations of the IM row (its time is divided by this)\n"
               "  --stages           rows to run (comma separated)\n"
-              "  --constructions    spline filter constructions of the spline rows\n",
+              "  --constructions    spline filter constructions of the spline rows\n"
+              "  --mesh             grid: Franke on a regular grid; delaunay: sin 3x cos 2y on the\n"
+              "                     Delaunay triangulation of size/2 random points, numbered as\n"
+              "                     the points and the triangulation come (no locality order)\n"
+              "  --renumber         morton: renumber the mesh by Morton keys first\n"
+              "  --memory           1: peak resident memory of each spline row (one more run)\n"
+              "  --clock            cpu: this process' CPU time instead of wall-clock time (with\n"
+              "                     --threads 1 on a machine shared with other jobs)\n",
     argv0);
 }
 
@@ -181,6 +208,22 @@ bool Parse(int argc, char** argv, Options& o)
         }
       }
     }
+    else if (a == "--mesh" && (std::string(v) == "grid" || std::string(v) == "delaunay"))
+    {
+      o.Mesh = v;
+    }
+    else if (a == "--renumber" && (std::string(v) == "none" || std::string(v) == "morton"))
+    {
+      o.Renumber = v;
+    }
+    else if (a == "--memory" && ParseNumber(v, x))
+    {
+      o.Memory = x != 0;
+    }
+    else if (a == "--clock" && (std::string(v) == "wall" || std::string(v) == "cpu"))
+    {
+      bench::UseProcessCpuClock() = std::string(v) == "cpu";
+    }
     else if (a == "--constructions")
     {
       o.Constructions = SplitList(v);
@@ -202,27 +245,26 @@ bool Parse(int argc, char** argv, Options& o)
   return !o.Sizes.empty();
 }
 
-/// Best wall-clock seconds of `repeat` calls of `run`; `run` returns false on failure.
+/// Best seconds (bench::Clock: wall or this process' CPU) of `repeat` calls of `run`; `run`
+/// returns false on failure.
 double Best(int repeat, const std::function<bool()>& run, bool& ok)
 {
-  double best = 1e300;
   ok = true;
-  for (int r = 0; r < repeat; ++r)
-  {
-    const auto t0 = std::chrono::steady_clock::now();
-    ok = run() && ok;
-    const auto t1 = std::chrono::steady_clock::now();
-    best = std::min(best, std::chrono::duration<double>(t1 - t0).count());
-  }
-  return best;
+  return bench::BestSeconds(repeat, [&] { ok = run() && ok; });
 }
 
 /// One table row; ns/triangle only for the stages that process the input triangles, and the
 /// time relative to CTo's for the spline rows (relative <= 0: none).
+/// bound: fraction of the machine's bound reached (<= 0: none); extra: printed after the row.
 void Row(long long triangles, const std::string& stage, double seconds, long long items,
-  const char* unit, bool perTriangle = true, double relative = 0.0)
+  const char* unit, bool perTriangle = true, double relative = 0.0, double bound = 0.0,
+  const std::string& extra = "")
 {
-  char per[32] = "-", rel[32] = "-";
+  char per[32] = "-", rel[32] = "-", of[32] = "-";
+  if (bound > 0.0)
+  {
+    std::snprintf(of, sizeof(of), "%.1f %%", 100.0 * bound);
+  }
   if (perTriangle)
   {
     std::snprintf(per, sizeof(per), "%.1f", 1e9 * seconds / double(triangles));
@@ -231,8 +273,8 @@ void Row(long long triangles, const std::string& stage, double seconds, long lon
   {
     std::snprintf(rel, sizeof(rel), "%.2f", relative);
   }
-  std::printf("%11lld  %-24s %10.4f %12s %7s %12.4g %s\n", triangles, stage.c_str(), seconds,
-    per, rel, double(items) / seconds, unit);
+  std::printf("%11lld  %-24s %10.4f %12s %7s %9s %12.4g %s%s\n", triangles, stage.c_str(),
+    seconds, per, rel, of, double(items) / seconds, unit, extra.c_str());
   std::fflush(stdout);
 }
 
@@ -260,6 +302,86 @@ double TimeSpline(vtkPolyData* mesh, int construction, int iterations, int repea
   }
   return t;
 }
+/// Bytes of a data set's arrays.
+double MeshBytes(vtkDataSet* data)
+{
+  return 1024.0 * data->GetActualMemorySize();
+}
+
+vtkSmartPointer<vtkDataArray> DoubleArray(const std::vector<double>& values, int components,
+  const char* name)
+{
+  vtkNew<vtkDoubleArray> a;
+  a->SetName(name);
+  a->SetNumberOfComponents(components);
+  a->SetNumberOfTuples(static_cast<vtkIdType>(values.size()) / components);
+  std::copy(values.begin(), values.end(), a->GetPointer(0));
+  return a;
+}
+
+vtkSmartPointer<vtkPolyData> ToPolyData(const bench::SampledMesh& m)
+{
+  auto pd = vtkSmartPointer<vtkPolyData>::New();
+  vtkNew<vtkPoints> points;
+  points->SetData(DoubleArray(m.F, 3, "Points"));
+  pd->SetPoints(points);
+  const vtkIdType nT = static_cast<vtkIdType>(m.Triangles.size() / 3);
+  vtkNew<vtkIdTypeArray> offsets, connectivity;
+  offsets->SetNumberOfTuples(nT + 1);
+  for (vtkIdType t = 0; t <= nT; ++t)
+  {
+    offsets->SetValue(t, 3 * t);
+  }
+  connectivity->SetNumberOfTuples(3 * nT);
+  std::copy(m.Triangles.begin(), m.Triangles.end(), connectivity->GetPointer(0));
+  vtkNew<vtkCellArray> polys;
+  polys->SetData(offsets, connectivity);
+  pd->SetPolys(polys);
+  pd->GetPointData()->AddArray(DoubleArray(m.UV, 2, "UV"));
+  pd->GetPointData()->AddArray(DoubleArray(m.Fu, 3, "dFdu"));
+  pd->GetPointData()->AddArray(DoubleArray(m.Fv, 3, "dFdv"));
+  pd->GetCellData()->AddArray(DoubleArray(m.EdgeGradients, 18, "EdgeGradients"));
+  return pd;
+}
+
+/// The mesh of about `size` triangles; seconds: the time of making it (best of --repeat when
+/// the source row is asked for).
+vtkSmartPointer<vtkPolyData> MakeMesh(const Options& opt, double size, double& seconds, bool& ok)
+{
+  const int repeat = opt.Has("source") ? opt.Repeat : 1;
+  if (opt.Mesh == "delaunay")
+  {
+    bench::SampledMesh m;
+    seconds = bench::BestSeconds(repeat,
+      [&] { m = bench::RandomDelaunayMesh(static_cast<std::int64_t>(size / 2), 12345); });
+    if (opt.Renumber == "morton")
+    {
+      bench::MortonRenumber(m);
+    }
+    return ToPolyData(m);
+  }
+  // Two triangles per cell: n^2 cells for about `size` triangles.
+  const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(size / 2.0))));
+  vtkNew<vtkSampledSurfaceSource> source;
+  source->SetSurfaceToFranke();
+  source->SetDomainToGrid();
+  source->SetResolution(n);
+  seconds = Best(
+    repeat,
+    [&] {
+      source->Modified();
+      return source->GetExecutive()->Update() != 0;
+    },
+    ok);
+  auto mesh = vtkSmartPointer<vtkPolyData>::New();
+  mesh->ShallowCopy(source->GetOutput());
+  if (opt.Renumber == "morton")
+  {
+    std::fprintf(stderr, "--renumber morton is for --mesh delaunay\n");
+    ok = false;
+  }
+  return mesh;
+}
 } // namespace
 
 int main(int argc, char** argv)
@@ -278,46 +400,47 @@ int main(int argc, char** argv)
   }
   vtkSMPTools::Initialize(opt.Threads);
 
-  std::printf("ctsplines_benchmark: Franke on regular grids of [0,1]^2 "
-              "(vtkSampledSurfaceSource), best of %d run(s)\n",
-    opt.Repeat);
-  std::printf("VTK %s, SMP backend %s, %d thread(s)\n", vtkVersion::GetVTKVersion(),
-    vtkSMPTools::GetBackend(), vtkSMPTools::GetEstimatedNumberOfThreads());
+  std::printf("ctsplines_benchmark: %s, %s, best of %d run(s), %s time\n",
+    opt.Mesh == "grid" ? "Franke on regular grids of [0,1]^2 (vtkSampledSurfaceSource)"
+                       : "sin 3x cos 2y on random Delaunay meshes of [0,1]^2 (CGAL)",
+    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered", opt.Repeat,
+    bench::UseProcessCpuClock() ? "process CPU" : "wall-clock");
+  std::printf("VTK %s, SMP backend %s, %d thread(s), CTSPLINES_NUM_THREADS %s\n",
+    vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend(),
+    vtkSMPTools::GetEstimatedNumberOfThreads(),
+    std::getenv("CTSPLINES_NUM_THREADS") ? std::getenv("CTSPLINES_NUM_THREADS") : "unset");
+  const bench::MachineBounds bounds = bench::MeasureBounds();
+  std::printf("machine bounds (measured now, one thread): copy %.2f GB/s, first-touch write "
+              "%.2f GB/s (huge pages advised), cubic jet with normal %.1f ns\n",
+    bounds.CopyGBs, bounds.FirstTouchGBs, 1e9 * bounds.JetSeconds);
   std::printf("spline filter: split point Bary, boundary Midpoint, Iterations 0; ns/triangle is "
               "per input triangle; x CTo is the time over CTo's; rate is input triangles/s "
-              "unless stated\n\n");
-  std::printf("%11s  %-24s %10s %12s %7s %12s\n", "triangles", "stage", "seconds", "ns/triangle",
-    "x CTo", "rate");
+              "unless stated; of bound: output bytes/s over first-touch write (probe: queries "
+              "x jet time over time)\n\n");
+  std::printf("%11s  %-24s %10s %12s %7s %9s %12s\n", "triangles", "stage", "seconds",
+    "ns/triangle", "x CTo", "of bound", "rate");
+  // Fraction of the first-touch bound of writing `bytes` in `seconds`.
+  auto writeBound = [&](double bytes, double seconds) {
+    return bytes / seconds / (1e9 * bounds.FirstTouchGBs);
+  };
 
   bool allOk = true;
   for (double size : opt.Sizes)
   {
-    // Two triangles per cell: n^2 cells for about `size` triangles.
-    const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(size / 2.0))));
-    vtkNew<vtkSampledSurfaceSource> source;
-    source->SetSurfaceToFranke();
-    source->SetDomainToGrid();
-    source->SetResolution(n);
     bool ok = true;
-    const double tSource = Best(
-      opt.Has("source") ? opt.Repeat : 1,
-      [&] {
-        source->Modified();
-        return source->GetExecutive()->Update() != 0;
-      },
-      ok);
+    double tSource = 0.0;
+    const vtkSmartPointer<vtkPolyData> mesh = MakeMesh(opt, size, tSource, ok);
     allOk = allOk && ok;
-    vtkNew<vtkPolyData> mesh;
-    mesh->ShallowCopy(source->GetOutput());
-    const long long nT = mesh->GetNumberOfPolys();
+    const long long nT = mesh ? mesh->GetNumberOfPolys() : 0;
     if (!ok || nT == 0)
     {
-      std::fprintf(stderr, "vtkSampledSurfaceSource failed for resolution %d\n", n);
+      std::fprintf(stderr, "no %s mesh of size %g\n", opt.Mesh.c_str(), size);
       return 1;
     }
     if (opt.Has("source"))
     {
-      Row(nT, "source (Franke grid)", tSource, nT, "tri/s");
+      Row(nT, opt.Mesh == "grid" ? "source (Franke grid)" : "source (Delaunay, CGAL)", tSource,
+        nT, "tri/s", true, 0.0, writeBound(MeshBytes(mesh), tSource));
     }
 
     double tCTo = 0.0;
@@ -326,13 +449,24 @@ int main(int argc, char** argv)
       for (const std::string& name : opt.Constructions)
       {
         const int c = ConstructionId(name);
-        const double t = TimeSpline(mesh, c, 0, opt.Repeat, ok);
+        vtkSmartPointer<vtkUnstructuredGrid> out;
+        const double t = TimeSpline(mesh, c, 0, opt.Repeat, ok, &out);
         allOk = allOk && ok;
         if (c == vtkCloughTocherSplineFilter::CTo)
         {
           tCTo = t;
         }
-        Row(nT, "spline " + name, t, nT, "tri/s", true, tCTo > 0.0 ? t / tCTo : 0.0);
+        const double outBytes = 1024.0 * out->GetActualMemorySize();
+        char extra[96] = "";
+        if (opt.Memory)
+        {
+          out = nullptr; // measured alone
+          const double peak = bench::PeakExtraBytes([&] { TimeSpline(mesh, c, 0, 1, ok); });
+          std::snprintf(extra, sizeof(extra), "  peak %.0f MB = %.2f x output %.0f MB", 1e-6 * peak,
+            peak / outBytes, 1e-6 * outBytes);
+        }
+        Row(nT, "spline " + name, t, nT, "tri/s", true, tCTo > 0.0 ? t / tCTo : 0.0,
+          writeBound(outBytes, t), extra);
       }
     }
     if (opt.Has("im"))
@@ -378,7 +512,8 @@ int main(int argc, char** argv)
           },
           ok);
         allOk = allOk && ok;
-        Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false);
+        Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false, 0.0,
+          writeBound(1024.0 * tess->GetOutput()->GetActualMemorySize(), t));
       }
     }
 #endif
@@ -412,7 +547,7 @@ int main(int argc, char** argv)
       allOk = allOk && ok;
       std::ostringstream stage;
       stage << "probe " << double(np) << " pts (CTi)";
-      Row(nT, stage.str(), t, np, "evaluations/s", false);
+      Row(nT, stage.str(), t, np, "evaluations/s", false, 0.0, double(np) * bounds.JetSeconds / t);
     }
 #endif
   }

@@ -2,12 +2,16 @@
 // Facts of the study, measured on the kernel's output: precision, interpolation, C0/C1 across every
 // micro- and macro-edge (Rule A), invariance to affine reparameterisation.
 #include "CubicCloughTocher.h"
+#include "LocalityOrder.h"
 #include "RuleA.h"
 #include "SplineMeasures.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
+#include <numeric>
 #include <random>
 
 using namespace ctk;
@@ -183,6 +187,70 @@ TEST(CubicCloughTocher, ResultDoesNotDependOnHowWorkIsSplit)
   for (size_t p = 0; p < serial.ControlPoints.size(); ++p)
   {
     ASSERT_EQ(serial.ControlPoints[p], chunked.ControlPoints[p]) << p;
+  }
+}
+
+// The mesh with its vertices and triangles renumbered at random (no locality order left); the
+// vertex order within each triangle is kept.
+SampledMesh Shuffled(const SampledMesh& m, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::vector<Id> vertex(m.NumberOfVertices()), triangle(m.NumberOfTriangles());
+  std::iota(vertex.begin(), vertex.end(), Id(0));
+  std::iota(triangle.begin(), triangle.end(), Id(0));
+  std::shuffle(vertex.begin(), vertex.end(), rng);
+  std::shuffle(triangle.begin(), triangle.end(), rng);
+  SampledMesh out = m;
+  for (Id v = 0; v < m.NumberOfVertices(); ++v)
+  {
+    std::copy_n(&m.UV[2 * v], 2, &out.UV[2 * vertex[v]]);
+    std::copy_n(&m.F[3 * v], 3, &out.F[3 * vertex[v]]);
+    std::copy_n(&m.Fu[3 * v], 3, &out.Fu[3 * vertex[v]]);
+    std::copy_n(&m.Fv[3 * v], 3, &out.Fv[3 * vertex[v]]);
+  }
+  for (Id t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      out.Triangles[3 * triangle[t] + l] = vertex[m.Triangles[3 * t + l]];
+    }
+    std::copy_n(&m.EdgeGradients[18 * t], 18, &out.EdgeGradients[18 * triangle[t]]);
+  }
+  EXPECT_TRUE(BuildMeshTopology(out.NumberOfVertices(), out.NumberOfTriangles(),
+    out.Triangles.data(), out.Topology).Ok);
+  return out;
+}
+
+TEST(CubicCloughTocher, LocalityOrderGivesTheSameBits)
+{
+  // Large enough for the locality order (LocalityOrder.h), numbered at random.
+  const int n = 128;
+  ASSERT_GE(2 * n * n, MinTrianglesForLocalityOrder);
+  const SampledMesh mesh =
+    Shuffled(Sample("jittered", JitteredGrid(n, 0.15, 11u), AnalyticSurface::Franke), 3u);
+  ASSERT_FALSE(TriangleLocalityOrder(mesh.NumberOfVertices(), mesh.NumberOfTriangles(),
+    mesh.Triangles.data(), mesh.UV.data()).empty());
+  auto chunks = [](Id n, const std::function<void(Id, Id)>& body) {
+    for (Id b = n; b > 0; b -= 1000)
+    {
+      body(std::max<Id>(0, b - 1000), b); // back to front
+    }
+  };
+  for (const Construction c : { Construction::CTo, Construction::CTi, Construction::MGi,
+         Construction::Fa, Construction::KaG, Construction::Kashyap })
+  {
+    SplineOptions o{ c, SplitPointRule::Inc3, BoundaryMode::Midpoint, 1 };
+    o.LocalityOrder = false;
+    const CubicSpline natural = BuildOrFail(mesh, o);
+    o.LocalityOrder = true;
+    CubicSpline local;
+    const BuildStatus st = BuildCubicCloughTocher(mesh.Data(), mesh.Topology, o, local, chunks);
+    ASSERT_TRUE(st.Ok) << ToString(c) << ": " << st.Message;
+    ASSERT_EQ(natural.ControlPoints.size(), local.ControlPoints.size());
+    EXPECT_EQ(0, std::memcmp(natural.ControlPoints.data(), local.ControlPoints.data(),
+                   natural.ControlPoints.size() * sizeof(Vec3))) << ToString(c);
+    EXPECT_EQ(0, std::memcmp(natural.DomainPoints.data(), local.DomainPoints.data(),
+                   natural.DomainPoints.size() * sizeof(Vec2))) << ToString(c);
   }
 }
 

@@ -1,0 +1,91 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "LocalityOrder.h"
+
+#include "LargeArrays.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+
+namespace ctk
+{
+namespace
+{
+// Bits of x spread to the even positions of the result.
+std::uint64_t Spread16(std::uint64_t x)
+{
+  x = (x | (x << 8)) & 0x00FF00FFu;
+  x = (x | (x << 4)) & 0x0F0F0F0Fu;
+  x = (x | (x << 2)) & 0x33333333u;
+  return (x | (x << 1)) & 0x55555555u;
+}
+
+// Sorts values by their upper 32 bits (the key; the lower 32 hold the triangle), stable: LSD
+// radix sort, one byte per pass.
+void SortByUpperHalf(std::vector<std::uint64_t>& values)
+{
+  std::vector<std::uint64_t> other;
+  ResizeForOverwrite(other, values.size());
+  for (int shift = 32; shift < 64; shift += 8)
+  {
+    std::array<std::size_t, 257> start{};
+    for (const std::uint64_t v : values)
+    {
+      ++start[((v >> shift) & 0xFF) + 1];
+    }
+    for (int b = 0; b < 256; ++b)
+    {
+      start[b + 1] += start[b];
+    }
+    for (const std::uint64_t v : values)
+    {
+      other[start[(v >> shift) & 0xFF]++] = v;
+    }
+    values.swap(other);
+  }
+}
+} // namespace
+
+std::vector<Id> TriangleLocalityOrder(
+  Id numVertices, Id numTriangles, const Id* triangles, const double* uv)
+{
+  std::vector<Id> order;
+  if (numTriangles < MinTrianglesForLocalityOrder ||
+    numTriangles > Id(std::numeric_limits<std::uint32_t>::max()) || numVertices <= 0)
+  {
+    return order;
+  }
+  double lo[2] = { uv[0], uv[1] }, hi[2] = { uv[0], uv[1] };
+  for (Id v = 1; v < numVertices; ++v)
+  {
+    for (int c = 0; c < 2; ++c)
+    {
+      lo[c] = std::min(lo[c], uv[2 * v + c]);
+      hi[c] = std::max(hi[c], uv[2 * v + c]);
+    }
+  }
+  const double scale[2] = { hi[0] > lo[0] ? 65535.0 / (hi[0] - lo[0]) : 0.0,
+    hi[1] > lo[1] ? 65535.0 / (hi[1] - lo[1]) : 0.0 };
+  std::vector<std::uint64_t> keyed;
+  ResizeForOverwrite(keyed, static_cast<std::size_t>(numTriangles));
+  for (Id t = 0; t < numTriangles; ++t)
+  {
+    std::uint64_t cell[2];
+    for (int c = 0; c < 2; ++c)
+    {
+      const double x = (uv[2 * triangles[3 * t] + c] + uv[2 * triangles[3 * t + 1] + c] +
+                         uv[2 * triangles[3 * t + 2] + c]) / 3;
+      // Non-finite values (rejected later by the validation) land in cell 0.
+      const double s = (x - lo[c]) * scale[c];
+      cell[c] = s > 0 ? static_cast<std::uint64_t>(std::min(s, 65535.0)) : 0;
+    }
+    keyed[t] = ((Spread16(cell[0]) | (Spread16(cell[1]) << 1)) << 32) | std::uint64_t(t);
+  }
+  SortByUpperHalf(keyed);
+  ResizeForOverwrite(order, keyed.size());
+  std::transform(keyed.begin(), keyed.end(), order.begin(),
+    [](std::uint64_t v) { return static_cast<Id>(v & 0xFFFFFFFFu); });
+  return order;
+}
+} // namespace ctk

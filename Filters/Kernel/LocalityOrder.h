@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// A locality order of a mesh's triangles: the constructions visit triangles (and edges, through
+// their first triangle) in this order, whatever the input's numbering, and still write every
+// value at its place in the input's numbering. Neighbours in (u, v) are then visited close in
+// time and their shared vertex and edge data stay in cache: on a Delaunay mesh numbered as
+// qhull or CGAL number it, the construction's time otherwise grows as n^1.3.
+#ifndef CTSplines_Kernel_LocalityOrder_h
+#define CTSplines_Kernel_LocalityOrder_h
+
+#include "MeshTopology.h"
+
+#include <vector>
+
+namespace ctk
+{
+/// Meshes with fewer triangles keep their own order: their data fits in cache.
+constexpr Id MinTrianglesForLocalityOrder = Id(1) << 15;
+
+/// The triangles sorted by the Morton key of their centroid in (u, v) (16 bits per axis over
+/// the vertices' bounding box; ties keep the input's order), or empty (the input's order) below
+/// MinTrianglesForLocalityOrder triangles. triangles: #T by 3 vertex ids, uv: #V by 2.
+std::vector<Id> TriangleLocalityOrder(
+  Id numVertices, Id numTriangles, const Id* triangles, const double* uv);
+
+/// Runs body(t) for every triangle t, in the given order (empty: 0 .. n-1), chunked by
+/// parallelFor over the order's positions.
+template <typename ParallelForT, typename Body>
+void ForTrianglesInOrder(
+  const ParallelForT& parallelFor, Id numTriangles, const std::vector<Id>& order, Body&& body)
+{
+  parallelFor(numTriangles, [&](Id begin, Id end) {
+    for (Id i = begin; i < end; ++i)
+    {
+      body(order.empty() ? i : order[i]);
+    }
+  });
+}
+
+/// Runs body(e) for every edge e of topology once, from its first triangle
+/// (EdgeTriangles[e][0]) in the given triangle order.
+template <typename ParallelForT, typename Body>
+void ForEdgesInOrder(const ParallelForT& parallelFor, const MeshTopology& topology,
+  const std::vector<Id>& order, Body&& body)
+{
+  const Id nT = static_cast<Id>(topology.TriangleEdges.size());
+  ForTrianglesInOrder(parallelFor, nT, order, [&](Id t) {
+    for (int l = 0; l < 3; ++l)
+    {
+      const Id e = topology.TriangleEdges[t][l];
+      if (topology.EdgeTriangles[e][0] == t && topology.EdgeLocalIndex[e][0] == l)
+      {
+        body(e);
+      }
+    }
+  });
+}
+} // namespace ctk
+
+#endif

@@ -1,0 +1,268 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""CTSplines against SciPy and Matplotlib on the mesh their users have, in one run.
+
+The mesh: SciPy's Delaunay triangulation (qhull) of --points uniform random points of the unit
+square, in qhull's numbering, with the exact values and gradients of z = sin 3x cos 2y. On it:
+
+- ours:       vtkCloughTocherSplineFilter CTi (SciPy's element) and CTo (Matplotlib's), then
+              vtkSplineParameterProbe on the CTi spline, one probe object for every call (it
+              builds its spline and locator once and reuses them while the source is unchanged);
+- SciPy:      CloughTocher2DInterpolator(tri, z, maxiter=0) with .grad set to the exact gradients;
+- Matplotlib: CubicTriInterpolator(kind='user', dz=exact), its TriFinder built beforehand (not
+              counted).
+
+Printed: construction time (best of --repeat), probe time for --queries points in sorted order
+(rows of a square grid) and in random order (SciPy's random probe walks qhull's triangulation
+from point to point: it is timed on --scipy-random-queries points and scaled), and the peak
+resident memory each construction adds (Linux: /proc/self/clear_refs resets the high-water
+mark), against our spline's size. Ratios are the peer's time (or memory) over ours: > 1 means
+ours is faster (smaller). Everything runs in this process, back to back, on the same data;
+CTSPLINES_NUM_THREADS (default 1 here) sets our threads, NumPy's code is single-threaded.
+
+Usage: PYTHONPATH=<build>/lib/python3.11/dist-packages /usr/bin/python3 delaunay_comparison.py
+       [--points 500000] [--queries 1000000] [--repeat 3] [--quick]
+"""
+import argparse
+import os
+import sys
+import time
+import warnings
+
+os.environ.setdefault("CTSPLINES_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+import matplotlib.tri as mtri  # noqa: E402
+from scipy.interpolate import CloughTocher2DInterpolator  # noqa: E402
+from scipy.spatial import Delaunay  # noqa: E402
+
+import ctsplines  # noqa: E402
+from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray, vtk_to_numpy  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkPoints  # noqa: E402
+from vtkmodules.vtkCommonDataModel import vtkCellArray, vtkPolyData  # noqa: E402
+
+# Round-off on the random convex hull's sliver triangles reaches ~1e-8 (our CTo vs Matplotlib).
+AGREEMENT_TOL = 1e-6
+clock = time.perf_counter  # --clock cpu: time.process_time (one thread on a shared machine)
+
+
+def best(fn, repeat):
+    """(best wall-clock seconds, last result) of `repeat` calls."""
+    t, result = float("inf"), None
+    for _ in range(repeat):
+        t0 = clock()
+        result = fn()
+        t = min(t, clock() - t0)
+    return t, result
+
+
+def status_bytes(field):
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(field + ":"):
+                return 1024 * int(line.split()[1])
+    return -1
+
+
+def peak_extra(fn):
+    """(peak resident bytes fn adds over what was resident before it, fn's result); -1 bytes
+    when the high-water mark cannot be reset."""
+    try:
+        with open("/proc/self/clear_refs", "w") as f:
+            f.write("5")
+    except OSError:
+        return -1, fn()
+    before = status_bytes("VmRSS")
+    result = fn()
+    return status_bytes("VmHWM") - before, result
+
+
+def sine_cosine(uv):
+    x, y = uv[:, 0], uv[:, 1]
+    return np.sin(3 * x) * np.cos(2 * y), 3 * np.cos(3 * x) * np.cos(2 * y), -2 * np.sin(3 * x) * np.sin(2 * y)
+
+
+def vtk_array(a, name=None):
+    arr = numpy_to_vtk(np.ascontiguousarray(a), deep=True)
+    if name:
+        arr.SetName(name)
+    return arr
+
+
+def mesh_polydata(uv, z, zx, zy, triangles):
+    n = len(uv)
+    pd = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetData(vtk_array(np.column_stack([uv, z])))
+    pd.SetPoints(pts)
+    cells = vtkCellArray()
+    cells.SetData(
+        numpy_to_vtkIdTypeArray(np.arange(0, 3 * len(triangles) + 1, 3, dtype=np.int64), deep=True),
+        numpy_to_vtkIdTypeArray(np.ascontiguousarray(triangles, dtype=np.int64).ravel(), deep=True),
+    )
+    pd.SetPolys(cells)
+    zeros, ones = np.zeros(n), np.ones(n)
+    pd.GetPointData().AddArray(vtk_array(uv, "UV"))
+    pd.GetPointData().AddArray(vtk_array(np.column_stack([ones, zeros, zx]), "dFdu"))
+    pd.GetPointData().AddArray(vtk_array(np.column_stack([zeros, ones, zy]), "dFdv"))
+    return pd
+
+
+def query_polydata(q):
+    pd = vtkPolyData()
+    pts = vtkPoints()
+    pts.SetData(vtk_array(np.column_stack([q, np.zeros(len(q))])))
+    pd.SetPoints(pts)
+    return pd
+
+
+def build_ours(mesh, construction):
+    f = ctsplines.vtkCloughTocherSplineFilter()
+    f.SetInputData(mesh)
+    f.SetConstruction(construction)
+    f.SetSplitPointToBary()
+    f.SetBoundaryModeToMidpoint()
+    f.Update()
+    out = f.GetOutput()
+    if out.GetNumberOfCells() != 3 * mesh.GetNumberOfPolys():
+        raise RuntimeError("vtkCloughTocherSplineFilter failed")
+    return out
+
+
+class Probe:
+    """One vtkSplineParameterProbe for every call: the spline and its locator are built once."""
+
+    def __init__(self, spline):
+        self.probe = ctsplines.vtkSplineParameterProbe()
+        self.probe.SetSourceData(spline)
+
+    def __call__(self, q):
+        self.probe.SetInputData(query_polydata(q))
+        self.probe.Update()
+        out = self.probe.GetOutput()
+        z = vtk_to_numpy(out.GetPoints().GetData())[:, 2].copy()
+        z[vtk_to_numpy(out.GetPointData().GetArray("vtkValidPointMask")) == 0] = np.nan
+        return z
+
+
+def build_scipy(tri, z, zx, zy):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # maxiter=0: "did not converge"; .grad is replaced below
+        ip = CloughTocher2DInterpolator(tri, z, maxiter=0)
+    ip.grad = np.column_stack([zx, zy])[:, None, :].copy()
+    return ip
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--points", type=int, default=500000, help="random points (about 2x triangles)")
+    ap.add_argument("--queries", type=int, default=1000000, help="probe points, sorted and random")
+    ap.add_argument("--scipy-random-queries", type=int, default=20000,
+                    help="SciPy's random probe is timed on this many points and scaled")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
+                    help="cpu: this process' CPU time (honest with one thread on a shared machine)")
+    ap.add_argument("--quick", action="store_true", help="small sizes (smoke test)")
+    args = ap.parse_args()
+    global clock
+    if args.clock == "cpu":
+        clock = time.process_time
+    if args.quick:
+        args.points, args.queries, args.scipy_random_queries, args.repeat = 2000, 10000, 2000, 1
+
+    rng = np.random.default_rng(args.seed)
+    uv = rng.random((args.points, 2))
+    tri = Delaunay(uv)
+    triangles = tri.simplices.astype(np.int64)
+    z, zx, zy = sine_cosine(uv)
+    side = int(round(np.sqrt(args.queries)))
+    g = (np.arange(side) + 0.5) / side
+    sorted_q = np.column_stack([np.tile(g, side), np.repeat(g, side)])  # rows of a grid
+    random_q = rng.random((len(sorted_q), 2))
+    with open("/proc/loadavg") as f:
+        load = " ".join(f.read().split()[:3])
+    print(f"{len(uv)} random points, {len(triangles)} triangles (SciPy's Delaunay, qhull's order), "
+          f"z = sin 3x cos 2y with exact gradients; {len(sorted_q)} queries; best of {args.repeat}")
+    print(f"CTSplines threads {os.environ.get('CTSPLINES_NUM_THREADS')}, load average {load}, "
+          f"{'process CPU' if args.clock == 'cpu' else 'wall-clock'} time")
+
+    mesh = mesh_polydata(uv, z, zx, zy, triangles)
+    CTi, CTo = ctsplines.vtkCloughTocherSplineFilter.CTi, ctsplines.vtkCloughTocherSplineFilter.CTo
+
+    def mpl_build():
+        triang = mtri.Triangulation(uv[:, 0], uv[:, 1], triangles)
+        finder = triang.get_trifinder()
+        t0 = clock()
+        ip = mtri.CubicTriInterpolator(triang, z, kind="user", dz=(zx, zy), trifinder=finder)
+        return clock() - t0, ip
+
+    # Construction, alternating ours and theirs so that load changes hit both.
+    times = {k: float("inf") for k in ("CTi", "CTo", "scipy", "matplotlib")}
+    for _ in range(args.repeat):
+        for name, fn in (("CTi", lambda: build_ours(mesh, CTi)), ("CTo", lambda: build_ours(mesh, CTo)),
+                         ("scipy", lambda: build_scipy(tri, z, zx, zy))):
+            times[name] = min(times[name], best(fn, 1)[0])
+        times["matplotlib"] = min(times["matplotlib"], mpl_build()[0])
+    spline = build_ours(mesh, CTi)
+    spline_bytes = 1024 * spline.GetActualMemorySize()
+    memory = {
+        "CTi": peak_extra(lambda: build_ours(mesh, CTi))[0],
+        "CTo": peak_extra(lambda: build_ours(mesh, CTo))[0],
+        "scipy": peak_extra(lambda: build_scipy(tri, z, zx, zy))[0],
+        "matplotlib": peak_extra(lambda: mpl_build()[1])[0],
+    }
+
+    # Probes. Ours: the first call builds the spline's locator, later calls reuse it.
+    probe = Probe(spline)
+    t_first, _ = best(lambda: probe(sorted_q), 1)
+    t_sorted, ours_sorted = best(lambda: probe(sorted_q), args.repeat)
+    t_random, ours_random = best(lambda: probe(random_q), args.repeat)
+    scipy_ip = build_scipy(tri, z, zx, zy)
+    s_sorted, scipy_sorted = best(lambda: scipy_ip(sorted_q), args.repeat)
+    nr = min(args.scipy_random_queries, len(random_q))
+    s_random = best(lambda: scipy_ip(random_q[:nr]), 1)[0] * len(random_q) / nr
+    scipy_random = scipy_ip(random_q[:2000])
+    mpl_ip = mpl_build()[1]
+    m_sorted, mpl_sorted = best(lambda: np.ma.filled(mpl_ip(sorted_q[:, 0], sorted_q[:, 1]), np.nan),
+                                args.repeat)
+    m_random = best(lambda: mpl_ip(random_q[:, 0], random_q[:, 1]), args.repeat)[0]
+
+    def ratio(peer, ours):
+        return f"{peer / ours:8.2f}"
+
+    print(f"\n{'stage':<34} {'ours s':>9} {'scipy s':>9} {'mpl s':>9} {'scipy/ours':>11} {'mpl/ours':>9}")
+    rows = [
+        ("construction CTi", times["CTi"], times["scipy"], times["matplotlib"]),
+        ("construction CTo", times["CTo"], times["scipy"], times["matplotlib"]),
+        ("probe sorted (spline reused)", t_sorted, s_sorted, m_sorted),
+        ("probe sorted, first call", t_first, s_sorted, m_sorted),
+        ("probe random (spline reused)", t_random, s_random, m_random),
+    ]
+    for name, ours, s, m in rows:
+        print(f"{name:<34} {ours:9.4f} {s:9.4f} {m:9.4f} {ratio(s, ours):>11} {ratio(m, ours):>9}")
+    print(f"(SciPy's random probe: {nr} points timed, scaled to {len(random_q)})")
+    print(f"\npeak memory added by the construction [MB] (our CTi spline: {spline_bytes / 1e6:.0f} MB)")
+    for name in ("CTi", "CTo", "scipy", "matplotlib"):
+        print(f"  {name:<11} {memory[name] / 1e6:9.0f} MB   {memory[name] / spline_bytes:5.2f} x our spline"
+              f"   {memory[name] / max(memory['CTi'], 1):5.2f} x ours (CTi)")
+
+    # The same interpolants: SciPy's is CTi, Matplotlib's is CTo (to round-off).
+    failures = []
+    cto_probe = Probe(build_ours(mesh, CTo))
+    for what, a, b in (("CTi - scipy, sorted", ours_sorted, scipy_sorted),
+                       ("CTi - scipy, random", ours_random[:2000], scipy_random),
+                       ("CTo - matplotlib, sorted", cto_probe(sorted_q), mpl_sorted)):
+        d = float(np.nanmax(np.abs(a - b)))
+        ok = d <= AGREEMENT_TOL
+        print(f"  [{'ok' if ok else 'FAIL'}] {what}: max |difference| {d:.2e}")
+        if not ok:
+            failures.append(what)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
