@@ -109,6 +109,11 @@ def write_piece(path, uv, z, zx, zy, triangles, ghost):
     ug.GetPointData().AddArray(array(uv[used], "UV"))
     ug.GetPointData().AddArray(array(np.column_stack([ones, zeros, zx[used]]), "dFdu"))
     ug.GetPointData().AddArray(array(np.column_stack([zeros, ones, zy[used]]), "dFdv"))
+    # D3 merges the points it receives by global id, else by position with a tolerance that
+    # fuses close random points into degenerate triangles.
+    ids = numpy_to_vtkIdTypeArray(used.astype(np.int64), deep=True)
+    ids.SetName("GlobalPointIds")
+    ug.GetPointData().SetGlobalIds(ids)
     if ghost is not None:
         ug.GetCellData().AddArray(array(ghost.astype(np.uint8), "vtkGhostType"))
     writer = vtkXMLUnstructuredGridWriter()
@@ -122,12 +127,13 @@ def write_piece(path, uv, z, zx, zy, triangles, ghost):
 
 
 PVTU = """<?xml version="1.0"?>
-<VTKFile type="PUnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+<VTKFile type="PUnstructuredGrid" version="1.0" byte_order="LittleEndian">
   <PUnstructuredGrid GhostLevel="{levels}">
-    <PPointData>
+    <PPointData GlobalIds="GlobalPointIds">
       <PDataArray type="Float64" Name="UV" NumberOfComponents="2"/>
       <PDataArray type="Float64" Name="dFdu" NumberOfComponents="3"/>
       <PDataArray type="Float64" Name="dFdv" NumberOfComponents="3"/>
+      <PDataArray type="Int64" Name="GlobalPointIds"/>
     </PPointData>
     <PCellData>
       <PDataArray type="UInt8" Name="vtkGhostType"/>
