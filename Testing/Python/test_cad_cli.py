@@ -9,6 +9,7 @@ import re
 import shutil
 import unittest
 
+from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet
 from vtkmodules.vtkIOXML import vtkXMLMultiBlockDataReader, vtkXMLUnstructuredGridReader
 
 import ctsplines
@@ -137,6 +138,32 @@ class CADCommandLineTest(CommandLineCase):
         self.cli("convert", self.box(), "--tolerance", "1e-2")
         for name in ("box_with_hole.vtm", "box_with_hole.vtu"):
             self.assertTrue(os.path.isfile(self.path(name)), os.listdir(self.dir))
+
+    def test_outputs_are_raw_lz4_and_the_index_is_vtks(self):
+        # The outputs' data is raw binary, LZ4 compressed (zlib and base64 took longer than a
+        # small model's conversion); the index is vtkXMLMultiBlockDataWriter's: one named
+        # DataSet per face, its file in OUT/, the model's field data.
+        text = self.convert_and_check(self.box(), 1e-2)
+        for name in ("out.vtu", os.path.join("out", "out_0.vtu")):
+            with open(self.path(name), "rb") as f:
+                content = f.read()
+            self.assertIn(b'compressor="vtkLZ4DataCompressor"', content, name)
+            self.assertIn(b'<AppendedData encoding="raw">', content, name)
+        reader = vtkXMLMultiBlockDataReader()
+        reader.SetFileName(self.path("out.vtm"))
+        reader.Update()
+        splines = reader.GetOutput()
+        faces = int(re.search(r"\((\d+) faces", text).group(1))
+        with open(self.path("out.vtm"), encoding="utf-8") as f:
+            files = re.findall(r'<DataSet index="(\d+)" name="[^"]*" file="out/out_(\d+)\.vtu"/>',
+                               f.read())
+        self.assertEqual(files, [(str(i), str(i)) for i in range(faces)])
+        for i in range(faces):
+            name = splines.GetBlock(i).GetFieldData().GetAbstractArray("FaceName").GetValue(0)
+            self.assertEqual(splines.GetMetaData(i).Get(vtkCompositeDataSet.NAME()), name)
+        diagonal = float(re.search(r"of the diagonal (\S+)\)", text).group(1))
+        self.assertAlmostEqual(field(splines, "Diagonal"), diagonal, delta=1e-5 * diagonal)
+        self.assertEqual(splines.GetFieldData().GetArray("StageTimes").GetNumberOfTuples(), 5)
 
     def test_component8(self):
         step = model("component8.step")

@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The Python package: interoperation with `import vtk`, numpy helpers, facts measured through
 Python (quadratic precision, interpolation), errors surfacing in Python."""
+import subprocess
+import sys
 import unittest
 
 import numpy as np
@@ -34,6 +36,16 @@ class PackageTest(unittest.TestCase):
         f.SetInputData(mesh)
         f.Update()
         return f.GetOutput()
+
+    def test_import_leaves_numpy_alone(self):
+        # numpy (half of the import time) loads with the helpers that use it, not with the
+        # package: the command line and the filters do without.
+        code = ("import sys, ctsplines; assert 'numpy' not in sys.modules, 'numpy imported'; "
+                "ctsplines.functional_mesh; assert 'numpy' in sys.modules")
+        subprocess.run([sys.executable, "-c", code], check=True)
+        self.assertIs(ctsplines.mesh_from_arrays, arrays.mesh_from_arrays)
+        with self.assertRaises(AttributeError):
+            ctsplines.no_such_name  # noqa: B018
 
     def test_interoperates_with_vtk(self):
         xy, tris = grid(3)

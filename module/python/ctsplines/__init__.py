@@ -8,6 +8,7 @@ The wrapped classes come from the C++ module CTSplines::Filters and, when the bu
 OpenCASCADE, CTSplines::IOCAD (vtkCADFaceSampler, vtkWatertightSplineStitcher; check with
 ``ctsplines.HAS_IOCAD``).
 """
+import importlib as _importlib
 import importlib.util as _importlib_util
 import os as _os
 
@@ -18,7 +19,6 @@ from vtkmodules import vtkCommonDataModel as _vtkCommonDataModel  # noqa: F401
 from vtkmodules import vtkCommonExecutionModel as _vtkCommonExecutionModel  # noqa: F401
 
 from .CTSplinesFilters import *  # noqa: F401,F403
-from .arrays import functional_mesh, mesh_from_arrays  # noqa: F401
 
 # CTSplinesIOCAD exists only in builds with OpenCASCADE. Looking for the module rather than
 # catching ImportError keeps a broken one (a missing OCCT library) a visible error.
@@ -40,5 +40,19 @@ def _use_threads():
 
 
 _use_threads()
+
+# numpy's helpers (arrays.py) load on first use: numpy is half of the package's import time, and
+# neither the command line nor the filters need it.
+_LAZY = {"functional_mesh": "arrays", "mesh_from_arrays": "arrays"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        return getattr(_importlib.import_module("." + _LAZY[name], __name__), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))
 
 __version__ = "0.1.0"
