@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkWatertightSplineStitcher.h"
 
+#include "CADArrayNames.h"
 #include "CADFaceMesher.h"
 #include "CADStitchedConstruction.h"
 
@@ -267,7 +268,7 @@ int vtkWatertightSplineStitcher::RequestData(
   // The sampler refines the faces for one spline (without IM steps); another one may exceed its
   // tolerance.
   vtkFieldData* sampled = input->GetFieldData();
-  vtkDataArray* refined = sampled->GetArray("RefinedConstruction");
+  vtkDataArray* refined = sampled->GetArray(ctcad::names::RefinedConstruction);
   if (refined && refined->GetTuple1(0) >= 0)
   {
     auto value = [&](const char* name, int fallback) {
@@ -276,8 +277,8 @@ int vtkWatertightSplineStitcher::RequestData(
     };
     ctk::SplineOptions theirs;
     theirs.Method = static_cast<ctk::Construction>(refined->GetTuple1(0));
-    theirs.SplitPoint = static_cast<ctk::SplitPointRule>(value("RefinedSplitPoint", this->SplitPoint));
-    theirs.Boundary = static_cast<ctk::BoundaryMode>(value("RefinedBoundaryMode", this->BoundaryMode));
+    theirs.SplitPoint = static_cast<ctk::SplitPointRule>(value(ctcad::names::RefinedSplitPoint, this->SplitPoint));
+    theirs.Boundary = static_cast<ctk::BoundaryMode>(value(ctcad::names::RefinedBoundaryMode, this->BoundaryMode));
     if (theirs.Method != options.Method || theirs.SplitPoint != options.SplitPoint ||
       ctk::EffectiveBoundaryMode(theirs) != ctk::EffectiveBoundaryMode(options))
     {
@@ -307,7 +308,8 @@ int vtkWatertightSplineStitcher::RequestData(
       return 0;
     }
     // vtkCADFaceSampler's arrays (the spline filter checks the sizes of those it reads).
-    for (const char* name : { "GlobalNodeId", "UV", "dFdu", "dFdv", "StitchDFdu", "StitchDFdv" })
+    for (const char* name : { ctcad::names::GlobalNodeId, ctcad::names::UV, ctcad::names::Du, ctcad::names::Dv, ctcad::names::StitchDu,
+           ctcad::names::StitchDv })
     {
       if (!block->GetPointData()->GetArray(name))
       {
@@ -316,7 +318,8 @@ int vtkWatertightSplineStitcher::RequestData(
         return 0;
       }
     }
-    for (const char* name : { "EdgeCurvePoints", "StitchEdgeGradients", "BRepEdgeId" })
+    for (const char* name : { ctcad::names::EdgeCurvePoints, ctcad::names::StitchEdgeGradients,
+           ctcad::names::BRepEdgeId })
     {
       if (!block->GetCellData()->GetArray(name))
       {
@@ -325,13 +328,13 @@ int vtkWatertightSplineStitcher::RequestData(
         return 0;
       }
     }
-    fs.Gid = vtkIdTypeArray::SafeDownCast(block->GetPointData()->GetArray("GlobalNodeId"));
+    fs.Gid = vtkIdTypeArray::SafeDownCast(block->GetPointData()->GetArray(ctcad::names::GlobalNodeId));
     if (!fs.Gid)
     {
       vtkErrorMacro(<< "block " << f << ": point data array 'GlobalNodeId' is not a vtkIdTypeArray");
       return 0;
     }
-    fs.BRepEdge = block->GetCellData()->GetArray("BRepEdgeId");
+    fs.BRepEdge = block->GetCellData()->GetArray(ctcad::names::BRepEdgeId);
     if (fs.BRepEdge->GetNumberOfComponents() != 3 ||
       fs.BRepEdge->GetNumberOfTuples() != block->GetNumberOfCells())
     {
@@ -341,11 +344,11 @@ int vtkWatertightSplineStitcher::RequestData(
                     << block->GetNumberOfCells() << " of 3");
       return 0;
     }
-    vtkDataArray* curve = block->GetCellData()->GetArray("EdgeCurvePoints");
-    vtkDataArray* du = block->GetPointData()->GetArray("dFdu");
-    vtkDataArray* dv = block->GetPointData()->GetArray("dFdv");
-    fs.UV = block->GetPointData()->GetArray("UV");
-    fs.Tangent = block->GetCellData()->GetArray("TangentInterface");
+    vtkDataArray* curve = block->GetCellData()->GetArray(ctcad::names::EdgeCurvePoints);
+    vtkDataArray* du = block->GetPointData()->GetArray(ctcad::names::Du);
+    vtkDataArray* dv = block->GetPointData()->GetArray(ctcad::names::Dv);
+    fs.UV = block->GetPointData()->GetArray(ctcad::names::UV);
+    fs.Tangent = block->GetCellData()->GetArray(ctcad::names::TangentInterface);
     auto start = Clock::now();
     vtkNew<vtkCloughTocherSplineFilter> ct;
     ct->SetInputData(block);
@@ -354,10 +357,10 @@ int vtkWatertightSplineStitcher::RequestData(
     ct->SetBoundaryMode(this->BoundaryMode);
     ct->SetIterations(this->Iterations);
     // Stitching: every face follows the shared B-rep edge cubics on its boundary.
-    ct->SetBoundaryCurvePointsArrayName("EdgeCurvePoints");
-    ct->SetDuArrayName("StitchDFdu");
-    ct->SetDvArrayName("StitchDFdv");
-    ct->SetEdgeGradientsArrayName("StitchEdgeGradients");
+    ct->SetBoundaryCurvePointsArrayName(ctcad::names::EdgeCurvePoints);
+    ct->SetDuArrayName(ctcad::names::StitchDu);
+    ct->SetDvArrayName(ctcad::names::StitchDv);
+    ct->SetEdgeGradientsArrayName(ctcad::names::StitchEdgeGradients);
     // The face's own error (e.g. a degenerate parameter triangle) goes into this filter's message.
     std::string faceError;
     vtkNew<vtkCallbackCommand> onError;
