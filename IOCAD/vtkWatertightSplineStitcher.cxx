@@ -94,8 +94,9 @@ void WarnIfRefinedForAnother(
   }
   else if (options.Iterations > 0)
   {
-    vtkWarningWithObjectMacro(self, << "the faces were refined for the spline without IM steps; with "
-      << options.Iterations << " the deviation may exceed the sampler's tolerance");
+    vtkWarningWithObjectMacro(self,
+      << "the faces were refined for the spline without IM steps; with " << options.Iterations
+      << " the deviation may exceed the sampler's tolerance");
   }
 }
 
@@ -143,14 +144,14 @@ bool MeasureDeviation(vtkWatertightSplineStitcher* self,
   {
     return true;
   }
-  const ctcad::FaceSurface surface = [source](int f, double s, double t, double* P, double* Ds,
-                                       double* Dt, std::string& failure) {
+  const ctcad::FaceSurface surface = [source](int f, double s, double t, double* P,
+                                       double* Ds, double* Dt, std::string& failure) {
     return source->EvaluateSurface(f, s, t, P, Ds, Dt, failure);
   };
   ctcad::Deviation all;
   std::string error;
-  if (!ctcad::MeasureDeviation(surface, self->GetDeviationLevel(), self->GetDeviationSamples(), sampled,
-        splines, perFace, all, error))
+  if (!ctcad::MeasureDeviation(surface, self->GetDeviationLevel(), self->GetDeviationSamples(),
+        sampled, splines, perFace, all, error))
   {
     vtkErrorWithObjectMacro(self, << error);
     return false;
@@ -182,11 +183,12 @@ void FillFaceBlocks(vtkWatertightSplineStitcher* self, vtkMultiBlockDataSet* inp
       spline, splines[f].Topology, sampled[f].Input, ctcad::names::UV, grid);
     vtkFieldData* fd = grid->GetFieldData();
     fd->PassData(input->GetBlock(f)->GetFieldData()); // the sampler's face data first
-    AddFieldString(fd, "Construction", vtkCloughTocherSplineFilter::GetConstructionName(self->GetConstruction()));
-    AddFieldString(fd, "SplitPoint", vtkCloughTocherSplineFilter::GetSplitPointName(self->GetSplitPoint()));
-    AddFieldString(fd, "BoundaryMode", vtkCloughTocherSplineFilter::GetBoundaryModeName(self->GetBoundaryMode()));
-    AddFieldString(fd, "DerivativeEstimation", vtkCloughTocherSplineFilter::GetDerivativeEstimationName(
-      vtkCloughTocherSplineFilter::NoEstimation));
+    using Filter = vtkCloughTocherSplineFilter;
+    AddFieldString(fd, "Construction", Filter::GetConstructionName(self->GetConstruction()));
+    AddFieldString(fd, "SplitPoint", Filter::GetSplitPointName(self->GetSplitPoint()));
+    AddFieldString(fd, "BoundaryMode", Filter::GetBoundaryModeName(self->GetBoundaryMode()));
+    AddFieldString(fd, "DerivativeEstimation",
+      Filter::GetDerivativeEstimationName(Filter::NoEstimation));
     vtkNew<vtkIntArray> iterations;
     iterations->SetName("Iterations");
     iterations->InsertNextValue(self->GetIterations());
