@@ -134,6 +134,17 @@ void StitchFaces(const std::vector<SampledFace>& faces, const std::vector<FaceSp
   StitchedSurface& surface)
 {
   surface = StitchedSurface();
+  std::size_t points = 0, cells = 0;
+  for (const FaceSpline& fs : splines)
+  {
+    points += fs.Spline.ControlPoints.size();
+    cells += 3 * static_cast<std::size_t>(fs.Spline.Layout.NumberOfTriangles);
+  }
+  surface.Points.reserve(points);
+  surface.Cells.reserve(10 * cells);
+  surface.FaceIds.reserve(cells);
+  surface.MacroTriangles.reserve(cells);
+  surface.MicroTriangles.reserve(cells);
   MergeTables tables;
   for (std::size_t f = 0; f < faces.size(); ++f)
   {
