@@ -3,6 +3,7 @@
 
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
+#include "CTSplinesSplineGrid.h"
 #include "BezierExtraction.h"
 #include "CloughTocherSpline.h"
 #include "DerivativeEstimation.h"
@@ -454,6 +455,10 @@ private:
   }
 };
 
+} // namespace
+
+namespace ctsplines
+{
 // 3. The output: shared control points with their domain points, three Bézier cells per
 // triangle with MacroTriangleId and MicroTriangleId. Consumes the spline's points.
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
@@ -517,7 +522,10 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   output->GetCellData()->AddArray(macroIds);
   output->GetCellData()->AddArray(microIds);
 }
+} // namespace ctsplines
 
+namespace
+{
 // Distributed runs: global ids of the macro-triangles, then the micro-triangles of the ghost
 // triangles dropped.
 void FinishPiece(vtkUnstructuredGrid* output, const std::vector<vtkIdType>& globalIds,
@@ -637,7 +645,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   }
 
   // 3. Fill the output.
-  FillSplineGrid(spline, topology, in, this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output);
+  ctsplines::FillSplineGrid(spline, topology, in, this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));

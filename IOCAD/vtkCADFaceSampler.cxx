@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkCADFaceSampler.h"
 
+#include "CADArrayNames.h"
 #include "CADStitchedConstruction.h"
 
 #include "CADBRepSampling.h"
@@ -272,13 +273,13 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
   vtkNew<vtkPoints> points;
   points->SetDataTypeToDouble();
   points->SetNumberOfPoints(nP);
-  auto uv = NewArray("UV", 2, nP);
-  auto du = NewArray("dFdu", 3, nP);
-  auto dv = NewArray("dFdv", 3, nP);
-  auto stitchDu = NewArray("StitchDFdu", 3, nP);
-  auto stitchDv = NewArray("StitchDFdv", 3, nP);
+  auto uv = NewArray(ctcad::names::UV, 2, nP);
+  auto du = NewArray(ctcad::names::Du, 3, nP);
+  auto dv = NewArray(ctcad::names::Dv, 3, nP);
+  auto stitchDu = NewArray(ctcad::names::StitchDu, 3, nP);
+  auto stitchDv = NewArray(ctcad::names::StitchDv, 3, nP);
   vtkNew<vtkIdTypeArray> gid;
-  gid->SetName("GlobalNodeId");
+  gid->SetName(ctcad::names::GlobalNodeId);
   gid->SetNumberOfTuples(nP);
   for (vtkIdType p = 0; p < nP; ++p)
   {
@@ -292,15 +293,15 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
     gid->SetValue(p, mesh.GlobalNode[p] >= 0 ? mesh.GlobalNode[p] : model->AddNode(mesh.F[p]));
   }
   vtkNew<vtkCellArray> polys;
-  auto edgeGradients = NewArray("EdgeGradients", 18, nT);
-  auto stitchGradients = NewArray("StitchEdgeGradients", 18, nT);
+  auto edgeGradients = NewArray(ctcad::names::EdgeGradients, 18, nT);
+  auto stitchGradients = NewArray(ctcad::names::StitchEdgeGradients, 18, nT);
   vtkNew<vtkSignedCharArray> tangent;
-  tangent->SetName("TangentInterface");
+  tangent->SetName(ctcad::names::TangentInterface);
   tangent->SetNumberOfComponents(3);
   tangent->SetNumberOfTuples(nT);
-  auto curvePoints = NewArray("EdgeCurvePoints", 18, nT);
+  auto curvePoints = NewArray(ctcad::names::EdgeCurvePoints, 18, nT);
   vtkNew<vtkIdTypeArray> edgeIds;
-  edgeIds->SetName("BRepEdgeId");
+  edgeIds->SetName(ctcad::names::BRepEdgeId);
   edgeIds->SetNumberOfComponents(3);
   edgeIds->SetNumberOfTuples(nT);
   // The exact mid-edge gradients: the only calls into OpenCASCADE here.
@@ -401,9 +402,9 @@ void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double face
   AddIntField(fd, "NumberOfG1Nodes", changes.SmoothNodes);
   AddIntField(fd, "NumberOfG1Spans", changes.SmoothSpans);
   // What the faces were refined for (vtkWatertightSplineStitcher compares with its own).
-  AddIntField(fd, "RefinedConstruction", this->RefineStitchedSpline ? this->Construction : -1);
-  AddIntField(fd, "RefinedSplitPoint", this->SplitPoint);
-  AddIntField(fd, "RefinedBoundaryMode", this->BoundaryMode);
+  AddIntField(fd, ctcad::names::RefinedConstruction, this->RefineStitchedSpline ? this->Construction : -1);
+  AddIntField(fd, ctcad::names::RefinedSplitPoint, this->SplitPoint);
+  AddIntField(fd, ctcad::names::RefinedBoundaryMode, this->BoundaryMode);
   vtkNew<vtkDoubleArray> times;
   times->SetName("StageTimes");
   const ctcad::StageTimes& st = model->Times();

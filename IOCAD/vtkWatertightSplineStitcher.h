@@ -4,11 +4,12 @@
  * @brief   Converts every face of a vtkCADFaceSampler output into a cubic Clough-Tocher spline
  *          and stitches the faces with C0 continuity.
  *
- * Study section 4: each face is converted on its own by vtkCloughTocherSplineFilter with its
- * boundary macro-edges following the B-rep edges' cubic Hermite spans (the sampler's
- * `EdgeCurvePoints`, through the filter's BoundaryCurvePointsArrayName): vertices V are the shared
- * edge samples, boundary T points the Hermite inner points, and Step 1's inner ring, the boundary
- * rule and Step 3 follow them, so each macro-patch stays C1 inside. Both sides of an interface
+ * Study section 4: each face is converted on its own (by the kernel, faces in parallel: the
+ * VTK-free stages CADFaceSplines, CADStitch and CADMeasure, which this class only feeds and
+ * reads) with its boundary macro-edges following the B-rep edges' cubic Hermite spans (the
+ * sampler's `EdgeCurvePoints` as the construction's boundary curve points): vertices V are the
+ * shared edge samples, boundary T points the Hermite inner points, and Step 1's inner ring, the
+ * boundary rule and Step 3 follow them, so each macro-patch stays C1 inside. Both sides of an interface
  * then carry the same doubles: C0 without gaps. C1 is lost across the interface (G1 where the
  * sampler's RestoreG1 gave tangent interfaces one tangent plane) and, by the mismatch between the
  * edge cubic and the face's own derivatives at a boundary vertex (O(h^2) where the pcurves are
@@ -18,7 +19,8 @@
  * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, BRepEdgeId, TangentInterface).
  * The spline reads the Stitch* arrays; the faces should have been refined for this Construction,
  * SplitPoint and BoundaryMode (the sampler's; a warning says when not).
- * Output port 0: vtkMultiBlockDataSet of per-face splines (vtkCloughTocherSplineFilter's output).
+ * Output port 0: vtkMultiBlockDataSet of per-face splines (as vtkCloughTocherSplineFilter's
+ * output, after the sampler's field data of the face).
  * Output port 1: one vtkUnstructuredGrid of all faces where interface control points are single
  * points (vertices merged by GlobalNodeId, boundary edge points by B-rep edge and end nodes,
  * never by coordinates); cell data `FaceId`,

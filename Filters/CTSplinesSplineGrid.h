@@ -1,0 +1,22 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// A kernel spline as VTK cells (private header): vtkCloughTocherSplineFilter's output grid, also
+// the per-face output of the CAD stitcher, which builds its faces' splines with the kernel.
+#ifndef CTSplinesSplineGrid_h
+#define CTSplinesSplineGrid_h
+
+#include "CloughTocherSpline.h"
+#include "SplineInput.h"
+
+class vtkUnstructuredGrid;
+
+namespace ctsplines
+{
+/// Fills output with the spline built on in's triangles: its control points (moved out of
+/// spline, which is left without points), their domain points as point data uvName, three
+/// VTK_BEZIER_TRIANGLE cells per triangle (3 t + k: micro-triangle k of triangle t) with cell
+/// data MacroTriangleId and MicroTriangleId.
+void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
+  const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output);
+} // namespace ctsplines
+
+#endif

@@ -1,0 +1,256 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The stitcher's VTK-free stages (CADFaceSplines, CADStitch, CADMeasure) on OCCT-built shapes
+// sampled by vtkCADFaceSampler: facts each stage promises, stage by stage.
+#include "CADFaceSplines.h"
+#include "CADMeasure.h"
+#include "CADSampledFace.h"
+#include "CADStitch.h"
+
+#include "vtkCADFaceSampler.h"
+
+#include "CADTestShapes.h"
+
+#include "vtkMultiBlockDataSet.h"
+#include "vtkNew.h"
+
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <STEPControl_Writer.hxx>
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace
+{
+/// A shape written to STEP and sampled at `tolerance`, its blocks read as the stages' input.
+struct Sampled
+{
+  vtkNew<vtkCADFaceSampler> Sampler;
+  std::vector<ctcad::SampledFace> Faces;
+  ctk::SplineOptions Options; // KaG, the stitcher's default
+
+  void Run(const std::string& name, const TopoDS_Shape& shape, double tolerance = 1e-4)
+  {
+    ASSERT_FALSE(shape.IsNull()) << name;
+    const std::string path = ::testing::TempDir() + "/ctsplines_stages_" + name + ".step";
+    STEPControl_Writer writer;
+    writer.Transfer(shape, STEPControl_AsIs);
+    ASSERT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);
+    this->Options.Method = ctk::Construction::KaG;
+    this->Sampler->SetFileName(path.c_str());
+    this->Sampler->SetTolerance(tolerance);
+    this->Sampler->SetConstruction(static_cast<int>(this->Options.Method));
+    this->Sampler->Update();
+    vtkMultiBlockDataSet* blocks = this->Sampler->GetOutput();
+    ASSERT_GT(blocks->GetNumberOfBlocks(), 0u) << name;
+    this->Faces.resize(blocks->GetNumberOfBlocks());
+    for (unsigned int f = 0; f < blocks->GetNumberOfBlocks(); ++f)
+    {
+      ASSERT_EQ(ctcad::ReadSampledFace(blocks->GetBlock(f), f, this->Options, this->Faces[f]), "")
+        << name;
+    }
+  }
+
+  ctcad::FaceSurface Surface()
+  {
+    vtkCADFaceSampler* s = this->Sampler;
+    return [s](int f, double u, double v, double* P, double* Du, double* Dv, std::string& e) {
+      return s->EvaluateSurface(f, u, v, P, Du, Dv, e);
+    };
+  }
+};
+
+/// Four threads taking the faces from the last: another order and other threads than both
+/// the serial loop and ForEachFaceInParallel.
+void ForEachFaceBackwardsOnFourThreads(int n, const std::function<void(int)>& body)
+{
+  std::vector<std::thread> threads;
+  for (int i = 0; i < 4; ++i)
+  {
+    threads.emplace_back([&, i]() {
+      for (int f = n - 1 - i; f >= 0; f -= 4)
+      {
+        body(f);
+      }
+    });
+  }
+  for (std::thread& t : threads)
+  {
+    t.join();
+  }
+}
+
+template <typename V>
+bool SameBits(const std::vector<V>& a, const std::vector<V>& b)
+{
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0;
+}
+
+std::vector<ctcad::FaceSpline> Build(const Sampled& s, const ctcad::FaceRunner& forEach = nullptr)
+{
+  std::vector<ctcad::FaceSpline> splines;
+  std::string error;
+  EXPECT_TRUE(ctcad::BuildFaceSplines(s.Faces, s.Options, splines, error, forEach)) << error;
+  return splines;
+}
+} // namespace
+
+// The spline of every face interpolates its samples and follows the shared edge cubics on its
+// boundary; the faces built in parallel are the serial ones, bit for bit.
+TEST(CADStages, FaceSplinesFollowTheEdgesAndAreTheSameInParallel)
+{
+  Sampled s;
+  s.Run("filleted_box", ctsplines_test::FilletedBox(0.2, true));
+  ASSERT_GE(s.Faces.size(), 20u);
+  const std::vector<ctcad::FaceSpline> serial = Build(s, ctcad::ForEachFaceSerially);
+  const std::vector<ctcad::FaceSpline> parallel = Build(s);
+  const std::vector<ctcad::FaceSpline> backwards = Build(s, ForEachFaceBackwardsOnFourThreads);
+  ASSERT_EQ(serial.size(), s.Faces.size());
+  ctk::Id boundarySpans = 0;
+  for (std::size_t f = 0; f < s.Faces.size(); ++f)
+  {
+    const ctk::CubicSpline& spline = serial[f].Spline;
+    for (const auto* other : { &parallel[f].Spline, &backwards[f].Spline })
+    {
+      EXPECT_TRUE(SameBits(spline.ControlPoints, other->ControlPoints)) << "face " << f;
+      EXPECT_TRUE(SameBits(spline.DomainPoints, other->DomainPoints)) << "face " << f;
+      EXPECT_TRUE(SameBits(spline.SplitTau, other->SplitTau)) << "face " << f;
+    }
+    const ctk::SplineInput& in = s.Faces[f].Input;
+    for (ctk::Id v = 0; v < in.NumberOfVertices(); ++v)
+    {
+      ASSERT_EQ(spline.ControlPoints[v], ctk::Vec3(in.F[3 * v], in.F[3 * v + 1], in.F[3 * v + 2]));
+    }
+    const ctk::MeshTopology& topo = serial[f].Topology;
+    for (ctk::Id t = 0; t < in.NumberOfTriangles(); ++t)
+    {
+      for (int l = 0; l < 3; ++l)
+      {
+        const double* c = in.BoundaryCurvePoints.data() + 18 * t + 6 * l;
+        if (topo.Neighbor(t, l) >= 0 || std::isnan(c[0]))
+        {
+          continue;
+        }
+        const ctk::Id a = in.Triangles[3 * t + l];
+        const ctk::Id e = topo.TriangleEdges[t][l];
+        EXPECT_EQ(
+          spline.ControlPoints[spline.Layout.EdgePoint(topo, e, a)], ctk::Vec3(c[0], c[1], c[2]));
+        ++boundarySpans;
+      }
+    }
+  }
+  EXPECT_GT(boundarySpans, 0);
+}
+
+// A face the kernel cannot build is named; with two, the lowest, whatever the loop's order.
+TEST(CADStages, FaceSplineFailureNamesTheLowestFace)
+{
+  Sampled s;
+  s.Run("box_failure", BRepPrimAPI_MakeBox(2.0, 1.0, 0.5).Shape());
+  ASSERT_EQ(s.Faces.size(), 6u);
+  for (const int f : { 4, 2 })
+  {
+    std::vector<double>& uv = s.Faces[f].Input.UV;
+    const ctk::Id* tri = s.Faces[f].Input.Triangles.data();
+    uv[2 * tri[1]] = uv[2 * tri[0]]; // triangle 0 loses its area in the parameter plane
+    uv[2 * tri[1] + 1] = uv[2 * tri[0] + 1];
+  }
+  std::vector<ctcad::FaceSpline> splines;
+  for (const ctcad::FaceRunner& loop : { ctcad::FaceRunner(ctcad::ForEachFaceSerially),
+         ctcad::FaceRunner(ForEachFaceBackwardsOnFourThreads) })
+  {
+    std::string error;
+    EXPECT_FALSE(ctcad::BuildFaceSplines(s.Faces, s.Options, splines, error, loop));
+    EXPECT_EQ(error.rfind("face 2: spline construction failed: ", 0), 0u) << error;
+  }
+}
+
+// Closed shapes stitch watertight: no free or non-manifold macro-edge, the two sides of every
+// interface the same cubic exactly; one face left out opens the surface along its edges.
+TEST(CADStages, StitchClosesABoxACylinderAndASphere)
+{
+  const std::pair<const char*, TopoDS_Shape> shapes[] = {
+    { "box", BRepPrimAPI_MakeBox(gp_Pnt(-1, -0.5, 0), 2.0, 1.0, 0.5).Shape() },
+    { "cylinder",
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 1.0, 2.0).Shape() },
+    { "sphere", BRepPrimAPI_MakeSphere(gp_Pnt(0.1, -0.2, 0.3), 1.0).Shape() } };
+  for (const auto& shape : shapes)
+  {
+    Sampled s;
+    s.Run(std::string("stitch_") + shape.first, shape.second);
+    const std::vector<ctcad::FaceSpline> splines = Build(s);
+    ctcad::StitchedSurface surface;
+    ctcad::StitchFaces(s.Faces, splines, surface);
+    EXPECT_EQ(surface.FreeEdges, 0) << shape.first;
+    EXPECT_EQ(surface.NonManifoldEdges, 0) << shape.first;
+    ctk::Id points = 0, macroTriangles = 0;
+    for (const ctcad::FaceSpline& fs : splines)
+    {
+      points += static_cast<ctk::Id>(fs.Spline.ControlPoints.size());
+      macroTriangles += fs.Spline.Layout.NumberOfTriangles;
+    }
+    EXPECT_LT(static_cast<ctk::Id>(surface.Points.size()), points) << "shared points merged";
+    EXPECT_EQ(surface.NumberOfMacroTriangles, macroTriangles);
+    EXPECT_EQ(static_cast<ctk::Id>(surface.Cells.size()), 30 * macroTriangles);
+    const ctcad::InterfaceMeasures m = ctcad::MeasureInterfaces(s.Faces, splines);
+    EXPECT_GT(m.G1[0].Count + m.G1[1].Count, 0) << shape.first;
+    EXPECT_EQ(m.MaxC0Gap, 0.0) << shape.first;
+    if (s.Faces.size() > 1)
+    {
+      std::vector<ctcad::SampledFace> open(s.Faces.begin() + 1, s.Faces.end());
+      std::vector<ctcad::FaceSpline> openSplines(splines.begin() + 1, splines.end());
+      ctcad::StitchFaces(open, openSplines, surface);
+      EXPECT_GT(surface.FreeEdges, 0) << shape.first << " without its first face";
+      EXPECT_EQ(surface.NonManifoldEdges, 0) << shape.first << " without its first face";
+    }
+  }
+}
+
+// The box's faces meet at right angles; the filleted box's tangentially, made G1 by the
+// sampler; the stitched faces lie within the tolerance of the CAD surfaces, measured the same
+// whatever the loop over the faces.
+TEST(CADStages, MeasureAnglesAndDeviation)
+{
+  Sampled box;
+  box.Run("measure_box", BRepPrimAPI_MakeBox(gp_Pnt(-1, -0.5, 0), 2.0, 1.0, 0.5).Shape());
+  const std::vector<ctcad::FaceSpline> boxSplines = Build(box);
+  const ctcad::InterfaceMeasures right = ctcad::MeasureInterfaces(box.Faces, boxSplines);
+  EXPECT_EQ(right.G1[1].Count, 0);
+  EXPECT_NEAR(right.G1[0].Max, 90.0, 1e-9);
+  EXPECT_NEAR(right.G1[0].Sum / right.G1[0].Count, 90.0, 1e-9);
+  for (std::size_t f = 0; f < box.Faces.size(); ++f)
+  {
+    EXPECT_LT(ctcad::GapBeforeStitching(box.Faces[f], boxSplines[f]), 1e-12) << "planes, lines";
+  }
+
+  Sampled s;
+  const double tolerance = 1e-4;
+  s.Run("measure_filleted_box", ctsplines_test::FilletedBox(0.2, true), tolerance);
+  const std::vector<ctcad::FaceSpline> splines = Build(s);
+  const ctcad::InterfaceMeasures m = ctcad::MeasureInterfaces(s.Faces, splines);
+  EXPECT_GT(m.G1[1].Count, 0) << "the fillets' tangent interfaces";
+  EXPECT_LE(m.G1[1].Max, 0.1);
+  EXPECT_EQ(m.MaxC0Gap, 0.0);
+  std::vector<ctcad::Deviation> perFace, serialPerFace;
+  ctcad::Deviation all, serialAll;
+  std::string error;
+  ASSERT_TRUE(ctcad::MeasureDeviation(s.Surface(), 6, 16, s.Faces, splines, perFace, all, error))
+    << error;
+  ASSERT_TRUE(ctcad::MeasureDeviation(s.Surface(), 6, 16, s.Faces, splines, serialPerFace,
+    serialAll, error, ctcad::ForEachFaceSerially))
+    << error;
+  EXPECT_GT(all.Count, 0);
+  EXPECT_GT(all.MaxDistance, 0.0);
+  EXPECT_LE(all.MaxDistance, tolerance * s.Sampler->GetDiagonal());
+  EXPECT_EQ(all.MaxDistance, serialAll.MaxDistance);
+  EXPECT_EQ(all.SumSquaredDistance, serialAll.SumSquaredDistance);
+  EXPECT_EQ(all.MaxAngle, serialAll.MaxAngle);
+  for (std::size_t f = 0; f < perFace.size(); ++f)
+  {
+    EXPECT_LE(perFace[f].MaxDistance, all.MaxDistance);
+  }
+}
