@@ -290,6 +290,38 @@ TopoDS_Shape SeamlessCylinder()
   return solid;
 }
 
+/// A plate [0, 2] x [0, 1] whose circular hole (radius 0.4) touches the right side at P = (2, 0.5),
+/// as KiCad models have them. gap = 0: the circle is one closed edge from P to P. gap > 0: the
+/// circle is an arc from Q = (2, 0.5 + gap) round to P, closed by a straight edge P-Q, and the
+/// side has its own edge P-Q (two coincident tiny edges bound a region of no width).
+TopoDS_Shape PlateWithTouchingHole(double gap)
+{
+  const double r = 0.4;
+  auto vertex = [](double x, double y) { return BRepBuilderAPI_MakeVertex(gp_Pnt(x, y, 0)).Vertex(); };
+  const TopoDS_Vertex a = vertex(0, 0), b = vertex(2, 0), c = vertex(2, 1), d = vertex(0, 1);
+  const TopoDS_Vertex P = vertex(2, 0.5), Q = gap > 0 ? vertex(2, 0.5 + gap) : P;
+  BRepBuilderAPI_MakeWire outer;
+  outer.Add(BRepBuilderAPI_MakeEdge(a, b).Edge());
+  outer.Add(BRepBuilderAPI_MakeEdge(b, P).Edge());
+  if (gap > 0)
+  {
+    outer.Add(BRepBuilderAPI_MakeEdge(P, Q).Edge());
+  }
+  outer.Add(BRepBuilderAPI_MakeEdge(Q, c).Edge());
+  outer.Add(BRepBuilderAPI_MakeEdge(c, d).Edge());
+  outer.Add(BRepBuilderAPI_MakeEdge(d, a).Edge());
+  Handle(Geom_Circle) circle = new Geom_Circle(gp_Ax2(gp_Pnt(2 - r, 0.5, 0), gp::DZ(), gp::DX()), r);
+  BRepBuilderAPI_MakeWire inner;
+  inner.Add(BRepBuilderAPI_MakeEdge(circle, Q, P, 2 * std::asin(0.5 * gap / r), 2 * M_PI).Edge());
+  if (gap > 0)
+  {
+    inner.Add(BRepBuilderAPI_MakeEdge(P, Q).Edge());
+  }
+  BRepBuilderAPI_MakeFace face(gp_Pln(gp::XOY()), outer.Wire());
+  face.Add(TopoDS::Wire(inner.Wire().Reversed()));
+  return face.IsDone() ? face.Shape() : TopoDS_Shape();
+}
+
 /// Longest edge / (2 sqrt(3) inradius) of a 3D triangle.
 double AspectRatio3D(const double* a, const double* b, const double* c)
 {
@@ -1203,6 +1235,46 @@ TEST(CADConversion, ThinBoundaryTrianglesAreRefinedToTheTolerance)
   // Those triangles had a degenerate corner (two boundary spans of one edge meet there in
   // opposite directions), where the spline's normal flipped with round-off.
   EXPECT_LT(Field(fd, "MaxNormalDeviation"), 5.0);
+}
+
+/// A face whose inner loop touches the outer one, at a vertex or along two coincident edges
+/// shorter than the tolerance (KiCad's ST_HLGA-6, Potentiometer_Bourns_3266Z, LED_D3.0mm): the
+/// vertex's pcurve ends differ by round-off and the tiny edges bound a region of no width, which
+/// used to give zero-area parameter triangles ("degenerate parameter triangle"). The domain is
+/// pinched there: the face converts, its triangles cover the plate less the disc.
+TEST(CADConversion, InnerLoopTouchingTheOuterOne)
+{
+  for (const double gap : { 0.0, 1.5e-7 })
+  {
+    const TopoDS_Shape plate = PlateWithTouchingHole(gap);
+    ASSERT_FALSE(plate.IsNull()) << gap;
+    Conversion c;
+    MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+    c.Run(TempStep("plate_touching_hole", plate), 1e-4);
+    EXPECT_EQ(errors.Text, "") << "gap " << gap;
+    ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+    vtkPolyData* pd = c.Face(0);
+    vtkDataArray* uv = pd->GetPointData()->GetArray("UV");
+    ASSERT_NE(uv, nullptr);
+    double area = 0;
+    for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+    {
+      vtkIdType n;
+      const vtkIdType* p;
+      pd->GetCellPoints(t, n, p);
+      const double *A = uv->GetTuple2(p[0]), a0 = A[0], a1 = A[1];
+      const double *B = uv->GetTuple2(p[1]), b0 = B[0], b1 = B[1];
+      const double* C = uv->GetTuple2(p[2]);
+      const double twice = (b0 - a0) * (C[1] - a1) - (b1 - a1) * (C[0] - a0);
+      EXPECT_GT(twice, 0) << "cell " << t << ", gap " << gap;
+      area += 0.5 * twice;
+    }
+    // The boundary is sampled within the tolerance: the polygonal disc is a little smaller.
+    EXPECT_NEAR(area, 2 - M_PI * 0.16, 1e-3) << "gap " << gap;
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  }
 }
 
 /// A thin cylinder held to an angular tolerance (OpenCASCADE's angular deflection): without it
