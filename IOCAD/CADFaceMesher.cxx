@@ -667,8 +667,8 @@ Id FaceMesher::AddPoint(double s, double t, const LoopNode* node)
 
 /// The constrained triangulation of the loops. A B-rep vertex met twice at (nearly) the same
 /// place, where an inner loop touches the outer one or itself, is one triangulation vertex: its
-/// two pcurve ends differ by round-off, and two vertices that close would only bound triangles
-/// of no area (the domain is pinched there, not cut).
+/// two pcurve ends differ by round-off or the vertex tolerance, and two vertices that close
+/// would only bound triangles of no area (the domain is pinched there, not cut).
 bool FaceMesher::Triangulate()
 {
   this->ScalePlane();
@@ -684,7 +684,9 @@ bool FaceMesher::Triangulate()
   const double d2 = (box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
     (box.ymax() - box.ymin()) * (box.ymax() - box.ymin());
   this->Plane.MinArea = 1e-10 * d2;
-  const double snap2 = 1e-18 * d2; // a billionth of the diagonal
+  // A millionth of the diagonal: far below any boundary span, far above round-off and the
+  // vertex tolerances of real models (their copies of one vertex are 1e-16 to 1e-7 apart).
+  const double snap2 = 1e-12 * d2;
   std::unordered_map<Id, std::vector<CDT::Vertex_handle>> atNode;
   for (const FaceLoop& loop : this->Loops)
   {

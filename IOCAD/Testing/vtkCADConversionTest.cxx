@@ -47,6 +47,7 @@
 #include <Geom2d_Line.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Circle.hxx>
+#include <Geom_Line.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
 #include <Interface_Static.hxx>
@@ -290,22 +291,35 @@ TopoDS_Shape SeamlessCylinder()
   return solid;
 }
 
-/// A plate [0, 2] x [0, 1] whose circular hole (radius 0.4) touches the right side at P = (2, 0.5),
-/// as KiCad models have them. gap = 0: the circle is one closed edge from P to P. gap > 0: the
-/// circle is an arc from Q = (2, 0.5 + gap) round to P, closed by a straight edge P-Q, and the
-/// side has its own edge P-Q (two coincident tiny edges bound a region of no width).
-TopoDS_Shape PlateWithTouchingHole(double gap)
+/// A plate [0, 2] x [0, 1] whose circular hole (radius 0.4) touches the right side at vertex
+/// P = (2, 0.5), as KiCad models have them. gap = 0: the circle is one closed edge from P to P.
+/// gap > 0: the circle is an arc from Q = (2, 0.5 + gap) round to P, closed by a straight edge
+/// P-Q, and the side has its own edge P-Q: two coincident edges shorter than the tolerance. Q is
+/// a vertex of its own (Potentiometer_Bourns_3266Z's face 2) or, with `closedTiny`, P itself
+/// within its tolerance (LED_D3.0mm_Horizontal's face 1; the readers drop such edges, leaving
+/// the circle's end 7.5e-8 from P's other pcurve end).
+TopoDS_Shape PlateWithTouchingHole(double gap, bool closedTiny)
 {
   const double r = 0.4;
   auto vertex = [](double x, double y) { return BRepBuilderAPI_MakeVertex(gp_Pnt(x, y, 0)).Vertex(); };
   const TopoDS_Vertex a = vertex(0, 0), b = vertex(2, 0), c = vertex(2, 1), d = vertex(0, 1);
-  const TopoDS_Vertex P = vertex(2, 0.5), Q = gap > 0 ? vertex(2, 0.5 + gap) : P;
+  const TopoDS_Vertex P = vertex(2, 0.5), Q = gap > 0 && !closedTiny ? vertex(2, 0.5 + gap) : P;
+  BRep_Builder builder;
+  builder.UpdateVertex(P, closedTiny ? 2 * gap : 1e-7);
+  auto tinyEdge = [&]() {
+    TopoDS_Edge e;
+    builder.MakeEdge(e, new Geom_Line(gp_Pnt(2, 0.5, 0), gp::DY()), 1e-7);
+    builder.Add(e, P.Oriented(TopAbs_FORWARD));
+    builder.Add(e, Q.Oriented(TopAbs_REVERSED));
+    builder.Range(e, 0, gap);
+    return e;
+  };
   BRepBuilderAPI_MakeWire outer;
   outer.Add(BRepBuilderAPI_MakeEdge(a, b).Edge());
   outer.Add(BRepBuilderAPI_MakeEdge(b, P).Edge());
   if (gap > 0)
   {
-    outer.Add(BRepBuilderAPI_MakeEdge(P, Q).Edge());
+    outer.Add(tinyEdge());
   }
   outer.Add(BRepBuilderAPI_MakeEdge(Q, c).Edge());
   outer.Add(BRepBuilderAPI_MakeEdge(c, d).Edge());
@@ -315,7 +329,7 @@ TopoDS_Shape PlateWithTouchingHole(double gap)
   inner.Add(BRepBuilderAPI_MakeEdge(circle, Q, P, 2 * std::asin(0.5 * gap / r), 2 * M_PI).Edge());
   if (gap > 0)
   {
-    inner.Add(BRepBuilderAPI_MakeEdge(P, Q).Edge());
+    inner.Add(tinyEdge());
   }
   BRepBuilderAPI_MakeFace face(gp_Pln(gp::XOY()), outer.Wire());
   face.Add(TopoDS::Wire(inner.Wire().Reversed()));
@@ -1238,21 +1252,35 @@ TEST(CADConversion, ThinBoundaryTrianglesAreRefinedToTheTolerance)
 }
 
 /// A face whose inner loop touches the outer one, at a vertex or along two coincident edges
-/// shorter than the tolerance (KiCad's ST_HLGA-6, Potentiometer_Bourns_3266Z, LED_D3.0mm): the
-/// vertex's pcurve ends differ by round-off and the tiny edges bound a region of no width, which
-/// used to give zero-area parameter triangles ("degenerate parameter triangle"). The domain is
-/// pinched there: the face converts, its triangles cover the plate less the disc.
+/// shorter than the tolerance (KiCad's ST_HLGA-6, LED_D3.0mm_Horizontal): the vertex's pcurve
+/// ends differ by round-off and the tiny edges bound a region of no width, which used to give
+/// zero-area parameter triangles ("degenerate parameter triangle"). The tiny edges collapse into
+/// the vertex and the domain is pinched there: the face converts, its triangles cover the plate
+/// less the disc.
 TEST(CADConversion, InnerLoopTouchingTheOuterOne)
 {
-  for (const double gap : { 0.0, 1.5e-7 })
+  struct Case
   {
-    const TopoDS_Shape plate = PlateWithTouchingHole(gap);
+    double Gap;
+    bool ClosedTiny, Iges;
+  };
+  for (const Case& k : { Case{ 0, false, false }, Case{ 0, false, true },
+         Case{ 1.5e-7, false, false }, Case{ 1.5e-7, true, true } })
+  {
+    const double gap = k.Gap;
+    const TopoDS_Shape plate = PlateWithTouchingHole(gap, k.ClosedTiny);
     ASSERT_FALSE(plate.IsNull()) << gap;
+    const std::string name = "plate_touching_hole_" + std::to_string(gap) + (k.ClosedTiny ? "_closed" : "");
+    const std::string file = k.Iges ? TempIges(name, plate) : TempStep(name, plate);
     Conversion c;
     MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
-    c.Run(TempStep("plate_touching_hole", plate), 1e-4);
-    EXPECT_EQ(errors.Text, "") << "gap " << gap;
-    ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+    c.Run(file, 1e-4);
+    EXPECT_EQ(errors.Text, "") << file;
+    if (c.Faces->GetNumberOfBlocks() != 1u)
+    {
+      ADD_FAILURE() << file << " did not convert";
+      continue;
+    }
     vtkPolyData* pd = c.Face(0);
     vtkDataArray* uv = pd->GetPointData()->GetArray("UV");
     ASSERT_NE(uv, nullptr);
@@ -1266,11 +1294,11 @@ TEST(CADConversion, InnerLoopTouchingTheOuterOne)
       const double *B = uv->GetTuple2(p[1]), b0 = B[0], b1 = B[1];
       const double* C = uv->GetTuple2(p[2]);
       const double twice = (b0 - a0) * (C[1] - a1) - (b1 - a1) * (C[0] - a0);
-      EXPECT_GT(twice, 0) << "cell " << t << ", gap " << gap;
+      EXPECT_GT(twice, 0) << "cell " << t << ", " << file;
       area += 0.5 * twice;
     }
     // The boundary is sampled within the tolerance: the polygonal disc is a little smaller.
-    EXPECT_NEAR(area, 2 - M_PI * 0.16, 1e-3) << "gap " << gap;
+    EXPECT_NEAR(area, 2 - M_PI * 0.16, 1e-3) << file;
     vtkFieldData* fd = c.Merged->GetFieldData();
     EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
     EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
