@@ -1270,7 +1270,8 @@ TEST(CADConversion, InnerLoopTouchingTheOuterOne)
     const double gap = k.Gap;
     const TopoDS_Shape plate = PlateWithTouchingHole(gap, k.ClosedTiny);
     ASSERT_FALSE(plate.IsNull()) << gap;
-    const std::string name = "plate_touching_hole_" + std::to_string(gap) + (k.ClosedTiny ? "_closed" : "");
+    const std::string name = std::string("plate_touching_hole_") + (gap > 0 ? "gap" : "vertex") +
+      (k.ClosedTiny ? "_closed" : "");
     const std::string file = k.Iges ? TempIges(name, plate) : TempStep(name, plate);
     Conversion c;
     MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
