@@ -1306,6 +1306,25 @@ TEST(CADConversion, InnerLoopTouchingTheOuterOne)
   }
 }
 
+/// An OpenCASCADE exception is an error naming the face and the operation, beside OCCT's own
+/// text: the offset surface without a normal throws when the file is read (its bounding box),
+/// and the sampler's RequestData fails.
+TEST(CADConversion, OCCTExceptionNamesTheFaceAndOperation)
+{
+  const TopoDS_Shape shape = ctsplines_test::OffsetSurfaceWithoutNormal();
+  ASSERT_FALSE(shape.IsNull());
+  const std::string file = TempStep("offset_without_normal", shape);
+  vtkNew<vtkCADFaceSampler> sampler;
+  MessageCapture errors(sampler, vtkCommand::ErrorEvent);
+  MessageCapture pipeline(sampler->GetExecutive(), vtkCommand::ErrorEvent);
+  sampler->SetFileName(file.c_str());
+  EXPECT_EQ(sampler->GetExecutive()->Update(), 0) << "RequestData fails";
+  EXPECT_EQ(sampler->GetOutput()->GetNumberOfBlocks(), 0u);
+  EXPECT_NE(errors.Text.find("the bounding box of face 0"), std::string::npos) << errors.Text;
+  EXPECT_NE(errors.Text.find("evaluating its surface"), std::string::npos) << errors.Text;
+  EXPECT_NE(errors.Text.find("Geom_UndefinedValue"), std::string::npos) << errors.Text;
+}
+
 /// A thin cylinder held to an angular tolerance (OpenCASCADE's angular deflection): without it
 /// the normals of the lateral face are off by more than 0.25 degrees at the default tolerance;
 /// with it they are within it at every point of a dense lattice (and 16 random points) of every
