@@ -48,6 +48,7 @@
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Circle.hxx>
 #include <Geom_Line.hxx>
+#include <Geom_Plane.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
 #include <Interface_Static.hxx>
@@ -1304,6 +1305,49 @@ TEST(CADConversion, InnerLoopTouchingTheOuterOne)
     EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
     EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
   }
+}
+
+/// A unit box whose top face lies on the plane z = 1.01 while its edges stay at z = 1: at its
+/// corners the faces miss each other by 0.01 (NXP_MPL115A1_LGA-8's by up to 0.1 of its 6 mm),
+/// so each vertex node, the mean of the faces there, is off its edges' mean curves by more than
+/// the tolerance. The edge sampling used to halve the spans at such a vertex down to a billionth
+/// of the edge (30 levels), whose nearly collinear nodes gave zero-area parameter triangles;
+/// that offset is the model's gap, allowed like the surface gap.
+TEST(CADConversion, VertexOffItsEdgesIsNotRefinedWithoutEnd)
+{
+  TopoDS_Shape box = BRepPrimAPI_MakeBox(1.0, 1.0, 1.0).Shape();
+  for (TopExp_Explorer ex(box, TopAbs_FACE); ex.More(); ex.Next())
+  {
+    const TopoDS_Face& F = TopoDS::Face(ex.Current());
+    Handle(Geom_Plane) plane = Handle(Geom_Plane)::DownCast(BRep_Tool::Surface(F));
+    if (!plane.IsNull() && plane->Location().Z() > 0.5)
+    {
+      gp_Pln moved = plane->Pln();
+      moved.SetLocation(gp_Pnt(0, 0, 1.01));
+      BRep_Builder().UpdateFace(F, new Geom_Plane(moved), F.Location(), 1e-7);
+    }
+  }
+  Conversion c;
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("vertex_off_its_edges", box), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 6u);
+  std::set<vtkIdType> boundary;
+  for (unsigned int f = 0; f < 6; ++f)
+  {
+    vtkDataArray* gid = c.Face(f)->GetPointData()->GetArray("GlobalNodeId");
+    for (vtkIdType p = 0; gid && p < gid->GetNumberOfTuples(); ++p)
+    {
+      if (gid->GetComponent(p, 0) >= 0)
+      {
+        boundary.insert(static_cast<vtkIdType>(gid->GetComponent(p, 0)));
+      }
+    }
+  }
+  std::printf("vertex off its edges: %zu boundary nodes\n", boundary.size());
+  // 20 here (12 edges, each split once); 30 halvings at each end of the edges gave hundreds.
+  EXPECT_LT(boundary.size(), 60u) << "the spans at the vertices are not halved 30 times";
+  EXPECT_EQ(Field(c.Merged->GetFieldData(), "NumberOfFreeEdges"), 0);
 }
 
 /// An OpenCASCADE exception is an error naming the face and the operation, beside OCCT's own
