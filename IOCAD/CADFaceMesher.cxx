@@ -879,7 +879,8 @@ bool FaceMesher::EstimateTriangles(
     const CDT::Face_handle f = this->Faces[triFace[j]];
     const TriangleKey key = MakeKey(
       f->vertex(0)->info().Index, f->vertex(1)->info().Index, f->vertex(2)->info().Index);
-    if (this->Plane.Refinable(f) && FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh))
+    if (this->Plane.Refinable(f) &&
+      FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh))
     {
       inserts.push_back({ CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(),
                             f->vertex(2)->point()),
@@ -956,7 +957,8 @@ void FaceMesher::CheckInteriorEdges(std::vector<Steiner>& inserts, double& maxEr
         const double tb = mesh.F[b][k] - (du * mesh.Fs[b][k] + dv * mesh.Ft[b][k]) / 3;
         mid[k] = (mesh.F[a][k] + 3 * ta + 3 * tb + mesh.F[b][k]) / 8;
       }
-      const double s = 0.5 * (mesh.UV[a][0] + mesh.UV[b][0]), t = 0.5 * (mesh.UV[a][1] + mesh.UV[b][1]);
+      const double s = 0.5 * (mesh.UV[a][0] + mesh.UV[b][0]);
+      const double t = 0.5 * (mesh.UV[a][1] + mesh.UV[b][1]);
       Point3 P, Ds, Dt;
       this->Surface(s, t, P.data(), Ds.data(), Dt.data());
       const double err = Dist(mid, P);

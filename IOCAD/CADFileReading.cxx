@@ -518,8 +518,8 @@ int RemoveSlivers(ShapeRead& r, double tol, double shortEdge, bool sew, bool rem
   if (shortEdges.Size() > 0)
   {
     r.Warnings.push_back(std::to_string(shortEdges.Size()) + " edge(s) shorter than half the tolerance (" +
-      Number(shortEdge) + "), sampled as they are (within a thousandth of the tolerance: collapsed into one "
-      "vertex): " + shortEdges.Text());
+      Number(shortEdge) + "), sampled as they are (within a thousandth of the tolerance: "
+      "collapsed into one vertex): " + shortEdges.Text());
   }
   return shortEdges.Size();
 }
@@ -921,10 +921,12 @@ bool Translate(const std::string& fileName, Format format, const HealingOptions&
     {
       Bnd_Box faceBox;
       std::string faceFailure;
-      if (!RunGuarded([&] { BRepBndLib::AddOptimal(faces(f), faceBox, Standard_False, Standard_False); },
+      if (!RunGuarded(
+            [&] { BRepBndLib::AddOptimal(faces(f), faceBox, Standard_False, Standard_False); },
             faceFailure))
       {
-        const std::string& name = f <= static_cast<int>(r.FaceNames.size()) ? r.FaceNames[f - 1] : "";
+        const std::string name =
+          f <= static_cast<int>(r.FaceNames.size()) ? r.FaceNames[f - 1] : std::string();
         where = "the bounding box of face " + std::to_string(f - 1) +
           (name.empty() || name == "NONE" || name == "''" ? "" : " (" + name + ")");
         failure = faceFailure;

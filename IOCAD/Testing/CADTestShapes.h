@@ -200,7 +200,8 @@ inline TopoDS_Shape OffsetSurfaceWithoutNormal()
     knots(i + 1) = k[i];
     mults(i + 1) = m[i];
   }
-  Handle(Geom_BSplineSurface) patch = new Geom_BSplineSurface(poles, knots, knots, mults, mults, 2, 2);
+  Handle(Geom_BSplineSurface) patch =
+    new Geom_BSplineSurface(poles, knots, knots, mults, mults, 2, 2);
   BRepBuilderAPI_MakeFace face(new Geom_OffsetSurface(patch, 0.1, Standard_True), 0, 1, 0, 1, 1e-7);
   return face.IsDone() ? face.Shape() : TopoDS_Shape();
 }

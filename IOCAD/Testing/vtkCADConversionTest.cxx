@@ -302,7 +302,9 @@ TopoDS_Shape SeamlessCylinder()
 TopoDS_Shape PlateWithTouchingHole(double gap, bool closedTiny)
 {
   const double r = 0.4;
-  auto vertex = [](double x, double y) { return BRepBuilderAPI_MakeVertex(gp_Pnt(x, y, 0)).Vertex(); };
+  auto vertex = [](double x, double y) {
+    return BRepBuilderAPI_MakeVertex(gp_Pnt(x, y, 0)).Vertex();
+  };
   const TopoDS_Vertex a = vertex(0, 0), b = vertex(2, 0), c = vertex(2, 1), d = vertex(0, 1);
   const TopoDS_Vertex P = vertex(2, 0.5), Q = gap > 0 && !closedTiny ? vertex(2, 0.5 + gap) : P;
   BRep_Builder builder;
@@ -325,7 +327,8 @@ TopoDS_Shape PlateWithTouchingHole(double gap, bool closedTiny)
   outer.Add(BRepBuilderAPI_MakeEdge(Q, c).Edge());
   outer.Add(BRepBuilderAPI_MakeEdge(c, d).Edge());
   outer.Add(BRepBuilderAPI_MakeEdge(d, a).Edge());
-  Handle(Geom_Circle) circle = new Geom_Circle(gp_Ax2(gp_Pnt(2 - r, 0.5, 0), gp::DZ(), gp::DX()), r);
+  Handle(Geom_Circle) circle =
+    new Geom_Circle(gp_Ax2(gp_Pnt(2 - r, 0.5, 0), gp::DZ(), gp::DX()), r);
   BRepBuilderAPI_MakeWire inner;
   inner.Add(BRepBuilderAPI_MakeEdge(circle, Q, P, 2 * std::asin(0.5 * gap / r), 2 * M_PI).Edge());
   if (gap > 0)
