@@ -248,6 +248,7 @@ struct CADModel::Stages
   static bool Install(CADModel& m, const ShapeRead& r, const std::string& fileName);
   static bool Prepare(CADModel& m);
   static bool CollectEdge(CADModel& m, int e);
+  static bool CollapseTinyEdges(CADModel& m, double length);
   static void SampleEdge(CADModel& m, int e, const SamplingOptions& options);
   static bool WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::vector<Run>& runs, std::vector<double>& spanLengths);
   static bool JoinRuns(CADModel& m, int f, std::vector<Run>& runs, std::vector<double>& spanLengths, double tol,
@@ -473,6 +474,71 @@ bool CADModel::Stages::CollectEdge(CADModel& m, int e)
         d.VertexSum[v][i] += p[i];
       }
       ++d.VertexCount[v];
+    }
+  }
+  return true;
+}
+
+/// Edges whose 3D curve stays within `length` of its start (a closed edge around nothing, an
+/// edge between two vertices that close) become degenerate: one node, as at a pole, their
+/// vertices one. Such an edge cannot be meshed: two of them, imprinted where a circle touches a
+/// line (an inner loop touching the outer one), bound a region of no width in their face.
+bool CADModel::Stages::CollapseTinyEdges(CADModel& m, double length)
+{
+  Impl& d = *m.Internal;
+  const int nE = d.EdgeMap.Extent();
+  std::vector<Id> root(d.VertexSum.size());
+  std::iota(root.begin(), root.end(), Id(0));
+  auto find = [&](Id v) {
+    while (root[v] != v)
+    {
+      v = root[v] = root[root[v]];
+    }
+    return v;
+  };
+  bool any = false;
+  for (int e = 0; e < nE; ++e)
+  {
+    EdgeSampling& es = d.Edges[e];
+    bool tiny = !es.Degenerate;
+    if (tiny &&
+      !Guard(m, [&] { return "edge sampling (its extent), " + EdgeLabel(m, e); },
+        [&] {
+          const BRepAdaptor_Curve curve(TopoDS::Edge(d.EdgeMap(e + 1)));
+          const double t0 = curve.FirstParameter(), t1 = curve.LastParameter();
+          const gp_Pnt start = curve.Value(t0);
+          for (int k = 1; k <= 4 && tiny; ++k)
+          {
+            tiny = start.Distance(curve.Value(t0 + (t1 - t0) * k / 4)) <= length;
+          }
+          return true;
+        }))
+    {
+      return false;
+    }
+    if (tiny)
+    {
+      es.Degenerate = any = true;
+      const Id a = find(es.Vertex0), b = find(es.Vertex1);
+      root[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  for (EdgeSampling& es : d.Edges)
+  {
+    es.Vertex0 = find(es.Vertex0);
+    es.Vertex1 = find(es.Vertex1);
+  }
+  for (Id v = 0; any && v < static_cast<Id>(root.size()); ++v)
+  {
+    const Id r = find(v);
+    if (r != v)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        d.VertexSum[r][i] += d.VertexSum[v][i];
+      }
+      d.VertexCount[r] += d.VertexCount[v];
+      d.VertexCount[v] = 0;
     }
   }
   return true;
@@ -948,6 +1014,10 @@ bool CADModel::Sample(const SamplingOptions& options)
     {
       return false;
     }
+  }
+  if (!Stages::CollapseTinyEdges(*this, 1e-3 * tol))
+  {
+    return false;
   }
   for (int v = 0; v < nV; ++v)
   {

@@ -518,7 +518,8 @@ int RemoveSlivers(ShapeRead& r, double tol, double shortEdge, bool sew, bool rem
   if (shortEdges.Size() > 0)
   {
     r.Warnings.push_back(std::to_string(shortEdges.Size()) + " edge(s) shorter than half the tolerance (" +
-      Number(shortEdge) + "), sampled as they are: " + shortEdges.Text());
+      Number(shortEdge) + "), sampled as they are (within a thousandth of the tolerance: "
+      "collapsed into one vertex): " + shortEdges.Text());
   }
   return shortEdges.Size();
 }

@@ -1258,10 +1258,9 @@ TEST(CADConversion, ThinBoundaryTrianglesAreRefinedToTheTolerance)
 /// A face whose inner loop touches the outer one, at a vertex or along two coincident edges
 /// shorter than the tolerance (KiCad's ST_HLGA-6, LED_D3.0mm_Horizontal): the vertex's pcurve
 /// ends differ by round-off and the tiny edges bound a region of no width, which used to give
-/// zero-area parameter triangles ("degenerate parameter triangle"). The vertex's copies are one
-/// triangulation vertex, a constraint both loops share is crossed twice when marking the domain,
-/// and the domain is pinched there: the face converts, its triangles cover the plate less the
-/// disc.
+/// zero-area parameter triangles ("degenerate parameter triangle"). The tiny edges collapse into
+/// the vertex and the domain is pinched there: the face converts, its triangles cover the plate
+/// less the disc.
 TEST(CADConversion, InnerLoopTouchingTheOuterOne)
 {
   struct Case
