@@ -185,11 +185,12 @@ std::vector<TopoDS_Edge> WireEdges(const TopoDS_Wire& W, const TopoDS_Face& F, T
   return chain;
 }
 
-/// An edge sample: parameter, point and derivative of the mean curve.
+/// An edge sample: parameter, point and derivative of the mean curve; at the edge's ends, P is
+/// the vertex node and Off how far it is from the mean curve's end (the model's vertex gap).
 struct EdgeSample
 {
   double T;
-  Point3 P, D;
+  Point3 P, D, Off;
 };
 } // namespace
 
@@ -247,6 +248,7 @@ struct CADModel::Stages
   static bool Install(CADModel& m, const ShapeRead& r, const std::string& fileName);
   static bool Prepare(CADModel& m);
   static bool CollectEdge(CADModel& m, int e);
+  static bool CollapseTinyEdges(CADModel& m, double length);
   static void SampleEdge(CADModel& m, int e, const SamplingOptions& options);
   static bool WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::vector<Run>& runs, std::vector<double>& spanLengths);
   static bool JoinRuns(CADModel& m, int f, std::vector<Run>& runs, std::vector<double>& spanLengths, double tol,
@@ -477,6 +479,71 @@ bool CADModel::Stages::CollectEdge(CADModel& m, int e)
   return true;
 }
 
+/// Edges whose 3D curve stays within `length` of its start (a closed edge around nothing, an
+/// edge between two vertices that close) become degenerate: one node, as at a pole, their
+/// vertices one. Such an edge cannot be meshed: two of them, imprinted where a circle touches a
+/// line (an inner loop touching the outer one), bound a region of no width in their face.
+bool CADModel::Stages::CollapseTinyEdges(CADModel& m, double length)
+{
+  Impl& d = *m.Internal;
+  const int nE = d.EdgeMap.Extent();
+  std::vector<Id> root(d.VertexSum.size());
+  std::iota(root.begin(), root.end(), Id(0));
+  auto find = [&](Id v) {
+    while (root[v] != v)
+    {
+      v = root[v] = root[root[v]];
+    }
+    return v;
+  };
+  bool any = false;
+  for (int e = 0; e < nE; ++e)
+  {
+    EdgeSampling& es = d.Edges[e];
+    bool tiny = !es.Degenerate;
+    if (tiny &&
+      !Guard(m, [&] { return "edge sampling (its extent), " + EdgeLabel(m, e); },
+        [&] {
+          const BRepAdaptor_Curve curve(TopoDS::Edge(d.EdgeMap(e + 1)));
+          const double t0 = curve.FirstParameter(), t1 = curve.LastParameter();
+          const gp_Pnt start = curve.Value(t0);
+          for (int k = 1; k <= 4 && tiny; ++k)
+          {
+            tiny = start.Distance(curve.Value(t0 + (t1 - t0) * k / 4)) <= length;
+          }
+          return true;
+        }))
+    {
+      return false;
+    }
+    if (tiny)
+    {
+      es.Degenerate = any = true;
+      const Id a = find(es.Vertex0), b = find(es.Vertex1);
+      root[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  for (EdgeSampling& es : d.Edges)
+  {
+    es.Vertex0 = find(es.Vertex0);
+    es.Vertex1 = find(es.Vertex1);
+  }
+  for (Id v = 0; any && v < static_cast<Id>(root.size()); ++v)
+  {
+    const Id r = find(v);
+    if (r != v)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        d.VertexSum[r][i] += d.VertexSum[v][i];
+      }
+      d.VertexCount[r] += d.VertexCount[v];
+      d.VertexCount[v] = 0;
+    }
+  }
+  return true;
+}
+
 /// Pass 2 for edge e: adaptive Hermite samples of its mean curve.
 void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& options)
 {
@@ -535,12 +602,17 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     return spread;
   };
   auto makeSample = [&](double t) {
-    EdgeSample s{ t, {}, {} };
+    EdgeSample s{ t, {}, {}, {} };
     m.EdgeGap = std::max(m.EdgeGap, pointAt(t, s.P, s.D));
     return s;
   };
   // Shared vertices: the curve ends are the vertex nodes (means over all faces at the vertex).
   EdgeSample first = makeSample(t0), last = makeSample(t1);
+  for (int i = 0; i < 3; ++i)
+  {
+    first.Off[i] = p0[i] - first.P[i];
+    last.Off[i] = p1[i] - last.P[i];
+  }
   first.P = p0;
   last.P = p1;
   const int n0 = es.Vertex0 == es.Vertex1 ? 3 : 2;
@@ -556,7 +628,10 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
   // max(tol / 2, gap + tol / 4), gap being that surface's own distance from the mean curve
   // there (the face is held to max(tol, 2 gap), and its interior next to the edge must stay
   // within 0.8 of that); with an angular tolerance, also while the cubic's tangent leaves a
-  // face's tangent plane by more than half of it. Measured at five points of the span.
+  // face's tangent plane by more than half of it. Measured at five points of the span. Where a
+  // vertex node is off the mean curve's end (the faces at the vertex miss each other), the
+  // cubic carries that offset into the span (blended by its Hermite basis function), and no
+  // split removes it: it is allowed on top of a quarter of the tolerance, like the gap.
   es.UseGap.assign(uses.size(), 0.0);
   const double angTol = options.AngularTolerance * M_PI / 180;
   auto spanError = [&](const EdgeSample& a, const EdgeSample& b) {
@@ -573,7 +648,10 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
       const Point3 hermite = Bezier3(a.P, ca, cb, b.P, s);
       Point3 c, dc;
       pointAt(a.T + s * h, c, dc);
-      err = std::max(err, Distance(hermite, c) / (0.5 * tol));
+      const double h0 = (1 - s) * (1 - s) * (1 + 2 * s), h1 = s * s * (3 - 2 * s);
+      const double off = std::hypot(h0 * a.Off[0] + h1 * b.Off[0], h0 * a.Off[1] + h1 * b.Off[1],
+        h0 * a.Off[2] + h1 * b.Off[2]);
+      err = std::max(err, Distance(hermite, c) / std::max(0.5 * tol, off + 0.25 * tol));
       // The cubic's tangent (the Bezier derivative, up to its length).
       const double r = 1 - s;
       gp_Vec tangent;
@@ -594,7 +672,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
         const double gap = Distance(ToPoint(S.Value(um.X(), um.Y()).XYZ()), c);
         es.UseGap[k] = std::max(es.UseGap[k], gap);
         err = std::max(err,
-          Distance(ToPoint(chord.XYZ()), hermite) / std::max(0.5 * tol, gap + 0.25 * tol));
+          Distance(ToPoint(chord.XYZ()), hermite) / std::max(0.5 * tol, gap + off + 0.25 * tol));
         const gp_Vec normal = du.Crossed(dv);
         if (angTol > 0 && normal.Magnitude() > 0 && tangent.Magnitude() > 0)
         {
@@ -936,6 +1014,10 @@ bool CADModel::Sample(const SamplingOptions& options)
     {
       return false;
     }
+  }
+  if (!Stages::CollapseTinyEdges(*this, 1e-3 * tol))
+  {
+    return false;
   }
   for (int v = 0; v < nV; ++v)
   {

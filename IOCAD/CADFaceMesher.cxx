@@ -179,9 +179,21 @@ using TDS = CGAL::Triangulation_data_structure_2<Vb, Fb>;
 using CDT = CGAL::Constrained_Delaunay_triangulation_2<K, TDS, CGAL::Exact_predicates_tag>;
 using Point = CDT::Point;
 
+std::uint64_t PairKey(Id a, Id b)
+{
+  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
+  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
+  return (hi << 32) ^ lo;
+}
+
+/// How many loop segments lie on a constraint, by the PairKey of its points (1 where absent).
+using Multiplicity = std::unordered_map<std::uint64_t, int>;
+
 /// Nesting level by flood fill from the infinite face across constraints: odd levels are inside
-/// the domain, so holes (inner loops) come out right without knowing loop orientations.
-void MarkDomains(CDT& cdt)
+/// the domain, so holes (inner loops) come out right without knowing loop orientations. A
+/// constraint that two loops share (an inner loop touching the outer one along a collapsed edge)
+/// is crossed twice: the level goes up by the number of loop segments on it.
+void MarkDomains(CDT& cdt, const Multiplicity& multiplicity)
 {
   for (auto f : cdt.all_face_handles())
   {
@@ -224,16 +236,11 @@ void MarkDomains(CDT& cdt)
     const CDT::Face_handle n = e.first->neighbor(e.second);
     if (n->info().Nesting == -1)
     {
-      flood(n, e.first->info().Nesting + 1);
+      const auto it = multiplicity.find(PairKey(e.first->vertex(CDT::ccw(e.second))->info().Index,
+        e.first->vertex(CDT::cw(e.second))->info().Index));
+      flood(n, e.first->info().Nesting + (it == multiplicity.end() ? 1 : it->second));
     }
   }
-}
-
-std::uint64_t PairKey(Id a, Id b)
-{
-  const auto lo = static_cast<std::uint64_t>(std::min(a, b));
-  const auto hi = static_cast<std::uint64_t>(std::max(a, b));
-  return (hi << 32) ^ lo;
 }
 
 struct TriangleKey
@@ -565,67 +572,143 @@ std::string StopReason(bool rounds, bool full, bool unrefinable, const FaceMeshO
   }
   return unrefinable ? "triangles over the tolerance are too small to split" : "";
 }
-} // namespace
 
-bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
-  const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh)
+/// The meshing of one face (MeshFace): its constrained triangulation, refined in rounds.
+class FaceMesher
 {
-  mesh = FaceMesh();
-  CDT cdt;
-  // With geometric bounds (aspect, edge length) the triangulation works in a plane scaled by
-  // the mean lengths of F_s and F_t over the boundary nodes (point (ks s, kt t)), so that shapes
-  // there are close to the 3D ones (a cylinder's (angle, height) plane becomes isometric) and
-  // Delaunay refinement in it can meet a 3D bound.
-  TriangulationPlane plane;
-  double* scale = plane.Scale;
-  if (options.AspectRatio > 0 || options.MaxEdgeLength > 0)
+public:
+  FaceMesher(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
+    const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh)
+    : Loops(loops)
+    , NodePoints(nodePoints)
+    , Surface(surface)
+    , Options(options)
+    , Mesh(mesh)
   {
-    double ss = 0, st = 0;
-    long n = 0;
-    for (const FaceLoop& loop : loops)
+  }
+  bool Triangulate();
+  bool Refine();
+  bool CheckConstruction();
+  void Output();
+
+private:
+  void ScalePlane();
+  Id AddPoint(double s, double t, const LoopNode* node);
+  void CollectFaces();
+  std::size_t InsertPoints(const std::vector<Steiner>& inserts);
+  bool EstimateTriangles(std::vector<Steiner>& inserts, double& maxError, double& maxAngle);
+  void CheckInteriorEdges(std::vector<Steiner>& inserts, double& maxError);
+  Steiner GeometricSplit(const CDT::Face_handle f) const;
+
+  const std::vector<FaceLoop>& Loops;
+  const std::vector<Point3>& NodePoints;
+  const SurfaceFunction& Surface;
+  const FaceMeshOptions& Options;
+  FaceMesh& Mesh;
+  CDT Triangulation;
+  TriangulationPlane Plane;
+  SegmentMap Segments;
+  Multiplicity SegmentCount;
+  std::vector<CDT::Face_handle> Faces; // in-domain, after CollectFaces
+  // CTo is local (a macro-patch depends on its own triangle only) and an edge's cubic on its two
+  // end points only, so triangles and edges that passed once stay passed.
+  std::unordered_set<TriangleKey, TriangleKeyHash> Passed;
+  std::unordered_set<std::uint64_t> PassedEdges;
+  bool Unrefinable = false; // a triangle or edge over the tolerance is too small to split
+};
+
+/// With geometric bounds (aspect, edge length) the triangulation works in a plane scaled by the
+/// mean lengths of F_s and F_t over the boundary nodes (point (ks s, kt t)), so that shapes there
+/// are close to the 3D ones (a cylinder's (angle, height) plane becomes isometric) and Delaunay
+/// refinement in it can meet a 3D bound.
+void FaceMesher::ScalePlane()
+{
+  if (this->Options.AspectRatio <= 0 && this->Options.MaxEdgeLength <= 0)
+  {
+    return;
+  }
+  double ss = 0, st = 0;
+  long n = 0;
+  for (const FaceLoop& loop : this->Loops)
+  {
+    for (const LoopNode& node : loop.Nodes)
     {
-      for (const LoopNode& node : loop.Nodes)
-      {
-        Point3 P, Ds, Dt;
-        surface(node.UV[0], node.UV[1], P.data(), Ds.data(), Dt.data());
-        ss += Ds[0] * Ds[0] + Ds[1] * Ds[1] + Ds[2] * Ds[2];
-        st += Dt[0] * Dt[0] + Dt[1] * Dt[1] + Dt[2] * Dt[2];
-        ++n;
-      }
-    }
-    if (n > 0 && ss > 0 && st > 0 && std::isfinite(ss) && std::isfinite(st))
-    {
-      scale[0] = std::sqrt(ss / n);
-      scale[1] = std::sqrt(st / n);
+      Point3 P, Ds, Dt;
+      this->Surface(node.UV[0], node.UV[1], P.data(), Ds.data(), Dt.data());
+      ss += Ds[0] * Ds[0] + Ds[1] * Ds[1] + Ds[2] * Ds[2];
+      st += Dt[0] * Dt[0] + Dt[1] * Dt[1] + Dt[2] * Dt[2];
+      ++n;
     }
   }
-  auto addPoint = [&](double s, double t, const LoopNode* node) {
-    Point3 P, Ds, Dt;
-    surface(s, t, P.data(), Ds.data(), Dt.data());
-    mesh.SurfaceFs.push_back(Ds);
-    mesh.SurfaceFt.push_back(Dt);
-    // Boundary nodes keep the shared edge sample, not the surface point under the pcurve, and
-    // the derivatives that agree with the shared edge cubics.
-    const Id global = node ? node->GlobalNode : -1;
-    mesh.F.push_back(global >= 0 ? nodePoints[global] : P);
-    mesh.UV.push_back({ s, t });
-    mesh.Fs.push_back(node && node->Consistent ? node->Ds : Ds);
-    mesh.Ft.push_back(node && node->Consistent ? node->Dt : Dt);
-    mesh.GlobalNode.push_back(global);
-    return static_cast<Id>(mesh.UV.size()) - 1;
-  };
-  SegmentMap segments;
-  for (const FaceLoop& loop : loops)
+  if (n > 0 && ss > 0 && st > 0 && std::isfinite(ss) && std::isfinite(st))
+  {
+    this->Plane.Scale[0] = std::sqrt(ss / n);
+    this->Plane.Scale[1] = std::sqrt(st / n);
+  }
+}
+
+Id FaceMesher::AddPoint(double s, double t, const LoopNode* node)
+{
+  FaceMesh& mesh = this->Mesh;
+  Point3 P, Ds, Dt;
+  this->Surface(s, t, P.data(), Ds.data(), Dt.data());
+  mesh.SurfaceFs.push_back(Ds);
+  mesh.SurfaceFt.push_back(Dt);
+  // Boundary nodes keep the shared edge sample, not the surface point under the pcurve, and
+  // the derivatives that agree with the shared edge cubics.
+  const Id global = node ? node->GlobalNode : -1;
+  mesh.F.push_back(global >= 0 ? this->NodePoints[global] : P);
+  mesh.UV.push_back({ s, t });
+  mesh.Fs.push_back(node && node->Consistent ? node->Ds : Ds);
+  mesh.Ft.push_back(node && node->Consistent ? node->Dt : Dt);
+  mesh.GlobalNode.push_back(global);
+  return static_cast<Id>(mesh.UV.size()) - 1;
+}
+
+/// The constrained triangulation of the loops. A B-rep vertex met twice at (nearly) the same
+/// place, where an inner loop touches the outer one or itself, is one triangulation vertex: its
+/// two pcurve ends differ by round-off or the vertex tolerance, and two vertices that close
+/// would only bound triangles of no area (the domain is pinched there, not cut).
+bool FaceMesher::Triangulate()
+{
+  this->ScalePlane();
+  const double* scale = this->Plane.Scale;
+  CGAL::Bbox_2 box;
+  for (const FaceLoop& loop : this->Loops)
+  {
+    for (const LoopNode& node : loop.Nodes)
+    {
+      box += Point(scale[0] * node.UV[0], scale[1] * node.UV[1]).bbox();
+    }
+  }
+  const double d2 = (box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
+    (box.ymax() - box.ymin()) * (box.ymax() - box.ymin());
+  this->Plane.MinArea = 1e-10 * d2;
+  // A millionth of the diagonal: far below any boundary span, far above round-off and the
+  // vertex tolerances of real models (their copies of one vertex are 1e-16 to 1e-7 apart).
+  const double snap2 = 1e-12 * d2;
+  std::unordered_map<Id, std::vector<CDT::Vertex_handle>> atNode;
+  for (const FaceLoop& loop : this->Loops)
   {
     const std::size_t n = loop.Nodes.size();
     std::vector<CDT::Vertex_handle> handles(n);
     for (std::size_t k = 0; k < n; ++k)
     {
       const LoopNode& node = loop.Nodes[k];
-      handles[k] = cdt.insert(Point(scale[0] * node.UV[0], scale[1] * node.UV[1]));
+      const Point p(scale[0] * node.UV[0], scale[1] * node.UV[1]);
+      std::vector<CDT::Vertex_handle>& same = atNode[node.GlobalNode];
+      const auto near = std::find_if(same.begin(), same.end(),
+        [&](CDT::Vertex_handle v) { return CGAL::squared_distance(v->point(), p) <= snap2; });
+      if (near != same.end())
+      {
+        handles[k] = *near;
+        continue;
+      }
+      handles[k] = this->Triangulation.insert(p);
+      same.push_back(handles[k]);
       if (handles[k]->info().Index < 0)
       {
-        handles[k]->info().Index = addPoint(node.UV[0], node.UV[1], &node);
+        handles[k]->info().Index = this->AddPoint(node.UV[0], node.UV[1], &node);
       }
     }
     for (std::size_t k = 0; k < n; ++k)
@@ -635,271 +718,314 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       {
         continue;
       }
-      cdt.insert_constraint(a, b);
-      segments[PairKey(a->info().Index, b->info().Index)] = { &loop.Segments[k], a->info().Index };
+      this->Triangulation.insert_constraint(a, b);
+      const std::uint64_t key = PairKey(a->info().Index, b->info().Index);
+      this->Segments[key] = { &loop.Segments[k], a->info().Index };
+      ++this->SegmentCount[key];
     }
   }
-  if (cdt.number_of_faces() == 0)
+  if (this->Triangulation.number_of_faces() == 0)
   {
-    mesh.Error = "empty parameter domain";
+    this->Mesh.Error = "empty parameter domain";
     return false;
   }
-  {
-    CGAL::Bbox_2 box;
-    for (auto v : cdt.finite_vertex_handles())
-    {
-      box += v->point().bbox();
-    }
-    const double d2 = (box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
-      (box.ymax() - box.ymin()) * (box.ymax() - box.ymin());
-    plane.MinArea = 1e-10 * d2;
-  }
+  return true;
+}
 
-  // Refinement. CTo is local (a macro-patch depends on its own triangle only) and an edge's
-  // cubic on its two end points only, so triangles and edges that passed once stay passed.
-  std::unordered_set<TriangleKey, TriangleKeyHash> passed;
-  std::unordered_set<std::uint64_t> passedEdges;
-  const double tol = options.Tolerance;
-  ctk::SplineOptions ctOptions;
-  ctOptions.Method = ctk::Construction::CTo;
-  ctOptions.SplitPoint = ctk::SplitPointRule::Bary;
-  std::vector<CDT::Face_handle> faces;
-  auto collectFaces = [&]() {
-    MarkDomains(cdt);
-    faces.clear();
-    for (auto f : cdt.finite_face_handles())
-    {
-      if (f->info().InDomain())
-      {
-        for (int i = 0; i < 3; ++i)
-        {
-          if (f->vertex(i)->info().Index < 0) // made by intersecting constraints
-          {
-            const Point& p = f->vertex(i)->point();
-            f->vertex(i)->info().Index = addPoint(p.x() / scale[0], p.y() / scale[1], nullptr);
-          }
-        }
-        faces.push_back(f);
-      }
-    }
-  };
-  // Interior points only: a point on a constraint would split a boundary segment. Guarded
-  // points are checked again against this round's earlier insertions (neighbours often share
-  // one circumcircle).
-  auto insertPoints = [&](const std::vector<Steiner>& inserts) {
-    std::size_t added = 0;
-    for (Steiner q : inserts)
-    {
-      // Never next to another point (two triangles can ask for the same point up to round-off).
-      q.MinDistance = std::max(q.MinDistance, std::sqrt(plane.MinArea));
-      bool can = CanInsert(cdt, q);
-      for (std::size_t i = 0; !can && i < q.Fallbacks.size(); ++i)
-      {
-        q.P = q.Fallbacks[i];
-        can = CanInsert(cdt, q);
-      }
-      if (!can)
-      {
-        continue;
-      }
-      const CDT::Vertex_handle v = cdt.insert(q.P);
-      v->info().Index = addPoint(q.P.x() / scale[0], q.P.y() / scale[1], nullptr);
-      ++added;
-    }
-    return added;
-  };
-  bool unrefinable = false; // a triangle or edge over the tolerance is too small to split
-  const bool normals = options.AngularTolerance > 0;
-  for (int round = 0;; ++round)
+/// The in-domain faces; vertices made by intersecting constraints become points of the mesh.
+void FaceMesher::CollectFaces()
+{
+  MarkDomains(this->Triangulation, this->SegmentCount);
+  this->Faces.clear();
+  for (auto f : this->Triangulation.finite_face_handles())
   {
-    collectFaces();
-    mesh.Rounds = round;
-    std::vector<Steiner> inserts;
-    // New triangles: one kernel CTo/Bary spline over all of them; its S point is the value at
-    // the centroid.
-    FaceSplineInput in;
-    std::vector<std::size_t> triFace;
-    std::unordered_map<Id, ctk::Id> local;
-    auto localIndex = [&](Id p) {
-      auto it = local.emplace(p, in.NumberOfVertices());
-      if (it.second)
-      {
-        in.AddPoint(mesh, p);
-      }
-      return it.first->second;
-    };
-    double maxError = 0, maxAngle = 0;
-    for (std::size_t i = 0; i < faces.size(); ++i)
-    {
-      const CDT::Face_handle f = faces[i];
-      const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
-               c = f->vertex(2)->info().Index;
-      if (passed.count(MakeKey(a, b, c)))
-      {
-        continue;
-      }
-      for (const Id p : { a, b, c })
-      {
-        in.Triangles.push_back(localIndex(p));
-      }
-      triFace.push_back(i);
-    }
-    if (!triFace.empty())
-    {
-      ctk::MeshTopology topo;
-      ctk::CubicSpline spline;
-      if (!in.Build(ctOptions, topo, spline, mesh.Error))
-      {
-        return false;
-      }
-      for (std::size_t j = 0; j < triFace.size(); ++j)
-      {
-        const CDT::Face_handle f = faces[triFace[j]];
-        const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
-                 c = f->vertex(2)->info().Index;
-        if (plane.Refinable(f) && FlatBoundaryCorner(cdt, f, segments, mesh))
-        {
-          inserts.push_back({ CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(),
-                                f->vertex(2)->point()),
-            0, false, {} });
-          continue;
-        }
-        // The split point Z (the centroid: S) and the centres of the three micro-triangles,
-        // which lie next to the macro-edges where the error of CT patches concentrates.
-        const ctk::Id tj = static_cast<ctk::Id>(j);
-        const ctk::Vec3& split = spline.SplitTau[tj];
-        std::vector<ctk::Vec3> points{ split };
-        for (int k = 0; k < 3; ++k)
-        {
-          points.push_back(ctk::MacroBarycentric(split, k, ctk::Vec3(1, 1, 1) / 3));
-        }
-        Deviation d;
-        ctk::Vec3 worst;
-        if (!MeasureTriangle(spline, topo, in.Triangles.data(), tj, points, surface, normals, d,
-              mesh.Error, &worst, tol, options.AngularTolerance))
-        {
-          return false;
-        }
-        maxError = std::max(maxError, d.MaxDistance);
-        maxAngle = std::max(maxAngle, d.MaxAngle);
-        if (d.MaxDistance > tol || (normals && d.MaxAngle > options.AngularTolerance))
-        {
-          if (plane.Refinable(f))
-          {
-            const ctk::Vec2 X = in.ParameterAt(tj, worst);
-            inserts.push_back({ Point(scale[0] * X.x(), scale[1] * X.y()), 0, false, {} });
-            continue;
-          }
-          unrefinable = true; // too small to refine further
-          passed.insert(MakeKey(a, b, c));
-          continue;
-        }
-        // Geometric bounds: refined by the triangle's circumcentre in the triangulation's plane
-        // (Chew, Ruppert), and only where that can help: the triangle is also bad in that plane
-        // (else the 3D defect comes from the surface's metric, which refinement in the plane
-        // cannot remove), and the circumcentre is a valid interior point (boundary segments are
-        // never split, so a triangle whose circumcentre is outside the domain or encroaches a
-        // segment keeps its shape). Centroids must not be used: inserted next to a segment they
-        // give a triangle on the same segment three times flatter, round after round, until the
-        // parameter triangles are flat.
-        bool bad = false;
-        const Point3 &pa = mesh.F[a], &pb = mesh.F[b], &pc = mesh.F[c];
-        const double la = Dist(pb, pc), lb = Dist(pc, pa), lc = Dist(pa, pb);
-        const Point &qa = f->vertex(0)->point(), &qb = f->vertex(1)->point(), &qc = f->vertex(2)->point();
-        const double ma = std::sqrt(CGAL::squared_distance(qb, qc)),
-                     mb = std::sqrt(CGAL::squared_distance(qc, qa)),
-                     mc = std::sqrt(CGAL::squared_distance(qa, qb));
-        if (options.MaxEdgeLength > 0 && std::max({ la, lb, lc }) > options.MaxEdgeLength)
-        {
-          bad = true;
-        }
-        if (options.AspectRatio > 0 && AspectRatio(la, lb, lc) > options.AspectRatio &&
-          AspectRatio(ma, mb, mc) > options.AspectRatio)
-        {
-          bad = true;
-        }
-        if (bad && !CGAL::collinear(qa, qb, qc))
-        {
-          const Point cc = CGAL::circumcenter(qa, qb, qc);
-          const Steiner q{ cc, 0.5 * std::sqrt(CGAL::squared_distance(cc, qa)), true };
-          if (CanInsert(cdt, q, f))
-          {
-            inserts.push_back(q);
-            continue;
-          }
-        }
-        passed.insert(MakeKey(a, b, c));
-      }
-    }
-    // Interior edges: the spline along a macro-edge is the Hermite cubic of its two ends.
-    for (const CDT::Face_handle f : faces)
+    if (f->info().InDomain())
     {
       for (int i = 0; i < 3; ++i)
       {
-        const CDT::Face_handle n = f->neighbor(i);
-        const Id a = f->vertex(CDT::ccw(i))->info().Index, b = f->vertex(CDT::cw(i))->info().Index;
-        // Each edge once, from the side where it runs upwards (not by address: the insertion
-        // order, hence the mesh, must not depend on memory layout).
-        if (!n->info().InDomain() || cdt.is_constrained(CDT::Edge(f, i)) || a > b)
+        if (f->vertex(i)->info().Index < 0)
         {
-          continue;
-        }
-        if (passedEdges.count(PairKey(a, b)))
-        {
-          continue;
-        }
-        const double du = mesh.UV[b][0] - mesh.UV[a][0], dv = mesh.UV[b][1] - mesh.UV[a][1];
-        Point3 mid;
-        for (int k = 0; k < 3; ++k)
-        {
-          const double ta = mesh.F[a][k] + (du * mesh.Fs[a][k] + dv * mesh.Ft[a][k]) / 3;
-          const double tb = mesh.F[b][k] - (du * mesh.Fs[b][k] + dv * mesh.Ft[b][k]) / 3;
-          mid[k] = (mesh.F[a][k] + 3 * ta + 3 * tb + mesh.F[b][k]) / 8;
-        }
-        const double s = 0.5 * (mesh.UV[a][0] + mesh.UV[b][0]), t = 0.5 * (mesh.UV[a][1] + mesh.UV[b][1]);
-        Point3 P, Ds, Dt;
-        surface(s, t, P.data(), Ds.data(), Dt.data());
-        const double err = Dist(mid, P);
-        maxError = std::max(maxError, err);
-        if (err > tol && CGAL::squared_distance(f->vertex(CDT::ccw(i))->point(),
-                           f->vertex(CDT::cw(i))->point()) > plane.MinArea)
-        {
-          inserts.push_back({ Point(scale[0] * s, scale[1] * t), 0, false });
-        }
-        else
-        {
-          unrefinable = unrefinable || err > tol;
-          passedEdges.insert(PairKey(a, b));
+          const Point& p = f->vertex(i)->point();
+          f->vertex(i)->info().Index =
+            this->AddPoint(p.x() / this->Plane.Scale[0], p.y() / this->Plane.Scale[1], nullptr);
         }
       }
-    }
-    mesh.MaxEstimatedError = maxError;
-    mesh.MaxEstimatedAngle = maxAngle;
-    const bool full = static_cast<long>(faces.size()) >= options.MaxTriangles;
-    if (inserts.empty() || round >= options.MaxRounds || full)
-    {
-      mesh.Converged = inserts.empty() && !unrefinable;
-      mesh.StopReason =
-        StopReason(!inserts.empty() && round >= options.MaxRounds, full, unrefinable, options);
-      break;
-    }
-    if (insertPoints(inserts) == 0)
-    {
-      mesh.StopReason = StopReason(false, false, true, options);
-      break;
+      this->Faces.push_back(f);
     }
   }
+}
 
-  // Check rounds: the estimate above is CTo's without the shared boundary curves; the spline the
-  // stitcher makes (the chosen construction, following the edge cubics) is checked on the whole
-  // face and refined where it is off. Non-local constructions: every triangle, every round.
-  for (int check = 0; options.CheckConstruction; ++check)
+/// Interior points only: a point on a constraint would split a boundary segment. Guarded points
+/// are checked again against this round's earlier insertions (neighbours often share one
+/// circumcircle). Returns how many went in.
+std::size_t FaceMesher::InsertPoints(const std::vector<Steiner>& inserts)
+{
+  std::size_t added = 0;
+  for (Steiner q : inserts)
   {
-    collectFaces();
+    // Never next to another point (two triangles can ask for the same point up to round-off).
+    q.MinDistance = std::max(q.MinDistance, std::sqrt(this->Plane.MinArea));
+    bool can = CanInsert(this->Triangulation, q);
+    for (std::size_t i = 0; !can && i < q.Fallbacks.size(); ++i)
+    {
+      q.P = q.Fallbacks[i];
+      can = CanInsert(this->Triangulation, q);
+    }
+    if (!can)
+    {
+      continue;
+    }
+    const CDT::Vertex_handle v = this->Triangulation.insert(q.P);
+    v->info().Index =
+      this->AddPoint(q.P.x() / this->Plane.Scale[0], q.P.y() / this->Plane.Scale[1], nullptr);
+    ++added;
+  }
+  return added;
+}
+
+/// Geometric bounds: a triangle within the tolerances is refined by its circumcentre in the
+/// triangulation's plane (Chew, Ruppert), and only where that can help: the triangle is also bad
+/// in that plane (else the 3D defect comes from the surface's metric, which refinement in the
+/// plane cannot remove), and the circumcentre is a valid interior point (boundary segments are
+/// never split, so a triangle whose circumcentre is outside the domain or encroaches a segment
+/// keeps its shape). Centroids must not be used: inserted next to a segment they give a triangle
+/// on the same segment three times flatter, round after round, until the parameter triangles
+/// are flat. Returns the circumcentre to insert (Encroach set), or a point with Encroach false.
+Steiner FaceMesher::GeometricSplit(const CDT::Face_handle f) const
+{
+  const FaceMesh& mesh = this->Mesh;
+  const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
+           c = f->vertex(2)->info().Index;
+  bool bad = false;
+  const Point3 &pa = mesh.F[a], &pb = mesh.F[b], &pc = mesh.F[c];
+  const double la = Dist(pb, pc), lb = Dist(pc, pa), lc = Dist(pa, pb);
+  const Point &qa = f->vertex(0)->point(), &qb = f->vertex(1)->point(), &qc = f->vertex(2)->point();
+  const double ma = std::sqrt(CGAL::squared_distance(qb, qc)),
+               mb = std::sqrt(CGAL::squared_distance(qc, qa)),
+               mc = std::sqrt(CGAL::squared_distance(qa, qb));
+  if (this->Options.MaxEdgeLength > 0 && std::max({ la, lb, lc }) > this->Options.MaxEdgeLength)
+  {
+    bad = true;
+  }
+  if (this->Options.AspectRatio > 0 && AspectRatio(la, lb, lc) > this->Options.AspectRatio &&
+    AspectRatio(ma, mb, mc) > this->Options.AspectRatio)
+  {
+    bad = true;
+  }
+  if (bad && !CGAL::collinear(qa, qb, qc))
+  {
+    const Point cc = CGAL::circumcenter(qa, qb, qc);
+    const Steiner q{ cc, 0.5 * std::sqrt(CGAL::squared_distance(cc, qa)), true };
+    if (CanInsert(this->Triangulation, q, f))
+    {
+      return q;
+    }
+  }
+  return Steiner{};
+}
+
+/// One CTo round over the triangles that have not passed: one kernel CTo/Bary spline over all
+/// of them (its S point is the value at the centroid), measured at the split point and the
+/// centres of the three micro-triangles, which lie next to the macro-edges where the error of CT
+/// patches concentrates. Triangles over the tolerances, flat boundary corners and geometrically
+/// bad triangles ask for a point in `inserts`; the others pass.
+bool FaceMesher::EstimateTriangles(
+  std::vector<Steiner>& inserts, double& maxError, double& maxAngle)
+{
+  FaceMesh& mesh = this->Mesh;
+  const double tol = this->Options.Tolerance;
+  const bool normals = this->Options.AngularTolerance > 0;
+  FaceSplineInput in;
+  std::vector<std::size_t> triFace;
+  std::unordered_map<Id, ctk::Id> local;
+  auto localIndex = [&](Id p) {
+    auto it = local.emplace(p, in.NumberOfVertices());
+    if (it.second)
+    {
+      in.AddPoint(mesh, p);
+    }
+    return it.first->second;
+  };
+  for (std::size_t i = 0; i < this->Faces.size(); ++i)
+  {
+    const CDT::Face_handle f = this->Faces[i];
+    const Id a = f->vertex(0)->info().Index, b = f->vertex(1)->info().Index,
+             c = f->vertex(2)->info().Index;
+    if (this->Passed.count(MakeKey(a, b, c)))
+    {
+      continue;
+    }
+    for (const Id p : { a, b, c })
+    {
+      in.Triangles.push_back(localIndex(p));
+    }
+    triFace.push_back(i);
+  }
+  if (triFace.empty())
+  {
+    return true;
+  }
+  ctk::SplineOptions ctOptions;
+  ctOptions.Method = ctk::Construction::CTo;
+  ctOptions.SplitPoint = ctk::SplitPointRule::Bary;
+  ctk::MeshTopology topo;
+  ctk::CubicSpline spline;
+  if (!in.Build(ctOptions, topo, spline, mesh.Error))
+  {
+    return false;
+  }
+  for (std::size_t j = 0; j < triFace.size(); ++j)
+  {
+    const CDT::Face_handle f = this->Faces[triFace[j]];
+    const TriangleKey key = MakeKey(
+      f->vertex(0)->info().Index, f->vertex(1)->info().Index, f->vertex(2)->info().Index);
+    if (this->Plane.Refinable(f) &&
+      FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh))
+    {
+      inserts.push_back({ CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(),
+                            f->vertex(2)->point()),
+        0, false, {} });
+      continue;
+    }
+    const ctk::Id tj = static_cast<ctk::Id>(j);
+    const ctk::Vec3& split = spline.SplitTau[tj];
+    std::vector<ctk::Vec3> points{ split };
+    for (int k = 0; k < 3; ++k)
+    {
+      points.push_back(ctk::MacroBarycentric(split, k, ctk::Vec3(1, 1, 1) / 3));
+    }
+    Deviation d;
+    ctk::Vec3 worst;
+    if (!MeasureTriangle(spline, topo, in.Triangles.data(), tj, points, this->Surface, normals, d,
+          mesh.Error, &worst, tol, this->Options.AngularTolerance))
+    {
+      return false;
+    }
+    maxError = std::max(maxError, d.MaxDistance);
+    maxAngle = std::max(maxAngle, d.MaxAngle);
+    if (d.MaxDistance > tol || (normals && d.MaxAngle > this->Options.AngularTolerance))
+    {
+      if (this->Plane.Refinable(f))
+      {
+        const ctk::Vec2 X = in.ParameterAt(tj, worst);
+        inserts.push_back(
+          { Point(this->Plane.Scale[0] * X.x(), this->Plane.Scale[1] * X.y()), 0, false, {} });
+        continue;
+      }
+      this->Unrefinable = true; // too small to refine further
+      this->Passed.insert(key);
+      continue;
+    }
+    const Steiner q = this->GeometricSplit(f);
+    if (q.Encroach)
+    {
+      inserts.push_back(q);
+      continue;
+    }
+    this->Passed.insert(key);
+  }
+  return true;
+}
+
+/// Interior edges: the spline along a macro-edge is the Hermite cubic of its two ends; an edge
+/// whose midpoint is off the surface by more than the tolerance asks for its midpoint.
+void FaceMesher::CheckInteriorEdges(std::vector<Steiner>& inserts, double& maxError)
+{
+  const FaceMesh& mesh = this->Mesh;
+  const double tol = this->Options.Tolerance;
+  for (const CDT::Face_handle f : this->Faces)
+  {
+    for (int i = 0; i < 3; ++i)
+    {
+      const CDT::Face_handle n = f->neighbor(i);
+      const Id a = f->vertex(CDT::ccw(i))->info().Index, b = f->vertex(CDT::cw(i))->info().Index;
+      // Each edge once, from the side where it runs upwards (not by address: the insertion
+      // order, hence the mesh, must not depend on memory layout).
+      if (!n->info().InDomain() || this->Triangulation.is_constrained(CDT::Edge(f, i)) || a > b)
+      {
+        continue;
+      }
+      if (this->PassedEdges.count(PairKey(a, b)))
+      {
+        continue;
+      }
+      const double du = mesh.UV[b][0] - mesh.UV[a][0], dv = mesh.UV[b][1] - mesh.UV[a][1];
+      Point3 mid;
+      for (int k = 0; k < 3; ++k)
+      {
+        const double ta = mesh.F[a][k] + (du * mesh.Fs[a][k] + dv * mesh.Ft[a][k]) / 3;
+        const double tb = mesh.F[b][k] - (du * mesh.Fs[b][k] + dv * mesh.Ft[b][k]) / 3;
+        mid[k] = (mesh.F[a][k] + 3 * ta + 3 * tb + mesh.F[b][k]) / 8;
+      }
+      const double s = 0.5 * (mesh.UV[a][0] + mesh.UV[b][0]);
+      const double t = 0.5 * (mesh.UV[a][1] + mesh.UV[b][1]);
+      Point3 P, Ds, Dt;
+      this->Surface(s, t, P.data(), Ds.data(), Dt.data());
+      const double err = Dist(mid, P);
+      maxError = std::max(maxError, err);
+      if (err > tol && CGAL::squared_distance(f->vertex(CDT::ccw(i))->point(),
+                         f->vertex(CDT::cw(i))->point()) > this->Plane.MinArea)
+      {
+        inserts.push_back(
+          { Point(this->Plane.Scale[0] * s, this->Plane.Scale[1] * t), 0, false, {} });
+      }
+      else
+      {
+        this->Unrefinable = this->Unrefinable || err > tol;
+        this->PassedEdges.insert(PairKey(a, b));
+      }
+    }
+  }
+}
+
+/// The CTo rounds: refined until every triangle and interior edge is within the tolerances, the
+/// caps are reached or nothing more can be inserted.
+bool FaceMesher::Refine()
+{
+  FaceMesh& mesh = this->Mesh;
+  for (int round = 0;; ++round)
+  {
+    this->CollectFaces();
+    mesh.Rounds = round;
     std::vector<Steiner> inserts;
     double maxError = 0, maxAngle = 0;
-    if (!CheckStitchedSpline(cdt, faces, mesh, segments, surface, options, plane, inserts, maxError,
-          maxAngle, mesh.Error))
+    if (!this->EstimateTriangles(inserts, maxError, maxAngle))
+    {
+      return false;
+    }
+    this->CheckInteriorEdges(inserts, maxError);
+    mesh.MaxEstimatedError = maxError;
+    mesh.MaxEstimatedAngle = maxAngle;
+    const bool full = static_cast<long>(this->Faces.size()) >= this->Options.MaxTriangles;
+    if (inserts.empty() || round >= this->Options.MaxRounds || full)
+    {
+      mesh.Converged = inserts.empty() && !this->Unrefinable;
+      mesh.StopReason = StopReason(!inserts.empty() && round >= this->Options.MaxRounds, full,
+        this->Unrefinable, this->Options);
+      return true;
+    }
+    if (this->InsertPoints(inserts) == 0)
+    {
+      mesh.StopReason = StopReason(false, false, true, this->Options);
+      return true;
+    }
+  }
+}
+
+/// Check rounds: the estimate of Refine is CTo's without the shared boundary curves; the spline
+/// the stitcher makes (the chosen construction, following the edge cubics) is checked on the
+/// whole face and refined where it is off. Non-local constructions: every triangle, every round.
+bool FaceMesher::CheckConstruction()
+{
+  FaceMesh& mesh = this->Mesh;
+  const FaceMeshOptions& options = this->Options;
+  for (int check = 0; options.CheckConstruction; ++check)
+  {
+    this->CollectFaces();
+    std::vector<Steiner> inserts;
+    double maxError = 0, maxAngle = 0;
+    if (!CheckStitchedSpline(this->Triangulation, this->Faces, mesh, this->Segments, this->Surface,
+          options, this->Plane, inserts, maxError, maxAngle, mesh.Error))
     {
       return false;
     }
@@ -910,8 +1036,8 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       (options.AngularTolerance <= 0 || maxAngle <= options.AngularTolerance);
     // Within 0.8 of the tolerances where refinable; the rest too small to split.
     const bool rounds = check >= options.MaxRounds;
-    const bool full = static_cast<long>(faces.size()) >= options.MaxTriangles;
-    if (inserts.empty() || rounds || full || insertPoints(inserts) == 0)
+    const bool full = static_cast<long>(this->Faces.size()) >= options.MaxTriangles;
+    if (inserts.empty() || rounds || full || this->InsertPoints(inserts) == 0)
     {
       mesh.Converged = inserts.empty() && within;
       mesh.StopReason =
@@ -919,11 +1045,16 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
       break;
     }
   }
-  collectFaces();
+  return true;
+}
 
-  // Output: in-domain triangles, their boundary segments.
-  mesh.Triangles.reserve(faces.size());
-  for (const CDT::Face_handle f : faces)
+/// The mesh: in-domain triangles and their boundary segments.
+void FaceMesher::Output()
+{
+  this->CollectFaces();
+  FaceMesh& mesh = this->Mesh;
+  mesh.Triangles.reserve(this->Faces.size());
+  for (const CDT::Face_handle f : this->Faces)
   {
     std::array<Id, 3> t{ f->vertex(0)->info().Index, f->vertex(1)->info().Index,
       f->vertex(2)->info().Index };
@@ -931,12 +1062,25 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     std::array<bool, 3> flipped{ false, false, false };
     for (int l = 0; l < 3; ++l)
     {
-      seg[l] = FaceSegment(cdt, f, l, segments, flipped[l]);
+      seg[l] = FaceSegment(this->Triangulation, f, l, this->Segments, flipped[l]);
     }
     mesh.Triangles.push_back(t);
     mesh.Segments.push_back(seg);
     mesh.SegmentFlipped.push_back(flipped);
   }
+}
+} // namespace
+
+bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
+  const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh)
+{
+  mesh = FaceMesh();
+  FaceMesher mesher(loops, nodePoints, surface, options, mesh);
+  if (!mesher.Triangulate() || !mesher.Refine() || !mesher.CheckConstruction())
+  {
+    return false;
+  }
+  mesher.Output();
   return true;
 }
 

@@ -520,7 +520,8 @@ int RemoveSlivers(ShapeRead& r, double tol, double shortEdge, bool sew, bool rem
   if (shortEdges.Size() > 0)
   {
     r.Warnings.push_back(std::to_string(shortEdges.Size()) + " edge(s) shorter than half the tolerance (" +
-      Number(shortEdge) + "), sampled as they are: " + shortEdges.Text());
+      Number(shortEdge) + "), sampled as they are (within a thousandth of the tolerance: "
+      "collapsed into one vertex): " + shortEdges.Text());
   }
   return shortEdges.Size();
 }
@@ -949,7 +950,27 @@ bool Translate(const std::string& fileName, Format format, const HealingOptions&
   Bnd_Box box;
   if (!RunGuarded([&] { BRepBndLib::AddOptimal(r.Shape, box, Standard_False, Standard_False); }, failure))
   {
-    error = prefix + "its bounding box (BRepBndLib::AddOptimal): " + failure;
+    // Name the face on which OCCT fails (the first, in face order).
+    TopTools_IndexedMapOfShape faces;
+    TopExp::MapShapes(r.Shape, TopAbs_FACE, faces);
+    std::string where = "its bounding box";
+    for (int f = 1; f <= faces.Extent(); ++f)
+    {
+      Bnd_Box faceBox;
+      std::string faceFailure;
+      if (!RunGuarded(
+            [&] { BRepBndLib::AddOptimal(faces(f), faceBox, Standard_False, Standard_False); },
+            faceFailure))
+      {
+        const std::string name =
+          f <= static_cast<int>(r.FaceNames.size()) ? r.FaceNames[f - 1] : std::string();
+        where = "the bounding box of face " + std::to_string(f - 1) +
+          (name.empty() || name == "NONE" || name == "''" ? "" : " (" + name + ")");
+        failure = faceFailure;
+        break;
+      }
+    }
+    error = prefix + where + " (BRepBndLib::AddOptimal, evaluating its surface): " + failure;
     return false;
   }
   if (box.IsVoid())

@@ -26,6 +26,11 @@
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <Geom_OffsetSurface.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <BRep_Tool.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
@@ -172,6 +177,35 @@ inline TopoDS_Shape FilletedBox(double radius, bool allEdges)
   fillet.Build();
   return fillet.IsDone() ? fillet.Shape() : TopoDS_Shape();
 }
+/// A square face on the offset (by 0.1) of a planar biquadratic B-spline patch whose middle
+/// third collapses to one point: there the offset surface has no normal, and OpenCASCADE throws
+/// (Geom_UndefinedValue) when it evaluates it, e.g. for the bounding box when the file is read.
+inline TopoDS_Shape OffsetSurfaceWithoutNormal()
+{
+  TColgp_Array2OfPnt poles(1, 5, 1, 5);
+  for (int i = 1; i <= 5; ++i)
+  {
+    for (int j = 1; j <= 5; ++j)
+    {
+      const bool middle = i > 1 && i < 5 && j > 1 && j < 5;
+      poles(i, j) = middle ? gp_Pnt(2, 2, 0) : gp_Pnt(i - 1, j - 1, 0);
+    }
+  }
+  TColStd_Array1OfReal knots(1, 4);
+  TColStd_Array1OfInteger mults(1, 4);
+  const double k[4] = { 0, 1.0 / 3, 2.0 / 3, 1 };
+  const int m[4] = { 3, 1, 1, 3 };
+  for (int i = 0; i < 4; ++i)
+  {
+    knots(i + 1) = k[i];
+    mults(i + 1) = m[i];
+  }
+  Handle(Geom_BSplineSurface) patch =
+    new Geom_BSplineSurface(poles, knots, knots, mults, mults, 2, 2);
+  BRepBuilderAPI_MakeFace face(new Geom_OffsetSurface(patch, 0.1, Standard_True), 0, 1, 0, 1, 1e-7);
+  return face.IsDone() ? face.Shape() : TopoDS_Shape();
+}
+
 } // namespace ctsplines_test
 
 #endif

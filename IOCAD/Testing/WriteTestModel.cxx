@@ -3,7 +3,8 @@
 // that the Python and ParaView tests have CAD models without committing any; Python cannot write
 // STEP here. NAME: box_with_hole (default: a small closed solid with planes, a seamed cylinder
 // and faces with holes), hemisphere_quarter, cylinder_octant_two_faces (the shell benchmarks),
-// loose_box_faces (a box's faces unconnected, for the sewing).
+// loose_box_faces (a box's faces unconnected, for the sewing), offset_without_normal (a face on
+// which OpenCASCADE throws, for the CLI's error).
 #include "CADTestShapes.h"
 
 #include <STEPControl_Writer.hxx>
@@ -32,6 +33,10 @@ TopoDS_Shape ShapeNamed(const std::string& name)
   {
     return ctsplines_test::LooseBoxFaces();
   }
+  if (name == "offset_without_normal")
+  {
+    return ctsplines_test::OffsetSurfaceWithoutNormal();
+  }
   return TopoDS_Shape();
 }
 } // namespace
@@ -53,7 +58,7 @@ int main(int argc, char* argv[])
   {
     std::fprintf(stderr,
       "usage: %s [--shape box_with_hole|hemisphere_quarter|cylinder_octant_two_faces|"
-      "loose_box_faces] PATH.step\n",
+      "loose_box_faces|offset_without_normal] PATH.step\n",
       argv[0]);
     return 2;
   }

@@ -47,6 +47,8 @@
 #include <Geom2d_Line.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Circle.hxx>
+#include <Geom_Line.hxx>
+#include <Geom_Plane.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
 #include <Interface_Static.hxx>
@@ -288,6 +290,54 @@ TopoDS_Shape SeamlessCylinder()
   B.Add(solid, shell);
   BRepLib::OrientClosedSolid(solid);
   return solid;
+}
+
+/// A plate [0, 2] x [0, 1] whose circular hole (radius 0.4) touches the right side at vertex
+/// P = (2, 0.5), as KiCad models have them. gap = 0: the circle is one closed edge from P to P.
+/// gap > 0: the circle is an arc from Q = (2, 0.5 + gap) round to P, closed by a straight edge
+/// P-Q, and the side has its own edge P-Q: two coincident edges shorter than the tolerance. Q is
+/// a vertex of its own (Potentiometer_Bourns_3266Z's face 2) or, with `closedTiny`, P itself
+/// within its tolerance (LED_D3.0mm_Horizontal's face 1; the readers drop such edges, leaving
+/// the circle's end 7.5e-8 from P's other pcurve end).
+TopoDS_Shape PlateWithTouchingHole(double gap, bool closedTiny)
+{
+  const double r = 0.4;
+  auto vertex = [](double x, double y) {
+    return BRepBuilderAPI_MakeVertex(gp_Pnt(x, y, 0)).Vertex();
+  };
+  const TopoDS_Vertex a = vertex(0, 0), b = vertex(2, 0), c = vertex(2, 1), d = vertex(0, 1);
+  const TopoDS_Vertex P = vertex(2, 0.5), Q = gap > 0 && !closedTiny ? vertex(2, 0.5 + gap) : P;
+  BRep_Builder builder;
+  builder.UpdateVertex(P, closedTiny ? 2 * gap : 1e-7);
+  auto tinyEdge = [&]() {
+    TopoDS_Edge e;
+    builder.MakeEdge(e, new Geom_Line(gp_Pnt(2, 0.5, 0), gp::DY()), 1e-7);
+    builder.Add(e, P.Oriented(TopAbs_FORWARD));
+    builder.Add(e, Q.Oriented(TopAbs_REVERSED));
+    builder.Range(e, 0, gap);
+    return e;
+  };
+  BRepBuilderAPI_MakeWire outer;
+  outer.Add(BRepBuilderAPI_MakeEdge(a, b).Edge());
+  outer.Add(BRepBuilderAPI_MakeEdge(b, P).Edge());
+  if (gap > 0)
+  {
+    outer.Add(tinyEdge());
+  }
+  outer.Add(BRepBuilderAPI_MakeEdge(Q, c).Edge());
+  outer.Add(BRepBuilderAPI_MakeEdge(c, d).Edge());
+  outer.Add(BRepBuilderAPI_MakeEdge(d, a).Edge());
+  Handle(Geom_Circle) circle =
+    new Geom_Circle(gp_Ax2(gp_Pnt(2 - r, 0.5, 0), gp::DZ(), gp::DX()), r);
+  BRepBuilderAPI_MakeWire inner;
+  inner.Add(BRepBuilderAPI_MakeEdge(circle, Q, P, 2 * std::asin(0.5 * gap / r), 2 * M_PI).Edge());
+  if (gap > 0)
+  {
+    inner.Add(tinyEdge());
+  }
+  BRepBuilderAPI_MakeFace face(gp_Pln(gp::XOY()), outer.Wire());
+  face.Add(TopoDS::Wire(inner.Wire().Reversed()));
+  return face.IsDone() ? face.Shape() : TopoDS_Shape();
 }
 
 /// Longest edge / (2 sqrt(3) inradius) of a 3D triangle.
@@ -1203,6 +1253,123 @@ TEST(CADConversion, ThinBoundaryTrianglesAreRefinedToTheTolerance)
   // Those triangles had a degenerate corner (two boundary spans of one edge meet there in
   // opposite directions), where the spline's normal flipped with round-off.
   EXPECT_LT(Field(fd, "MaxNormalDeviation"), 5.0);
+}
+
+/// A face whose inner loop touches the outer one, at a vertex or along two coincident edges
+/// shorter than the tolerance (KiCad's ST_HLGA-6, LED_D3.0mm_Horizontal): the vertex's pcurve
+/// ends differ by round-off and the tiny edges bound a region of no width, which used to give
+/// zero-area parameter triangles ("degenerate parameter triangle"). The tiny edges collapse into
+/// the vertex and the domain is pinched there: the face converts, its triangles cover the plate
+/// less the disc.
+TEST(CADConversion, InnerLoopTouchingTheOuterOne)
+{
+  struct Case
+  {
+    double Gap;
+    bool ClosedTiny, Iges;
+  };
+  for (const Case& k : { Case{ 0, false, false }, Case{ 0, false, true },
+         Case{ 1.5e-7, false, false }, Case{ 1.5e-7, true, true } })
+  {
+    const double gap = k.Gap;
+    const TopoDS_Shape plate = PlateWithTouchingHole(gap, k.ClosedTiny);
+    ASSERT_FALSE(plate.IsNull()) << gap;
+    const std::string name = std::string("plate_touching_hole_") + (gap > 0 ? "gap" : "vertex") +
+      (k.ClosedTiny ? "_closed" : "");
+    const std::string file = k.Iges ? TempIges(name, plate) : TempStep(name, plate);
+    Conversion c;
+    MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+    c.Run(file, 1e-4);
+    EXPECT_EQ(errors.Text, "") << file;
+    if (c.Faces->GetNumberOfBlocks() != 1u)
+    {
+      ADD_FAILURE() << file << " did not convert";
+      continue;
+    }
+    vtkPolyData* pd = c.Face(0);
+    vtkDataArray* uv = pd->GetPointData()->GetArray("UV");
+    ASSERT_NE(uv, nullptr);
+    double area = 0;
+    for (vtkIdType t = 0; t < pd->GetNumberOfCells(); ++t)
+    {
+      vtkIdType n;
+      const vtkIdType* p;
+      pd->GetCellPoints(t, n, p);
+      const double *A = uv->GetTuple2(p[0]), a0 = A[0], a1 = A[1];
+      const double *B = uv->GetTuple2(p[1]), b0 = B[0], b1 = B[1];
+      const double* C = uv->GetTuple2(p[2]);
+      const double twice = (b0 - a0) * (C[1] - a1) - (b1 - a1) * (C[0] - a0);
+      EXPECT_GT(twice, 0) << "cell " << t << ", " << file;
+      area += 0.5 * twice;
+    }
+    // The boundary is sampled within the tolerance: the polygonal disc is a little smaller.
+    EXPECT_NEAR(area, 2 - M_PI * 0.16, 1e-3) << file;
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  }
+}
+
+/// A unit box whose top face lies on the plane z = 1.01 while its edges stay at z = 1: at its
+/// corners the faces miss each other by 0.01 (NXP_MPL115A1_LGA-8's by up to 0.1 of its 6 mm),
+/// so each vertex node, the mean of the faces there, is off its edges' mean curves by more than
+/// the tolerance. The edge sampling used to halve the spans at such a vertex down to a billionth
+/// of the edge (30 levels), whose nearly collinear nodes gave zero-area parameter triangles;
+/// that offset is the model's gap, allowed like the surface gap.
+TEST(CADConversion, VertexOffItsEdgesIsNotRefinedWithoutEnd)
+{
+  TopoDS_Shape box = BRepPrimAPI_MakeBox(1.0, 1.0, 1.0).Shape();
+  for (TopExp_Explorer ex(box, TopAbs_FACE); ex.More(); ex.Next())
+  {
+    const TopoDS_Face& F = TopoDS::Face(ex.Current());
+    Handle(Geom_Plane) plane = Handle(Geom_Plane)::DownCast(BRep_Tool::Surface(F));
+    if (!plane.IsNull() && plane->Location().Z() > 0.5)
+    {
+      gp_Pln moved = plane->Pln();
+      moved.SetLocation(gp_Pnt(0, 0, 1.01));
+      BRep_Builder().UpdateFace(F, new Geom_Plane(moved), F.Location(), 1e-7);
+    }
+  }
+  Conversion c;
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("vertex_off_its_edges", box), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 6u);
+  std::set<vtkIdType> boundary;
+  for (unsigned int f = 0; f < 6; ++f)
+  {
+    vtkDataArray* gid = c.Face(f)->GetPointData()->GetArray("GlobalNodeId");
+    for (vtkIdType p = 0; gid && p < gid->GetNumberOfTuples(); ++p)
+    {
+      if (gid->GetComponent(p, 0) >= 0)
+      {
+        boundary.insert(static_cast<vtkIdType>(gid->GetComponent(p, 0)));
+      }
+    }
+  }
+  std::printf("vertex off its edges: %zu boundary nodes\n", boundary.size());
+  // 20 here (12 edges, each split once); 30 halvings at each end of the edges gave hundreds.
+  EXPECT_LT(boundary.size(), 60u) << "the spans at the vertices are not halved 30 times";
+  EXPECT_EQ(Field(c.Merged->GetFieldData(), "NumberOfFreeEdges"), 0);
+}
+
+/// An OpenCASCADE exception is an error naming the face and the operation, beside OCCT's own
+/// text: the offset surface without a normal throws when the file is read (its bounding box),
+/// and the sampler's RequestData fails.
+TEST(CADConversion, OCCTExceptionNamesTheFaceAndOperation)
+{
+  const TopoDS_Shape shape = ctsplines_test::OffsetSurfaceWithoutNormal();
+  ASSERT_FALSE(shape.IsNull());
+  const std::string file = TempStep("offset_without_normal", shape);
+  vtkNew<vtkCADFaceSampler> sampler;
+  MessageCapture errors(sampler, vtkCommand::ErrorEvent);
+  MessageCapture pipeline(sampler->GetExecutive(), vtkCommand::ErrorEvent);
+  sampler->SetFileName(file.c_str());
+  EXPECT_EQ(sampler->GetExecutive()->Update(), 0) << "RequestData fails";
+  EXPECT_EQ(sampler->GetOutput()->GetNumberOfBlocks(), 0u);
+  EXPECT_NE(errors.Text.find("the bounding box of face 0"), std::string::npos) << errors.Text;
+  EXPECT_NE(errors.Text.find("evaluating its surface"), std::string::npos) << errors.Text;
+  EXPECT_NE(errors.Text.find("Geom_UndefinedValue"), std::string::npos) << errors.Text;
 }
 
 /// A thin cylinder held to an angular tolerance (OpenCASCADE's angular deflection): without it

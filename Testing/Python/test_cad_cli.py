@@ -186,6 +186,18 @@ class CADCommandLineTest(CommandLineCase):
         p = self.cli("convert", self.path("mesh.vtp"), self.path("s.vtu"), "--no-sew", code=2)
         self.assertIn("--no-sew applies to CAD models", p.stderr)
 
+    def test_occt_exception_is_named(self):
+        # A face on which OpenCASCADE throws (CAD.WriteTestModel.offset_without_normal): the
+        # error line names the face and the operation, beside OCCT's own text.
+        step = model("offset_without_normal.step")
+        if step is None:
+            self.skipTest("offset_without_normal.step not written (fixture CAD.WriteTestModel)")
+        p = self.cli("convert", step, "-o", self.path("o.vtm"), code=3)
+        self.assertRegex(p.stderr, r"(?m)^error: ")
+        self.assertIn("the bounding box of face 0", p.stderr)
+        self.assertIn("evaluating its surface", p.stderr)
+        self.assertIn("Geom_UndefinedValue", p.stderr)
+
     def test_errors(self):
         p = self.cli("convert", self.path("missing.step"), "-o", self.path("o.vtm"), code=3)
         self.assertIn("no such file", p.stderr)
