@@ -541,7 +541,22 @@ void TangentPlanes::FitCuspDerivatives()
     D << dOut, dIn;
     Jacobian T;
     T << 3 * tOut, 3 * tIn;
-    this->J[v] = T * D.inverse();
+    const Jacobian fitted = T * D.inverse();
+    // Interior chords within the corner move by up to this (as combinations of the boundary
+    // chords, as long as the longer one): the spans at the corner are split until it is small.
+    const Jacobian dJ = fitted - this->J[v];
+    const double longest = std::max(dIn.norm(), dOut.norm());
+    const double move = longest *
+      ((dJ * dIn).norm() / dIn.norm() + (dJ * dOut).norm() / dOut.norm()) / 3;
+    for (const LoopSegment* seg : { &loop.Segments[in.Segment], &loop.Segments[out.Segment] })
+    {
+      if (this->Options.MaxMove > 0 && move > this->Options.MaxMove && seg->Edge >= 0 &&
+        seg->Span >= 0)
+      {
+        this->Report.SpansToSplit.emplace_back(seg->Edge, seg->Span);
+      }
+    }
+    this->J[v] = fitted;
   }
 }
 
