@@ -5,6 +5,7 @@
 #include "CADBRepSampling.h"
 
 #include "CADFileReading.h"
+#include "BoundarySpanBulge.h"
 #include "InterfaceTangentPlanes.h"
 
 #include <BRepAdaptor_Curve.hxx>
@@ -1048,6 +1049,7 @@ bool CADModel::Sample(const SamplingOptions& options)
   // faces within the threshold but not exactly tangent meet at a B-rep vertex, the edge cubics
   // there turn into the shared plane: spans that move by more than a quarter of the tolerance
   // are halved and the edge re-sampled, then 2 and 3 again (the move halves with the span).
+  // So are spans whose cubic bulges across a narrow face (BoundarySpanBulge.h).
   TangentPlaneOptions planes;
   planes.RestoreG1 = options.RestoreG1;
   planes.G1Threshold = options.G1Threshold;
@@ -1057,7 +1059,7 @@ bool CADModel::Sample(const SamplingOptions& options)
   // After the first round only the faces of re-sampled edges are rebuilt; the others get their
   // loops as built back (the tangent planes start from the edge sampling's data).
   std::vector<char> rebuild(nF, 1);
-  std::vector<std::vector<FaceLoop>> built(options.RestoreG1 ? nF : 0);
+  std::vector<std::vector<FaceLoop>> built(nF);
   for (int round = 0;; ++round)
   {
     start = Clock::now();
@@ -1075,10 +1077,7 @@ bool CADModel::Sample(const SamplingOptions& options)
       {
         return false;
       }
-      if (options.RestoreG1)
-      {
-        built[f] = this->FaceList[f].Loops;
-      }
+      built[f] = this->FaceList[f].Loops;
     }
     this->Time.Loops += Seconds(start);
     start = Clock::now();
@@ -1089,12 +1088,19 @@ bool CADModel::Sample(const SamplingOptions& options)
               (lastFace >= 0 ? Stages::FaceLabel(*this, lastFace) : std::string("a face"));
           },
           [&] {
-            report = SetInterfaceTangentPlanes(this->FaceList, this->NodePoints,
-              [&](int f, double s, double t, double* P, double* Ds, double* Dt) {
-                lastFace = f;
-                this->Evaluate(f, s, t, P, Ds, Dt);
-              },
-              planes);
+            const FaceDerivatives evaluate = [&](int f, double s, double t, double* P,
+                                               double* Ds, double* Dt) {
+              lastFace = f;
+              this->Evaluate(f, s, t, P, Ds, Dt);
+            };
+            report = SetInterfaceTangentPlanes(this->FaceList, this->NodePoints, evaluate, planes);
+            // Spans bulging across narrow faces are split too, with or without RestoreG1.
+            std::vector<std::pair<Id, Id>>& split = report.SpansToSplit;
+            const auto bulging =
+              SpansBulgingAcrossFaces(this->FaceList, this->NodePoints, evaluate, 0.01 * tol);
+            split.insert(split.end(), bulging.begin(), bulging.end());
+            std::sort(split.begin(), split.end());
+            split.erase(std::unique(split.begin(), split.end()), split.end());
             return true;
           }))
     {

@@ -110,6 +110,7 @@ private:
   void ClassifySpans();
   void ChoosePlanes();
   void Project();
+  void FitCuspDerivatives();
   void WriteBack();
   void SetMidNormals();
 
@@ -438,6 +439,7 @@ void TangentPlanes::Project()
     this->Report.MaxCurveChange =
       std::max(this->Report.MaxCurveChange, (end.Tau - end.Tau0).norm());
   }
+  this->FitCuspDerivatives();
   for (const SegmentUse& use : this->Uses)
   {
     const LoopSegment& seg = this->Faces[use.Face].Loops[use.Loop].Segments[use.Segment];
@@ -474,6 +476,87 @@ void TangentPlanes::Project()
       twoFaces = twoFaces || this->Vertices[v].Face != this->Vertices[g.Vertices[0]].Face;
     }
     this->Report.SmoothNodes += g.Tangent && twoFaces ? 1 : 0;
+  }
+}
+
+/// Signed angle from a to b about the unit normal n, in (-pi, pi].
+double AngleAbout(const Vector3& a, const Vector3& b, const Vector3& n)
+{
+  return std::atan2(n.dot(a.cross(b)), a.dot(b));
+}
+
+/// Face corners where the boundary cubics leave the node within a much smaller angle than their
+/// chords do in the parameter plane: a cusp (an arc tangent to a line, KiCad's pads and
+/// spandrels), where the 3D corner is 0 while the chords keep an angle. Every interior edge there
+/// gets its T point from the derivatives through its chord, and lies outside the boundary
+/// cubics' corner: the micro-patches fold over (normals flipped by 180 degrees). The face's
+/// vertex derivatives are fitted to the boundary instead, J d = 3 tau for both boundary chords
+/// d (in the face's plane there), so that the interior edges fan out within the cubics' corner.
+void TangentPlanes::FitCuspDerivatives()
+{
+  std::map<std::tuple<int, int, int>, int> useOf;
+  for (int u = 0; u < static_cast<int>(this->Uses.size()); ++u)
+  {
+    useOf[{ this->Uses[u].Face, this->Uses[u].Loop, this->Uses[u].Segment }] = u;
+  }
+  for (const SegmentUse& in : this->Uses)
+  {
+    const FaceLoop& loop = this->Faces[in.Face].Loops[in.Loop];
+    const int n = static_cast<int>(loop.Nodes.size());
+    const auto next = useOf.find({ in.Face, in.Loop, (in.Segment + 1) % n });
+    const int v = in.Vertex[1];
+    const Vector3 normal = UnitNormal(this->J[v]);
+    if (next == useOf.end() || n < 3 || normal.squaredNorm() == 0)
+    {
+      continue;
+    }
+    const SegmentUse& out = this->Uses[next->second];
+    auto uv = [&](int k) {
+      const LoopNode& node = loop.Nodes[(k + n) % n];
+      return Eigen::Vector2d(node.UV[0], node.UV[1]);
+    };
+    const int k = (in.Segment + 1) % n;
+    const Eigen::Vector2d dIn = uv(k - 1) - uv(k), dOut = uv(k + 1) - uv(k);
+    // In the plane of the face's derivatives there.
+    auto inPlane = [&](const Vector3& t) { return Vector3(t - normal.dot(t) * normal); };
+    const Vector3 tIn = inPlane(this->Ends[in.End[1]].Tau);
+    const Vector3 tOut = inPlane(this->Ends[out.End[0]].Tau);
+    const double det = dOut.x() * dIn.y() - dOut.y() * dIn.x();
+    if (tIn.squaredNorm() == 0 || tOut.squaredNorm() == 0 ||
+      std::abs(det) <= 1e-12 * dIn.norm() * dOut.norm())
+    {
+      continue;
+    }
+    // The face's corner (counter-clockwise from the outgoing to the incoming chord: the face
+    // lies to the left of its loops), through the derivatives and along the cubics.
+    double chords = AngleAbout(this->J[v] * dOut, this->J[v] * dIn, normal);
+    chords += chords < 0 ? 2 * 3.14159265358979323846 : 0;
+    const double cubics =
+      chords + std::remainder(AngleAbout(tOut, tIn, normal) - chords, 2 * 3.14159265358979323846);
+    if (cubics >= 0.5 * chords)
+    {
+      continue;
+    }
+    Eigen::Matrix2d D;
+    D << dOut, dIn;
+    Jacobian T;
+    T << 3 * tOut, 3 * tIn;
+    const Jacobian fitted = T * D.inverse();
+    // Interior chords within the corner move by up to this (as combinations of the boundary
+    // chords, as long as the longer one): the spans at the corner are split until it is small.
+    const Jacobian dJ = fitted - this->J[v];
+    const double longest = std::max(dIn.norm(), dOut.norm());
+    const double move = longest *
+      ((dJ * dIn).norm() / dIn.norm() + (dJ * dOut).norm() / dOut.norm()) / 3;
+    for (const LoopSegment* seg : { &loop.Segments[in.Segment], &loop.Segments[out.Segment] })
+    {
+      if (this->Options.MaxMove > 0 && move > this->Options.MaxMove && seg->Edge >= 0 &&
+        seg->Span >= 0)
+      {
+        this->Report.SpansToSplit.emplace_back(seg->Edge, seg->Span);
+      }
+    }
+    this->J[v] = fitted;
   }
 }
 

@@ -26,7 +26,10 @@
 // triangles' skew), and tangent spans are split until it turns by at most 11.25 degrees, and
 // where the faces are not exactly tangent until turning into the shared plane moves the surface
 // by less than a quarter of the tolerance. Nodes where a face has no normal (poles) join no
-// group. A projection of the data keeps every macro-patch C1 inside. No OpenCASCADE or CGAL.
+// group. A projection of the data keeps every macro-patch C1 inside. At a face's cusp (its
+// boundary cubics leave a node within a much smaller angle than their chords), the face's
+// derivatives there are fitted to the cubics, so that its interior edges do not fold it (with
+// or without RestoreG1). No OpenCASCADE or CGAL.
 #ifndef CTSplines_IOCAD_InterfaceTangentPlanes_h
 #define CTSplines_IOCAD_InterfaceTangentPlanes_h
 

@@ -4,6 +4,7 @@
 #define CTSplines_IOCAD_Testing_CADTestShapes_h
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
@@ -24,6 +25,9 @@
 #include <BRepFilletAPI_MakeFillet.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <GC_MakeArcOfCircle.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <gp_Circ.hxx>
 #include <Geom_CylindricalSurface.hxx>
 #include <Geom_SphericalSurface.hxx>
 #include <Geom_BSplineSurface.hxx>
@@ -206,6 +210,39 @@ inline TopoDS_Shape OffsetSurfaceWithoutNormal()
   return face.IsDone() ? face.Shape() : TopoDS_Shape();
 }
 
+/// A prism (`height` high) over a thin ring sector: radii `radius` and `radius + width` about the
+/// z axis, from 0 to `degrees`. Its top and bottom are strips far narrower than long, whose
+/// inner arc bulges across them between samples that are far enough apart for the tolerance.
+inline TopoDS_Shape ThinRingSector(double radius, double width, double degrees, double height)
+{
+  const double a = degrees * M_PI / 180;
+  const gp_Circ inner(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), radius);
+  const gp_Circ outer(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), radius + width);
+  const gp_Pnt p0(radius, 0, 0), p1(radius * std::cos(a), radius * std::sin(a), 0);
+  const gp_Pnt q0(radius + width, 0, 0);
+  const gp_Pnt q1((radius + width) * std::cos(a), (radius + width) * std::sin(a), 0);
+  BRepBuilderAPI_MakeWire wire;
+  auto arc = [](const gp_Circ& c, const gp_Pnt& from, const gp_Pnt& to) {
+    return BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(c, from, to, Standard_True).Value()).Edge();
+  };
+  wire.Add(arc(inner, p0, p1));
+  wire.Add(BRepBuilderAPI_MakeEdge(p1, q1).Edge());
+  wire.Add(arc(outer, q0, q1));
+  wire.Add(BRepBuilderAPI_MakeEdge(q0, p0).Edge());
+  const TopoDS_Face base = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+  return BRepPrimAPI_MakePrism(base, gp_Vec(0, 0, height)).Shape();
+}
+/// A box (2 r x 2 r x height) fused with the cylinder of radius r inscribed in it: its top and
+/// bottom are split into the disk and four corner pieces, which end in cusps where the circle
+/// touches the box's sides (the arc tangent to the side's line), and which meet the disk
+/// tangentially (coplanar) along the arcs.
+inline TopoDS_Shape BoxWithInscribedDisk(double r, double height)
+{
+  const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(-r, -r, 0), 2 * r, 2 * r, height).Shape();
+  const TopoDS_Shape disk =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), r, height).Shape();
+  return BRepAlgoAPI_Fuse(box, disk).Shape();
+}
 } // namespace ctsplines_test
 
 #endif

@@ -1054,6 +1054,41 @@ TEST(CADConversion, FilletedBoxIsG1ByDefault)
   }
 }
 
+TEST(CADConversion, ThinStripDoesNotFold)
+{
+  // Without splitting the inner arc's spans, its cubics bulge across the strip and fold it.
+  for (const double width : { 0.01, 0.002 })
+  {
+    Conversion c;
+    c.Run(TempStep("thin_ring_sector", ctsplines_test::ThinRingSector(0.3, width, 180, 30)), 1e-4);
+    vtkFieldData* fd = c.Merged->GetFieldData();
+    std::printf("ring sector %g wide: normal deviation %.3g degrees, G1 %.3g, deviation %.3g\n",
+      width, Field(fd, "MaxNormalDeviation"), Field(fd, "MaxG1Angle"), Field(fd, "MaxDeviation"));
+    EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10) << width;
+    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4) << width;
+  }
+}
+
+TEST(CADConversion, CuspCornersDoNotFold)
+{
+  // Without the fitted corner derivatives the corner pieces fold at their cusps (180 degrees).
+  const TopoDS_Shape shape = ctsplines_test::BoxWithInscribedDisk(1.0, 0.5);
+  ASSERT_FALSE(shape.IsNull());
+  Conversion c;
+  c.Run(TempStep("box_inscribed_disk", shape), 1e-4);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("box with an inscribed disk: %u faces, G1 %.3g over %g tangent macro-edges, normal "
+              "deviation %.3g degrees, deviation %.3g\n",
+    c.Faces->GetNumberOfBlocks(), Field(fd, "MaxG1AngleTangent"),
+    Field(fd, "NumberOfTangentInterfaceEdges"), Field(fd, "MaxNormalDeviation"),
+    Field(fd, "MaxDeviation"));
+  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
+  EXPECT_LE(Field(fd, "MaxG1AngleTangent"), 0.1);
+  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+}
+
 TEST(CADConversion, SphereSeamIsATangentInterface)
 {
   // The seam is an interface of the face with itself: tangent, not a feature edge, and nearly G1
