@@ -644,53 +644,59 @@ std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefi
   return {};
 }
 
-void CopyCellDataBySource(
-  vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells)
+vtkSmartPointer<vtkAbstractArray> GatherTuples(
+  vtkAbstractArray* in, const vtkIdType* source, vtkIdType n)
 {
-  vtkCellData* cd = input->GetCellData();
-  for (int a = 0; a < cd->GetNumberOfArrays(); ++a)
+  vtkSmartPointer<vtkAbstractArray> array =
+    vtkSmartPointer<vtkAbstractArray>::Take(in->NewInstance());
+  array->SetName(in->GetName());
+  array->SetNumberOfComponents(in->GetNumberOfComponents());
+  array->SetNumberOfTuples(n);
+  auto copy = [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType k = begin; k < end; ++k)
+    {
+      array->SetTuple(k, source[k], in);
+    }
+  };
+  // Bits share bytes and strings are not plain data: those are copied on one thread. Plain
+  // arrays in VTK's standard layout are copied as bytes (no virtual call per value).
+  const bool plain = vtkDataArray::SafeDownCast(array) && !vtkBitArray::SafeDownCast(array);
+  if (plain && in->HasStandardMemoryLayout() && array->HasStandardMemoryLayout())
   {
-    vtkAbstractArray* in = cd->GetAbstractArray(a);
-    if (in == cd->GetGlobalIds() || !in->GetName())
+    const size_t bytes = static_cast<size_t>(in->GetNumberOfComponents()) * in->GetDataTypeSize();
+    const char* from = static_cast<const char*>(in->GetVoidPointer(0));
+    char* to = static_cast<char*>(array->GetVoidPointer(0));
+    ctsplines::ParallelFor(0, n, ctsplines::GrainForCopies, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType k = begin; k < end; ++k)
+      {
+        std::memcpy(to + k * bytes, from + source[k] * bytes, bytes);
+      }
+    });
+  }
+  else if (plain)
+  {
+    ctsplines::ParallelFor(0, n, ctsplines::GrainForCopies, copy);
+  }
+  else
+  {
+    copy(0, n);
+  }
+  return array;
+}
+
+void GatherAttributes(
+  vtkDataSetAttributes* in, vtkDataSetAttributes* out, const vtkIdType* source, vtkIdType n,
+  bool skipGlobalIds)
+{
+  for (int a = 0; a < in->GetNumberOfArrays(); ++a)
+  {
+    vtkAbstractArray* from = in->GetAbstractArray(a);
+    if ((skipGlobalIds && from == in->GetGlobalIds()) || !from->GetName())
     {
       continue;
     }
-    vtkSmartPointer<vtkAbstractArray> array =
-      vtkSmartPointer<vtkAbstractArray>::Take(in->NewInstance());
-    array->SetName(in->GetName());
-    array->SetNumberOfComponents(in->GetNumberOfComponents());
-    array->SetNumberOfTuples(outputCells);
-    auto copy = [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType k = begin; k < end; ++k)
-      {
-        array->SetTuple(k, sourceCell[k], in);
-      }
-    };
-    // Bits share bytes and strings are not plain data: those are copied on one thread. Plain
-    // arrays in VTK's standard layout are copied as bytes (no virtual call per value).
-    const bool plain = vtkDataArray::SafeDownCast(array) && !vtkBitArray::SafeDownCast(array);
-    if (plain && in->HasStandardMemoryLayout() && array->HasStandardMemoryLayout())
-    {
-      const size_t bytes = static_cast<size_t>(in->GetNumberOfComponents()) * in->GetDataTypeSize();
-      const char* from = static_cast<const char*>(in->GetVoidPointer(0));
-      char* to = static_cast<char*>(array->GetVoidPointer(0));
-      ctsplines::ParallelFor(0, outputCells, ctsplines::GrainForCopies,
-        [&](vtkIdType begin, vtkIdType end) {
-          for (vtkIdType k = begin; k < end; ++k)
-          {
-            std::memcpy(to + k * bytes, from + sourceCell[k] * bytes, bytes);
-          }
-        });
-    }
-    else if (plain)
-    {
-      ctsplines::ParallelFor(0, outputCells, ctsplines::GrainForCopies, copy);
-    }
-    else
-    {
-      copy(0, outputCells);
-    }
-    const int attribute = cd->IsArrayAnAttribute(a);
+    vtkSmartPointer<vtkAbstractArray> array = GatherTuples(from, source, n);
+    const int attribute = in->IsArrayAnAttribute(a);
     if (attribute >= 0)
     {
       out->SetAttribute(array, attribute);
@@ -700,6 +706,12 @@ void CopyCellDataBySource(
       out->AddArray(array);
     }
   }
+}
+
+void CopyCellDataBySource(
+  vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells)
+{
+  GatherAttributes(input->GetCellData(), out, sourceCell, outputCells, true);
 }
 
 std::string GatherBezierCellsAndCellData(vtkDataSet* ds, BezierCells& cells)

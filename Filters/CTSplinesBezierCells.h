@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+class vtkAbstractArray;
 class vtkCellData;
 class vtkDataArray;
 class vtkDataSet;
@@ -179,6 +180,15 @@ std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefi
 /// longer be unique.
 void CopyCellDataBySource(
   vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells);
+
+/// A new array of the same type, name and components holding in's tuples source[0..n).
+vtkSmartPointer<vtkAbstractArray> GatherTuples(
+  vtkAbstractArray* in, const vtkIdType* source, vtkIdType n);
+
+/// Adds to `out` every named array of `in` gathered by GatherTuples, the active attributes
+/// staying active; the global ids are left out when skipGlobalIds is set.
+void GatherAttributes(vtkDataSetAttributes* in, vtkDataSetAttributes* out,
+  const vtkIdType* source, vtkIdType n, bool skipGlobalIds);
 
 /// Runs body (a kernel evaluation per element) over [0, n) in at most `blocks` consecutive
 /// parallel loops (ParallelFor), reporting progress from progress0 to progress1 and checking
