@@ -62,16 +62,16 @@ void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
 {
   ResizeForOverwrite(this->Corners, static_cast<size_t>(3 * numTriangles));
   std::copy_n(corners, 3 * numTriangles, this->Corners.data());
-  this->BuildBuckets();
+  this->BuildBuckets(nullptr);
 }
 
-void ParameterLocator::Build(std::vector<Vec2>&& corners)
+void ParameterLocator::Build(std::vector<Vec2>&& corners, const Id* tieRank)
 {
   this->Corners = std::move(corners);
-  this->BuildBuckets();
+  this->BuildBuckets(tieRank);
 }
 
-void ParameterLocator::BuildBuckets()
+void ParameterLocator::BuildBuckets(const Id* tieRank)
 {
   const Id numTriangles = this->GetNumberOfTriangles();
   this->Offsets.clear();
@@ -156,6 +156,16 @@ void ParameterLocator::BuildBuckets()
           this->Items[next[iy * this->NX + ix]++] = t;
         }
       }
+    }
+  }
+  if (tieRank)
+  {
+    // Rows are short (a few triangles): sorting each is cheap, and stays in cache when the
+    // triangles are stored in a locality order.
+    for (Id b = 0; b < nBuckets; ++b)
+    {
+      std::sort(this->Items.begin() + this->Offsets[b], this->Items.begin() + this->Offsets[b + 1],
+        [tieRank](Id s, Id t) { return tieRank[s] < tieRank[t]; });
     }
   }
 }

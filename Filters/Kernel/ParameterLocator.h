@@ -39,8 +39,11 @@ public:
   /// are never reported (they have no barycentric coordinates).
   void Build(Id numTriangles, const Vec2* corners);
 
-  /// The same, taking over the corners (3 per triangle) instead of copying them.
-  void Build(std::vector<Vec2>&& corners);
+  /// The same, taking over the corners (3 per triangle) instead of copying them. With tieRank
+  /// (one value per triangle), Locate breaks ties by the lowest tieRank instead of the lowest
+  /// id: a caller that stores its triangles in another order (a locality order) then gets the
+  /// triangle it would get in its original numbering, tieRank being the original ids.
+  void Build(std::vector<Vec2>&& corners, const Id* tieRank = nullptr);
 
   /// Corner a of triangle t is TriangleCorners(t)[a].
   const Vec2* TriangleCorners(Id t) const { return &this->Corners[3 * t]; }
@@ -49,7 +52,8 @@ public:
   void Build(const std::vector<Vec2>& uv, Id numTriangles, const Id* triangles);
 
   /// The triangle containing (u, v). Among several candidates (shared edges and vertices), the
-  /// one whose smallest barycentric coordinate is largest, then the lowest id: deterministic.
+  /// one whose smallest barycentric coordinate is largest, then the lowest id (or tieRank):
+  /// deterministic.
   Hit Locate(double u, double v) const;
 
   /// The bucket Locate(u, v) searches (-1 for non-finite input or an empty locator). Callers
@@ -62,13 +66,14 @@ public:
 
 private:
   bool BucketRange(Id t, Id range[4]) const;
-  void BuildBuckets();
+  void BuildBuckets(const Id* tieRank);
 
   std::vector<Vec2> Corners;
   double Origin[2] = { 0.0, 0.0 };
   double InverseSpacing[2] = { 1.0, 1.0 };
   Id NX = 0, NY = 0;
-  /// Compressed rows: triangles of bucket b are Items[Offsets[b] .. Offsets[b + 1]).
+  /// Compressed rows: triangles of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
+  /// id (or tieRank).
   std::vector<Id> Offsets;
   std::vector<Id> Items;
 };

@@ -6,6 +6,8 @@
 #include "vtkBezierTriangleTessellator.h"
 #include "vtkCloughTocherSplineFilter.h"
 
+#include "LocalityOrder.h"
+
 #include "vtkCellType.h"
 #include "vtkCharArray.h"
 #include "vtkExecutive.h"
@@ -14,8 +16,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <numeric>
 #include <random>
 #include <sstream>
 #include <string>
@@ -175,6 +179,93 @@ TEST(vtkSplineParameterProbe, SplineIsBuiltOncePerSource)
   probe->Modified();
   probe->Update();
   EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 3);
+}
+
+// Every output array of two probes, bit for bit.
+void ExpectSameBits(vtkDataSet* a, vtkDataSet* b)
+{
+  ASSERT_EQ(a->GetNumberOfPoints(), b->GetNumberOfPoints());
+  for (vtkIdType i = 0; i < a->GetNumberOfPoints(); ++i)
+  {
+    ASSERT_EQ(Point(a, i), Point(b, i)) << "point " << i;
+  }
+  for (const char* name :
+    { "dFdu", "dFdv", "Normals", "MacroTriangleId", "vtkValidPointMask" })
+  {
+    vtkDataArray* x = a->GetPointData()->GetArray(name);
+    vtkDataArray* y = b->GetPointData()->GetArray(name);
+    ASSERT_TRUE(x && y) << name;
+    for (vtkIdType i = 0; i < x->GetNumberOfValues(); ++i)
+    {
+      ASSERT_EQ(x->GetComponent(i / x->GetNumberOfComponents(), i % x->GetNumberOfComponents()),
+        y->GetComponent(i / y->GetNumberOfComponents(), i % y->GetNumberOfComponents()))
+        << name << " value " << i;
+    }
+  }
+}
+
+// A spline large enough for the locality order (38,400 cells), probed at random points and at
+// the mesh's vertices and edge midpoints (ties between cells). The first probe works in the
+// source's cell order, the second in the locality order (cells and points renumbered): the same
+// bits, the same cell at ties. Queries in another order give the same result per query.
+TEST(vtkSplineParameterProbe, LocalityOrderKeepsTheBits)
+{
+  const ctk::ParameterMesh mesh = ctk::RegularGridMesh(80, ctk::GridDiagonal::Alternating);
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  filter->SetInputData(ctsplines_test::MakeSampledPolyData(mesh, ctk::AnalyticSurface::Franke));
+  filter->SetConstructionToCTi();
+  filter->Update();
+  ASSERT_GE(filter->GetOutput()->GetNumberOfCells(), ctk::MinTrianglesForLocalityOrder);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<ctk::Vec2> uv;
+  for (int i = 0; i < 40000; ++i)
+  {
+    uv.emplace_back(U(rng), U(rng));
+  }
+  for (ctk::Id t = 0; t < mesh.NumberOfTriangles(); t += 7)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      const ctk::Vec2& a = mesh.UV[mesh.Triangles[3 * t + l]];
+      uv.push_back(a);
+      uv.push_back(0.5 * (a + mesh.UV[mesh.Triangles[3 * t + (l + 1) % 3]]));
+    }
+  }
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetSourceConnection(filter->GetOutputPort());
+  probe->SetInputData(QueryPoints(uv));
+  probe->Update();
+  vtkSmartPointer<vtkDataSet> sourceOrder;
+  sourceOrder.TakeReference(probe->GetOutput()->NewInstance());
+  sourceOrder->DeepCopy(probe->GetOutput());
+  probe->Modified();
+  probe->Update();
+  EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 1);
+  ExpectSameBits(sourceOrder, vtkDataSet::SafeDownCast(probe->GetOutput()));
+
+  std::vector<vtkIdType> perm(uv.size());
+  std::iota(perm.begin(), perm.end(), vtkIdType(0));
+  std::shuffle(perm.begin(), perm.end(), rng);
+  std::vector<ctk::Vec2> shuffled;
+  for (vtkIdType i : perm)
+  {
+    shuffled.push_back(uv[i]);
+  }
+  probe->SetInputData(QueryPoints(shuffled));
+  probe->Update();
+  vtkDataSet* out = vtkDataSet::SafeDownCast(probe->GetOutput());
+  vtkPointData* a = sourceOrder->GetPointData();
+  vtkPointData* b = out->GetPointData();
+  for (size_t k = 0; k < perm.size(); ++k)
+  {
+    ASSERT_EQ(Point(out, k), Point(sourceOrder, perm[k])) << k;
+    ASSERT_EQ(Tuple3(b->GetArray("dFdu"), k), Tuple3(a->GetArray("dFdu"), perm[k])) << k;
+    ASSERT_EQ(Tuple3(b->GetArray("dFdv"), k), Tuple3(a->GetArray("dFdv"), perm[k])) << k;
+    ASSERT_EQ(b->GetArray("MacroTriangleId")->GetComponent(k, 0),
+      a->GetArray("MacroTriangleId")->GetComponent(perm[k], 0))
+      << k;
+  }
 }
 
 // ComputeDerivatives off: the same positions, no derivative arrays.

@@ -255,3 +255,19 @@ TEST(ParameterLocator, ConcurrentQueriesAgree)
   EXPECT_EQ(a, serial);
   EXPECT_EQ(b, serial);
 }
+
+// Ties (a point on the shared edge of two triangles) go to the lowest tieRank when given.
+TEST(ParameterLocator, TiesFollowTheTieRank)
+{
+  const Vec2 a(0, 0), b(1, 0), c(1, 1), d(0, 1);
+  const std::vector<Vec2> corners = { a, b, c, a, c, d };
+  const Vec2 onEdge(0.5, 0.5), inside(0.8, 0.2);
+  ParameterLocator byId;
+  byId.Build(std::vector<Vec2>(corners));
+  EXPECT_EQ(byId.Locate(onEdge.x(), onEdge.y()).Triangle, 0);
+  const Id reversed[2] = { 1, 0 };
+  ParameterLocator byRank;
+  byRank.Build(std::vector<Vec2>(corners), reversed);
+  EXPECT_EQ(byRank.Locate(onEdge.x(), onEdge.y()).Triangle, 1);
+  EXPECT_EQ(byRank.Locate(inside.x(), inside.y()).Triangle, 0);
+}
