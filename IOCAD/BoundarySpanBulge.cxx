@@ -64,7 +64,9 @@ void FaceSpans(int f, const CADFace& face, const std::vector<Point3>& nodes,
       const Vector2 left = Vector2(-e.y(), e.x()).normalized();
       const double across = x.dot(left);
       const double bulge = (J * (across * left)).norm();
-      if (bulge <= minBulge)
+      // The edge curve's own distance from the face (MaxGap) is part of what is measured, and
+      // no split removes it: spans of faces that miss their edges would be split without end.
+      if (bulge <= std::max(minBulge, 2 * face.MaxGap))
       {
         continue;
       }

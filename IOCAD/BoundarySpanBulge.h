@@ -25,7 +25,8 @@ constexpr double MaxBulgeAcrossFace = 0.25;
 /// The (B-rep edge, span) pairs, sorted and unique, whose cubic bulges from its chord towards
 /// the inside of a face by more than MaxBulgeAcrossFace of the face's width there (in 3D,
 /// through the surface's derivatives at the chord's midpoint), and by more than minBulge
-/// (absolute: below it a span is not split, which bounds the rounds).
+/// (absolute: below it a span is not split, which bounds the rounds) and twice the face's
+/// MaxGap (the distance of its edge curves from it, which splitting does not reduce).
 std::vector<std::pair<Id, Id>> SpansBulgingAcrossFaces(const std::vector<CADFace>& faces,
   const std::vector<Point3>& nodes, const FaceDerivatives& evaluate, double minBulge);
 
