@@ -14,9 +14,12 @@ namespace ctsplines
 /// Fills output with the spline built on in's triangles: its control points (moved out of
 /// spline, which is left without points), their domain points as point data uvName, three
 /// VTK_BEZIER_TRIANGLE cells per triangle (3 t + k: micro-triangle k of triangle t) with cell
-/// data MacroTriangleId and MicroTriangleId.
+/// data MacroTriangleId and MicroTriangleId. With keptTriangles (a distributed piece without its
+/// ghost triangles), only those triangles' cells (3 i + k for the i-th) and the control points
+/// they use, in their order, are written; MacroTriangleId keeps the input's triangle ids.
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
-  const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output);
+  const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
+  const std::vector<ctk::Id>* keptTriangles = nullptr);
 } // namespace ctsplines
 
 #endif

@@ -169,13 +169,19 @@ void AddBezierExtraction(vtkUnstructuredGrid* output,
   operators->SetName("BezierExtraction");
   operators->SetNumberOfComponents(10 * M);
   operators->SetNumberOfTuples(nCells);
-  // Kernel rows are in canonical order; the cell's points are in VTK order.
+  // Kernel rows are in canonical order; the cell's points are in VTK order. The kernel's cell
+  // 3 t + k is the output's cell of macro-triangle t, micro-triangle k (ghosts are not written).
   const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
+  const vtkIdType* macro = vtkIdTypeArray::SafeDownCast(
+    output->GetCellData()->GetArray("MacroTriangleId"))->GetPointer(0);
+  const signed char* micro = vtkSignedCharArray::SafeDownCast(
+    output->GetCellData()->GetArray("MicroTriangleId"))->GetPointer(0);
   ctsplines::ParallelFor(0, nCells, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
-      std::copy_n(&extraction.CellDofs[c * M], M, dofIds->GetPointer(c * M));
-      const double* op = &extraction.CellOperators[c * 10 * M];
+      const vtkIdType k = 3 * macro[c] + micro[c];
+      std::copy_n(&extraction.CellDofs[k * M], M, dofIds->GetPointer(c * M));
+      const double* op = &extraction.CellOperators[k * 10 * M];
       double* out = operators->GetPointer(c * 10 * M);
       for (int row = 0; row < 10; ++row)
       {
@@ -210,61 +216,6 @@ void AddBezierExtraction(vtkUnstructuredGrid* output,
     dofValues->SetTuple(static_cast<vtkIdType>(j), dofs[j].data());
   }
   output->GetFieldData()->AddArray(dofValues);
-}
-
-// Keeps the cells whose flag is set (with the points they use), in order; point and cell data
-// follow. Used to drop the micro-triangles of ghost triangles. Arrays are gathered as bytes: a
-// CopyData per tuple took twice the spline's own time on a piece of 5e5 triangles.
-void KeepCells(vtkUnstructuredGrid* grid, const std::vector<char>& keepCell)
-{
-  const vtkIdType nCells = grid->GetNumberOfCells(), nPoints = grid->GetNumberOfPoints();
-  std::vector<vtkIdType> pointMap(nPoints, -1), keptCells, keptPoints;
-  keptCells.reserve(nCells);
-  keptPoints.reserve(nPoints);
-  vtkCellArray* cells = grid->GetCells();
-  vtkNew<vtkCellArray> keptConnectivity;
-  keptConnectivity->AllocateEstimate(
-    nCells, cells->GetNumberOfConnectivityIds() / std::max<vtkIdType>(nCells, 1));
-  vtkNew<vtkUnsignedCharArray> types;
-  types->Allocate(nCells);
-  std::vector<vtkIdType> mapped;
-  for (vtkIdType c = 0; c < nCells; ++c)
-  {
-    if (!keepCell[c])
-    {
-      continue;
-    }
-    keptCells.push_back(c);
-    vtkIdType n;
-    const vtkIdType* ids;
-    cells->GetCellAtId(c, n, ids);
-    mapped.resize(n);
-    for (vtkIdType a = 0; a < n; ++a)
-    {
-      vtkIdType& m = pointMap[ids[a]];
-      if (m < 0)
-      {
-        m = static_cast<vtkIdType>(keptPoints.size());
-        keptPoints.push_back(ids[a]);
-      }
-      mapped[a] = m;
-    }
-    keptConnectivity->InsertNextCell(n, mapped.data());
-    types->InsertNextValue(static_cast<unsigned char>(grid->GetCellType(c)));
-  }
-  const auto nKeptPoints = static_cast<vtkIdType>(keptPoints.size());
-  vtkNew<vtkUnstructuredGrid> kept;
-  vtkNew<vtkPoints> points;
-  points->SetData(vtkDataArray::SafeDownCast(
-    ctsplines::GatherTuples(grid->GetPoints()->GetData(), keptPoints.data(), nKeptPoints)));
-  kept->SetPoints(points);
-  kept->SetCells(types, keptConnectivity);
-  ctsplines::GatherAttributes(
-    grid->GetPointData(), kept->GetPointData(), keptPoints.data(), nKeptPoints, false);
-  ctsplines::GatherAttributes(grid->GetCellData(), kept->GetCellData(), keptCells.data(),
-    static_cast<vtkIdType>(keptCells.size()), false);
-  kept->GetFieldData()->ShallowCopy(grid->GetFieldData());
-  grid->ShallowCopy(kept);
 }
 
 void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
@@ -461,24 +412,61 @@ private:
 
 } // namespace
 
+namespace
+{
+// Keeps the points that the first nConn connectivity entries use, in their order, moving them to
+// the front of points and uv (in place: a point only moves down), and renumbers the entries.
+// Ghost triangles' micro-cells are never written, so nothing else is gathered.
+void KeepUsedPoints(vtkIdType* conn, vtkIdType nConn, std::vector<ctk::Vec3>& points,
+  std::vector<ctk::Vec2>& uv)
+{
+  std::vector<vtkIdType> newId(points.size(), 0);
+  for (vtkIdType a = 0; a < nConn; ++a)
+  {
+    newId[conn[a]] = 1;
+  }
+  vtkIdType kept = 0;
+  for (size_t p = 0; p < points.size(); ++p)
+  {
+    if (newId[p])
+    {
+      newId[p] = kept;
+      points[kept] = points[p];
+      uv[kept] = uv[p];
+      ++kept;
+    }
+  }
+  points.resize(kept);
+  uv.resize(kept);
+  ctsplines::ParallelFor(0, nConn, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType a = b; a < e; ++a)
+    {
+      conn[a] = newId[conn[a]];
+    }
+  });
+}
+} // namespace
+
 namespace ctsplines
 {
 // 3. The output: shared control points with their domain points, three Bézier cells per
 // triangle with MacroTriangleId and MicroTriangleId. Consumes the spline's points.
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
-  const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output)
+  const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
+  const std::vector<ctk::Id>* keptTriangles)
 {
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
   std::vector<ctk::Vec3>().swap(spline.Degree == 4 ? quartic.SplitTau : cubic.SplitTau);
-  vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(
-    std::move(spline.Degree == 4 ? quartic.ControlPoints : cubic.ControlPoints), 3);
-  vtkSmartPointer<vtkDoubleArray> uvOut = AdoptedVectors::Adopt(
-    std::move(spline.Degree == 4 ? quartic.DomainPoints : cubic.DomainPoints), 2);
-  uvOut->SetName(uvName);
+  std::vector<ctk::Vec3>& controlPoints =
+    spline.Degree == 4 ? quartic.ControlPoints : cubic.ControlPoints;
+  std::vector<ctk::Vec2>& domainPoints =
+    spline.Degree == 4 ? quartic.DomainPoints : cubic.DomainPoints;
 
   const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
-  const vtkIdType nT = in.NumberOfTriangles(), nCells = 3 * nT;
+  const vtkIdType nT =
+    keptTriangles ? static_cast<vtkIdType>(keptTriangles->size()) : in.NumberOfTriangles();
+  const vtkIdType nCells = 3 * nT;
   vtkNew<vtkIdTypeArray> offsets, connectivity;
   ctsplines::AllocateTuples(offsets, nCells + 1);
   ctsplines::AllocateTuples(connectivity, perCell * nCells);
@@ -497,12 +485,13 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   vtkIdType* macroOf = macroIds->GetPointer(0);
   signed char* microOf = microIds->GetPointer(0);
   ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType t = b; t < e; ++t)
+    for (vtkIdType i = b; i < e; ++i)
     {
+      const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
       for (int k = 0; k < 3; ++k)
       {
         const std::array<ctk::Id, 15> net = spline.MicroNet(topology, in.Triangles.data(), t, k);
-        const vtkIdType c = 3 * t + k;
+        const vtkIdType c = 3 * i + k;
         for (vtkIdType a = 0; a < perCell; ++a)
         {
           conn[perCell * c + a] = net[vtkOrder[a]];
@@ -515,8 +504,15 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
     }
   });
   off[nCells] = perCell * nCells;
+  if (keptTriangles)
+  {
+    KeepUsedPoints(conn, perCell * nCells, controlPoints, domainPoints);
+  }
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
+  vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(std::move(controlPoints), 3);
+  vtkSmartPointer<vtkDoubleArray> uvOut = AdoptedVectors::Adopt(std::move(domainPoints), 2);
+  uvOut->SetName(uvName);
 
   vtkNew<vtkPoints> points;
   points->SetData(coords);
@@ -530,37 +526,44 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
 
 namespace
 {
-// Distributed runs: global ids of the macro-triangles, then the micro-triangles of the ghost
-// triangles dropped.
-void FinishPiece(vtkUnstructuredGrid* output, const std::vector<vtkIdType>& globalIds,
-  bool hasGlobalIds, vtkUnsignedCharArray* ghosts)
+// Distributed runs: the triangles that are not ghosts (duplicates of another piece's), or
+// nothing to drop.
+std::vector<ctk::Id> OwnedTriangles(vtkUnsignedCharArray* ghosts, bool& anyGhost)
+{
+  std::vector<ctk::Id> owned;
+  anyGhost = false;
+  if (!ghosts)
+  {
+    return owned;
+  }
+  const vtkIdType n = ghosts->GetNumberOfTuples();
+  const unsigned char* flag = ghosts->GetPointer(0);
+  owned.reserve(n);
+  for (vtkIdType t = 0; t < n; ++t)
+  {
+    if (!(flag[t] & vtkDataSetAttributes::DUPLICATECELL))
+    {
+      owned.push_back(t);
+    }
+  }
+  anyGhost = static_cast<vtkIdType>(owned.size()) < n;
+  return owned;
+}
+
+// Distributed runs: the global id of every cell's macro-triangle.
+void AddMacroGlobalIds(vtkUnstructuredGrid* output, const std::vector<vtkIdType>& globalIds)
 {
   const vtkIdType nCells = output->GetNumberOfCells();
-  if (hasGlobalIds)
+  vtkIdTypeArray* macroIds =
+    vtkIdTypeArray::SafeDownCast(output->GetCellData()->GetArray("MacroTriangleId"));
+  vtkNew<vtkIdTypeArray> macroGlobal;
+  macroGlobal->SetName("MacroTriangleGlobalId");
+  macroGlobal->SetNumberOfTuples(nCells);
+  for (vtkIdType c = 0; c < nCells; ++c)
   {
-    vtkNew<vtkIdTypeArray> macroGlobal;
-    macroGlobal->SetName("MacroTriangleGlobalId");
-    macroGlobal->SetNumberOfTuples(nCells);
-    for (vtkIdType c = 0; c < nCells; ++c)
-    {
-      macroGlobal->SetValue(c, globalIds[c / 3]);
-    }
-    output->GetCellData()->AddArray(macroGlobal);
+    macroGlobal->SetValue(c, globalIds[macroIds->GetValue(c)]);
   }
-  if (ghosts)
-  {
-    std::vector<char> keep(nCells);
-    bool anyGhost = false;
-    for (vtkIdType c = 0; c < nCells; ++c)
-    {
-      keep[c] = !(ghosts->GetValue(c / 3) & vtkDataSetAttributes::DUPLICATECELL);
-      anyGhost = anyGhost || !keep[c];
-    }
-    if (anyGhost)
-    {
-      KeepCells(output, keep);
-    }
-  }
+  output->GetCellData()->AddArray(macroGlobal);
 }
 } // namespace
 
@@ -649,7 +652,11 @@ int vtkCloughTocherSplineFilter::RequestData(
   }
 
   // 3. Fill the output.
-  ctsplines::FillSplineGrid(spline, topology, in, this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output);
+  bool anyGhost = false;
+  const std::vector<ctk::Id> owned = OwnedTriangles(ghosts, anyGhost);
+  ctsplines::FillSplineGrid(spline, topology, in,
+    this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output,
+    anyGhost ? &owned : nullptr);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
@@ -672,7 +679,10 @@ int vtkCloughTocherSplineFilter::RequestData(
     }
     AddBezierExtraction(output, data, topology, extraction);
   }
-  FinishPiece(output, globalIds, globalIdArray != nullptr, ghosts);
+  if (globalIdArray)
+  {
+    AddMacroGlobalIds(output, globalIds);
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -498,6 +498,60 @@ TEST(vtkCloughTocherSplineFilter, BezierExtractionReproducesTheControlPoints)
   EXPECT_NE(capture->Message.find("iterations"), std::string::npos) << capture->Message;
 }
 
+namespace
+{
+// The output keeps only the control points its cells use.
+void ExpectEveryPointUsed(vtkUnstructuredGrid* out)
+{
+  std::vector<char> used(out->GetNumberOfPoints(), 0);
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType k = 0; k < out->GetNumberOfCells(); ++k)
+  {
+    out->GetCellPoints(k, ids);
+    for (vtkIdType a = 0; a < ids->GetNumberOfIds(); ++a)
+    {
+      used[ids->GetId(a)] = 1;
+    }
+  }
+  EXPECT_EQ(std::count(used.begin(), used.end(), 1), out->GetNumberOfPoints());
+}
+
+// A piece's cells keep the Bézier extraction that the same piece without ghost flags gives them.
+void ExpectGhostsKeepTheExtraction(vtkPolyData* part, int construction)
+{
+  vtkNew<vtkPolyData> unflagged;
+  unflagged->ShallowCopy(part);
+  unflagged->GetCellData()->RemoveArray(vtkDataSetAttributes::GhostArrayName());
+  vtkNew<vtkCloughTocherSplineFilter> flagged, all;
+  flagged->SetInputData(part);
+  all->SetInputData(unflagged);
+  for (vtkCloughTocherSplineFilter* f : { flagged.Get(), all.Get() })
+  {
+    f->SetConstruction(construction);
+    f->ComputeBezierExtractionOn();
+    f->Update();
+  }
+  vtkCellData* got = flagged->GetOutput()->GetCellData();
+  vtkCellData* want = all->GetOutput()->GetCellData();
+  ASSERT_LT(got->GetNumberOfTuples(), want->GetNumberOfTuples());
+  for (const char* name : { "GlobalDofIds", "BezierExtraction" })
+  {
+    vtkDataArray* g = got->GetArray(name);
+    vtkDataArray* w = want->GetArray(name);
+    ASSERT_TRUE(g && w) << name;
+    for (vtkIdType c = 0; c < g->GetNumberOfTuples(); ++c)
+    {
+      const vtkIdType s = 3 * static_cast<vtkIdType>(got->GetArray("MacroTriangleId")->GetTuple1(c)) +
+        static_cast<vtkIdType>(got->GetArray("MicroTriangleId")->GetTuple1(c));
+      for (int j = 0; j < g->GetNumberOfComponents(); ++j)
+      {
+        ASSERT_EQ(g->GetComponent(c, j), w->GetComponent(s, j)) << name << " cell " << c;
+      }
+    }
+  }
+}
+} // namespace
+
 TEST(vtkCloughTocherSplineFilter, PiecesWithGhostCellsReproduceTheSerialSpline)
 {
   // A distributed run, emulated: each piece is its own triangles plus the ghost levels the
@@ -613,6 +667,17 @@ TEST(vtkCloughTocherSplineFilter, PiecesWithGhostCellsReproduceTheSerialSpline)
       f->Update();
       vtkUnstructuredGrid* out = f->GetOutput();
       EXPECT_EQ(out->GetNumberOfCells(), 3 * std::count(own.begin(), own.end(), 1));
+      // Ghost triangles are dropped with the control points only they use (CTo needs none).
+      ASSERT_EQ(levels == 0, with == own);
+      if (levels > 0)
+      {
+        ExpectEveryPointUsed(out);
+      }
+      if (levels > 0 &&
+        vtkCloughTocherSplineFilter::GetConstructionHasBezierExtraction(c.Construction))
+      {
+        ExpectGhostsKeepTheExtraction(part, c.Construction);
+      }
       covered += out->GetNumberOfCells();
       vtkDataArray* gid = out->GetCellData()->GetArray("MacroTriangleGlobalId");
       vtkDataArray* micro = out->GetCellData()->GetArray("MicroTriangleId");
