@@ -243,6 +243,33 @@ inline TopoDS_Shape BoxWithInscribedDisk(double r, double height)
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), r, height).Shape();
   return BRepAlgoAPI_Fuse(box, disk).Shape();
 }
+
+/// A hemisphere (radius r, z >= 0) on its disk, the spherical part in two faces of different
+/// parametrisations that meet tangentially along the half circle y = 0: for y >= 0 a sphere
+/// about z, whose pole (0, 0, r) lies inside that edge (the face has no normal there and a
+/// degenerated edge, like the corner patches of KiCad's Altech_AK300 terminal blocks); for
+/// y <= 0 a sphere about x, regular there (its poles are the edge's ends). Sewn into one shell.
+inline TopoDS_Shape HemisphereWithPoleOnTangentEdge(double r)
+{
+  Handle(Geom_SphericalSurface) aboutZ =
+    new Geom_SphericalSurface(gp_Ax3(gp::Origin(), gp::DZ(), gp::DX()), r);
+  Handle(Geom_SphericalSurface) aboutX =
+    new Geom_SphericalSurface(gp_Ax3(gp::Origin(), gp::DX(), gp::DY()), r);
+  BRepBuilderAPI_MakeFace north(aboutZ, 0, M_PI, 0, M_PI / 2, 1e-7);
+  BRepBuilderAPI_MakeFace south(aboutX, M_PI / 2, M_PI, -M_PI / 2, M_PI / 2, 1e-7);
+  const TopoDS_Edge rim = BRepBuilderAPI_MakeEdge(gp_Circ(gp_Ax2(gp::Origin(), gp::DZ()), r));
+  BRepBuilderAPI_MakeFace disk(gp_Pln(gp::Origin(), gp::DZ()), BRepBuilderAPI_MakeWire(rim).Wire());
+  if (!north.IsDone() || !south.IsDone() || !disk.IsDone())
+  {
+    return TopoDS_Shape();
+  }
+  BRepBuilderAPI_Sewing sewing(1e-6);
+  sewing.Add(north.Face());
+  sewing.Add(south.Face());
+  sewing.Add(disk.Face());
+  sewing.Perform();
+  return sewing.SewedShape();
+}
 } // namespace ctsplines_test
 
 #endif
