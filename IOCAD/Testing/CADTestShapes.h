@@ -43,6 +43,10 @@
 #include <TopoDS.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Ax3.hxx>
+#include <Geom2dAPI_Interpolate.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <TColStd_HArray1OfReal.hxx>
+#include <TColgp_HArray1OfPnt2d.hxx>
 
 #include <cmath>
 
@@ -55,6 +59,49 @@ inline TopoDS_Shape BoxWithHole()
   const TopoDS_Shape drill =
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.2, 0.1, -0.5), gp_Dir(0, 0, 1)), 0.35, 2.0).Shape();
   return BRepAlgoAPI_Cut(box, drill).Shape();
+}
+
+/// BoxWithHole whose hole has, on its cylinder, one circle's pcurve off the circle: u(t) =
+/// t + sin(t) / 2 (still flagged SameParameter), as OCCT's STEP reader left the pcurves of KiCad's
+/// NXP_MPL115A1 on surfaces of revolution: the surface over it is off the edge by up to a third
+/// of the hole's radius. OCCT's STEP reader recomputes such a pcurve; its IGES reader keeps it
+/// (and raises the edge's tolerance over the gap).
+inline TopoDS_Shape BoxWithSkewedPCurve()
+{
+  const TopoDS_Shape shape = BoxWithHole();
+  for (TopExp_Explorer fx(shape, TopAbs_FACE); fx.More(); fx.Next())
+  {
+    const TopoDS_Face& F = TopoDS::Face(fx.Current());
+    if (BRepAdaptor_Surface(F).GetType() != GeomAbs_Cylinder)
+    {
+      continue;
+    }
+    for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge& E = TopoDS::Edge(ex.Current());
+      double a = 0, b = 0;
+      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+      if (BRep_Tool::IsClosed(E, F) || pc.IsNull())
+      {
+        continue;
+      }
+      const int n = 32;
+      const Handle(TColgp_HArray1OfPnt2d) points = new TColgp_HArray1OfPnt2d(1, n + 1);
+      const Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, n + 1);
+      for (int i = 0; i <= n; ++i)
+      {
+        const double t = a + (b - a) * i / n;
+        const gp_Pnt2d p = pc->Value(t);
+        points->SetValue(i + 1, gp_Pnt2d(p.X() + 0.5 * std::sin(p.X()), p.Y()));
+        params->SetValue(i + 1, t);
+      }
+      Geom2dAPI_Interpolate skewed(points, params, Standard_False, 1e-9);
+      skewed.Perform();
+      BRep_Builder().UpdateEdge(E, Handle(Geom2d_Curve)(skewed.Curve().get()), F, BRep_Tool::Tolerance(E));
+      return shape;
+    }
+  }
+  return TopoDS_Shape();
 }
 
 /// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one
