@@ -1125,18 +1125,6 @@ bool CADModel::Sample(const SamplingOptions& options)
             split.insert(split.end(), bulging.begin(), bulging.end());
             std::sort(split.begin(), split.end());
             split.erase(std::unique(split.begin(), split.end()), split.end());
-            // Spans shorter than a hundredth of the tolerance stay: nothing within them can
-            // move the surface by the tolerance, and where a rule asks for them all the same
-            // its cause does not shrink with the span (normals that jump at a vertex where
-            // tangent and sharp edges meet): halving them round after round gave spans of 1e-5
-            // of their edge and parameter triangles too flat for the face's spline.
-            split.erase(std::remove_if(split.begin(), split.end(),
-                          [&](const std::pair<Id, Id>& span) {
-                            const EdgeSampling& es = d.Edges[span.first];
-                            return Distance(this->NodePoints[es.Nodes[span.second]],
-                                     this->NodePoints[es.Nodes[span.second + 1]]) < 1e-2 * tol;
-                          }),
-              split.end());
             return true;
           }))
     {

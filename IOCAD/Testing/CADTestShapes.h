@@ -44,6 +44,8 @@
 #include <gp_Ax2.hxx>
 #include <gp_Ax3.hxx>
 #include <Geom2dAPI_Interpolate.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <TColgp_Array1OfPnt.hxx>
 #include <Geom2d_BSplineCurve.hxx>
 #include <TColStd_HArray1OfReal.hxx>
 #include <TColgp_HArray1OfPnt2d.hxx>
@@ -102,6 +104,40 @@ inline TopoDS_Shape BoxWithSkewedPCurve()
     }
   }
   return TopoDS_Shape();
+}
+
+/// A prism (height 0.3) over a wedge between two cubic B-spline edges from the origin to
+/// (1, +-0.2) and the segment joining those: both edges have the poles (0, 0), (0, 0), (0, 0),
+/// (1e-6, 0) on their first knot span, so for half their parameter range they stall at the origin
+/// and run together (as the windings of KiCad's Bourns 8100 toroids do), then part.
+inline TopoDS_Shape StallingEdgesPrism()
+{
+  TColStd_Array1OfReal knots(1, 3);
+  TColStd_Array1OfInteger mults(1, 3);
+  for (int k = 1; k <= 3; ++k)
+  {
+    knots(k) = 0.5 * (k - 1);
+    mults(k) = k == 2 ? 1 : 4;
+  }
+  const TopoDS_Vertex origin = BRepBuilderAPI_MakeVertex(gp::Origin());
+  TopoDS_Vertex ends[2];
+  TopoDS_Edge edges[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    TColgp_Array1OfPnt poles(1, 5);
+    poles(1) = poles(2) = poles(3) = gp::Origin();
+    poles(4) = gp_Pnt(1e-6, 0, 0);
+    poles(5) = gp_Pnt(1, side == 0 ? 0.2 : -0.2, 0);
+    ends[side] = BRepBuilderAPI_MakeVertex(poles(5));
+    edges[side] =
+      BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(poles, knots, mults, 3), origin, ends[side]);
+  }
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(edges[0]);
+  wire.Add(BRepBuilderAPI_MakeEdge(ends[0], ends[1]).Edge());
+  wire.Add(TopoDS::Edge(edges[1].Reversed()));
+  return BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face(),
+    gp_Vec(0, 0, 0.3)).Shape();
 }
 
 /// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one

@@ -770,6 +770,22 @@ TEST(CADHealing, PCurveOffItsEdgeIsReprojected)
   EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
 }
 
+/// Two edges that stall at their common vertex and run together there (StallingEdgesPrism): their
+/// samples within a hundredth of the tolerance of the vertex are dropped, else the wedge's faces
+/// get two nodes at one point and a parameter triangle of no area (the spline fails).
+TEST(CADConversion, EdgesRunningTogetherFromAVertex)
+{
+  Conversion c;
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("stalling_edges", ctsplines_test::StallingEdgesPrism()), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 5u);
+  CheckSharedNodes(c);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+}
+
 /// The aspect bound is met by circumcentres where they can go: boundary segments are never
 /// split by the face meshing, so triangles on them, and a few next to them, keep larger ratios,
 /// unless an edge length bound splits the edge spans. It used to refine
