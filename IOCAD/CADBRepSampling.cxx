@@ -134,6 +134,9 @@ struct Run
   double Tolerance = 0; // vertex tolerance at the run's start
 };
 
+} // namespace
+
+// Declared in CADFileReading.h: the healing on reading follows the wires too.
 /// The oriented edges of wire W of face F in the order they connect, or empty if they do not
 /// (naming the first that does not in `broken`). BRepTools_WireExplorer follows the pcurves and
 /// stops where they jump, e.g. by a period on a periodic surface, as some exporters write them;
@@ -185,6 +188,9 @@ std::vector<TopoDS_Edge> WireEdges(const TopoDS_Wire& W, const TopoDS_Face& F, T
   }
   return chain;
 }
+
+namespace
+{
 
 /// An edge sample: parameter, point and derivative of the mean curve; at the edge's ends, P is
 /// the vertex node and Off how far it is from the mean curve's end (the model's vertex gap).
@@ -716,6 +722,24 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     {
       samples.insert(at, makeSample(t));
     }
+  }
+  // Samples within a hundredth of the tolerance of the sample before or of the edge's end carry
+  // nothing its spans cannot; where two edges run together from their vertex (curves that stall
+  // there, as on Bourns 8100 toroids) they would give the face two nodes at one point, and a
+  // parameter triangle of no area. A closed edge keeps its samples (it needs them to be a loop).
+  if (es.Vertex0 != es.Vertex1)
+  {
+    std::vector<EdgeSample> kept{ samples.front() };
+    for (std::size_t k = 1; k + 1 < samples.size(); ++k)
+    {
+      if (Distance(samples[k].P, kept.back().P) >= 1e-2 * tol &&
+        Distance(samples[k].P, samples.back().P) >= 1e-2 * tol)
+      {
+        kept.push_back(samples[k]);
+      }
+    }
+    kept.push_back(samples.back());
+    samples.swap(kept);
   }
   // A sample of an earlier sampling of this edge keeps its node (RestoreG1's splits re-sample).
   std::map<double, Id> earlier;

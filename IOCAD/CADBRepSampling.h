@@ -101,6 +101,7 @@ struct HealingOptions
 struct HealingReport
 {
   int SeamsAdded = 0;      // faces given their missing seam edge (ShapeFix_Face::FixMissingSeam)
+  int PCurvesReprojected = 0; // pcurves off their edge's 3D curve, replaced by its projection
   int SewnEdges = 0;       // pairs of free edges sewn into one edge
   int RemovedFaces = 0;    // sliver faces removed
   int CollapsedEdges = 0;  // edges the sewing collapsed into a vertex (ends of removed slivers)
@@ -172,6 +173,8 @@ public:
   Id NumberOfEdgeSamples() const { return this->EdgeSamples; }
   /// Faces on closed surfaces that were given their missing seam edge when read.
   int NumberOfSeamsAdded() const { return this->Healed.SeamsAdded; }
+  /// Pcurves that were off their edge's 3D curve and replaced by its projection when read.
+  int NumberOfPCurvesReprojected() const { return this->Healed.PCurvesReprojected; }
   /// What the healing on reading changed (seams, sewing, slivers, short edges).
   const HealingReport& Healing() const { return this->Healed; }
   const StageTimes& Times() const { return this->Time; }

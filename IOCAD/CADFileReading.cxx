@@ -5,6 +5,7 @@
 
 #include "CADBRepSampling.h"
 
+#include <BRepAdaptor_Curve.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepGProp.hxx>
@@ -14,6 +15,10 @@
 #include <BinTools.hxx>
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
+#include <Geom2dAPI_Interpolate.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <Geom2d_Curve.hxx>
+#include <Geom_Surface.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
 #include <Interface_Check.hxx>
@@ -23,22 +28,29 @@
 #include <Message_Messenger.hxx>
 #include <Message_Printer.hxx>
 #include <OSD.hxx>
+#include <Precision.hxx>
 #include <STEPControl_Reader.hxx>
+#include <ShapeAnalysis_Surface.hxx>
 #include <ShapeBuild_ReShape.hxx>
 #include <ShapeFix_Face.hxx>
 #include <StepRepr_RepresentationItem.hxx>
+#include <TColStd_HArray1OfReal.hxx>
+#include <TColgp_HArray1OfPnt2d.hxx>
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopTools_DataMapOfShapeShape.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_MapOfShape.hxx>
 #include <TopoDS_Iterator.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
 #include <TransferBRep.hxx>
+#include <gp_Pnt2d.hxx>
+#include <gp_Vec2d.hxx>
 #include <Transfer_TransientProcess.hxx>
 #include <XSControl_TransferReader.hxx>
 #include <XSControl_WorkSession.hxx>
@@ -610,6 +622,183 @@ int CountCollapsed(const TopoDS_Shape& sewn, const TopoDS_Shape& cleaned)
   return before.Extent() - after.Extent();
 }
 
+/// The largest distance between edge E's 3D curve and face F's surface over E's pcurve on F, at
+/// the same parameters (SameParameter edges), at 65 points: a pcurve that jumps by a period
+/// within one span (a closed surface) goes round the surface between two of them.
+double PCurveDeviation(const TopoDS_Edge& E, const TopoDS_Face& F)
+{
+  double a = 0, b = 0;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+  const BRepAdaptor_Curve curve(E);
+  const BRepAdaptor_Surface surface(F, Standard_False);
+  double d = 0;
+  for (int i = 0; i <= 64; ++i)
+  {
+    const double t = a + (b - a) * i / 64;
+    const gp_Pnt2d uv = pc->Value(t);
+    d = std::max(d, surface.Value(uv.X(), uv.Y()).Distance(curve.Value(t)));
+  }
+  return d;
+}
+
+/// E's 3D curve projected on F's surface (ShapeAnalysis_Surface, each point from the previous
+/// one) at 65 parameters, unwrapped across the periods, and interpolated at those parameters.
+Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
+{
+  TopLoc_Location loc;
+  const Handle(Geom_Surface) S = BRep_Tool::Surface(F, loc);
+  const Handle(ShapeAnalysis_Surface) projector = new ShapeAnalysis_Surface(S);
+  const gp_Trsf toSurface = loc.Transformation().Inverted();
+  const BRepAdaptor_Curve curve(E);
+  const double a = curve.FirstParameter(), b = curve.LastParameter();
+  const double period[2] = { S->IsUPeriodic() ? S->UPeriod() : 0, S->IsVPeriodic() ? S->VPeriod() : 0 };
+  const int n = 64;
+  const Handle(TColgp_HArray1OfPnt2d) points = new TColgp_HArray1OfPnt2d(1, n + 1);
+  const Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, n + 1);
+  gp_Pnt2d prev;
+  for (int i = 0; i <= n; ++i)
+  {
+    const double t = a + (b - a) * i / n;
+    const gp_Pnt P = curve.Value(t).Transformed(toSurface);
+    gp_Pnt2d uv = i == 0 ? projector->ValueOfUV(P, Precision::Confusion())
+                         : projector->NextValueOfUV(prev, P, Precision::Confusion());
+    for (int k = 0; k < 2 && i > 0; ++k)
+    {
+      if (period[k] > 0)
+      {
+        uv.SetCoord(k + 1, uv.Coord(k + 1) - period[k] * std::round((uv.Coord(k + 1) - prev.Coord(k + 1)) / period[k]));
+      }
+    }
+    points->SetValue(i + 1, uv);
+    params->SetValue(i + 1, t);
+    prev = uv;
+  }
+  Geom2dAPI_Interpolate interpolation(points, params, Standard_False, Precision::PConfusion());
+  interpolation.Perform();
+  if (!interpolation.IsDone())
+  {
+    return Handle(Geom2d_Curve)();
+  }
+  return Handle(Geom2d_Curve)(interpolation.Curve().get());
+}
+
+/// The parameter point where oriented edge E starts (end: ends) on F.
+gp_Pnt2d PCurveEnd(const TopoDS_Edge& E, const TopoDS_Face& F, bool end)
+{
+  double a = 0, b = 0;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+  return pc->Value((E.Orientation() == TopAbs_REVERSED) != end ? b : a);
+}
+
+/// The reprojected edges of one wire of F (in `fixed`) moved by whole periods so that each
+/// starts where the edge before it in the wire ends, from an edge that kept its pcurve.
+void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const TopTools_MapOfShape& fixed)
+{
+  TopoDS_Edge broken;
+  const std::vector<TopoDS_Edge> chain = WireEdges(W, F, broken);
+  const std::size_t n = chain.size();
+  std::size_t anchor = 0;
+  while (anchor < n && fixed.Contains(chain[anchor]))
+  {
+    ++anchor;
+  }
+  anchor %= std::max<std::size_t>(n, 1);
+  const BRepAdaptor_Surface S(F, Standard_False);
+  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+  for (std::size_t i = 1; i < n; ++i)
+  {
+    const TopoDS_Edge& E = chain[(anchor + i) % n];
+    if (!fixed.Contains(E))
+    {
+      continue;
+    }
+    const gp_Pnt2d from = PCurveEnd(chain[(anchor + i - 1) % n], F, true);
+    const gp_Pnt2d start = PCurveEnd(E, F, false);
+    gp_Vec2d shift(0, 0);
+    for (int k = 0; k < 2; ++k)
+    {
+      if (period[k] > 0)
+      {
+        shift.SetCoord(k + 1, period[k] * std::round((from.Coord(k + 1) - start.Coord(k + 1)) / period[k]));
+      }
+    }
+    if (shift.SquareMagnitude() > 0)
+    {
+      double a = 0, b = 0;
+      const Handle(Geom2d_Curve) moved =
+        Handle(Geom2d_Curve)::DownCast(BRep_Tool::CurveOnSurface(E, F, a, b)->Translated(shift));
+      BRep_Builder().UpdateEdge(E, moved, F, BRep_Tool::Tolerance(E));
+    }
+  }
+}
+
+/// Pcurves off their edge's 3D curve by more than `tol` (where the edge is SameParameter: the
+/// 3D curve is the edge) are replaced by its projection when that is at most half as far, and
+/// moved by periods to join their wire. OCCT's STEP reader computes pcurves by projection and
+/// raises the edge tolerance over what its projection misses: on surfaces of revolution it can
+/// run the wrong way round (NXP_MPL115A1, faces off by 8 % of the diagonal), on a cylinder jump
+/// by the period inside one span (the toroid inductors of Bourns 8100: the wire then seems to go
+/// round the surface). The edges are changed in place. Returns the number replaced; the faces
+/// are named in a warning.
+int ReprojectPCurves(ShapeRead& r, double tol)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  int replaced = 0, named = 0;
+  std::string faces;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Face F = TopoDS::Face(faceMap(i).Oriented(TopAbs_FORWARD));
+    TopTools_MapOfShape fixed;
+    for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge& E = TopoDS::Edge(ex.Current());
+      double a = 0, b = 0;
+      if (BRep_Tool::Degenerated(E) || BRep_Tool::IsClosed(E, F) || !BRep_Tool::SameParameter(E) ||
+        !BRep_Tool::SameRange(E) || BRep_Tool::Curve(E, a, b).IsNull() ||
+        BRep_Tool::CurveOnSurface(E, F, a, b).IsNull() || fixed.Contains(E))
+      {
+        continue;
+      }
+      const double before = PCurveDeviation(E, F);
+      if (before <= tol)
+      {
+        continue;
+      }
+      const Handle(Geom2d_Curve) old = BRep_Tool::CurveOnSurface(E, F, a, b);
+      const Handle(Geom2d_Curve) projected = ProjectedPCurve(E, F);
+      if (projected.IsNull())
+      {
+        continue;
+      }
+      BRep_Builder().UpdateEdge(E, projected, F, BRep_Tool::Tolerance(E));
+      if (PCurveDeviation(E, F) > 0.5 * before)
+      {
+        BRep_Builder().UpdateEdge(E, old, F, BRep_Tool::Tolerance(E));
+        continue;
+      }
+      fixed.Add(E);
+    }
+    if (fixed.IsEmpty())
+    {
+      continue;
+    }
+    for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
+    {
+      ConnectReprojected(TopoDS::Wire(wx.Current()), F, fixed);
+    }
+    replaced += fixed.Extent();
+    faces += ++named > 4 ? (named == 5 ? ", ..." : "")
+                         : (faces.empty() ? "" : ", ") + FaceLabel(i - 1, r.FaceNames[i - 1]);
+  }
+  if (replaced > 0)
+  {
+    r.Warnings.push_back(std::to_string(replaced) + " pcurve(s) off their edge by more than the " +
+      "tolerance (" + Number(tol) + ") replaced by the edge's projection on " + faces);
+  }
+  return replaced;
+}
+
 /// Sews free edges that lie within `tol` of each other (BRepBuilderAPI_Sewing, manifold, with
 /// the cutting of free edges at each other's vertices; OCCT's own minimal tolerance, so that no
 /// edge of the model is taken for a degenerated one). OCCT's stored tolerances understate the
@@ -984,8 +1173,15 @@ bool Translate(const std::string& fileName, Format format, const HealingOptions&
     error = prefix + "its shape's bounding box is not finite (coordinates out of range)";
     return false;
   }
-  Heal(r, healing, std::sqrt(std::pow(r.Box[1] - r.Box[0], 2) + std::pow(r.Box[3] - r.Box[2], 2) +
-    std::pow(r.Box[5] - r.Box[4], 2)));
+  const double diagonal = std::sqrt(std::pow(r.Box[1] - r.Box[0], 2) +
+    std::pow(r.Box[3] - r.Box[2], 2) + std::pow(r.Box[5] - r.Box[4], 2));
+  if (!RunGuarded(
+        [&] { r.Healing.PCurvesReprojected = ReprojectPCurves(r, 1e-2 * healing.Tolerance * diagonal); },
+        failure))
+  {
+    r.Warnings.push_back("reprojecting the pcurves that are off their edges failed: " + failure);
+  }
+  Heal(r, healing, diagonal);
   return true;
 }
 

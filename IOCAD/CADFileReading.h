@@ -12,7 +12,10 @@
 #include "CADBRepSampling.h"
 
 #include <OSD_SignalMode.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
 #include <TopoDS_Shape.hxx>
+#include <TopoDS_Wire.hxx>
 
 #include <functional>
 #include <string>
@@ -47,6 +50,10 @@ bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const Heali
 /// results), and without taking SIGINT, SIGHUP and SIGQUIT, which keep what they had (OCCT's
 /// handler would make Ctrl-C no longer stop the program).
 void SetOCCTSignals(OSD_SignalMode mode);
+
+/// The oriented edges of wire W of face F in the order they connect, or empty if they do not
+/// (naming the first that does not in `broken`); defined in CADBRepSampling.cxx.
+std::vector<TopoDS_Edge> WireEdges(const TopoDS_Wire& W, const TopoDS_Face& F, TopoDS_Edge& broken);
 
 /// The pre-check of ReadCADFile: false with `error` (line, entity) when a real number of a STEP
 /// file is out of the range of a double (1e400) or not a number, or the file is empty.

@@ -389,6 +389,7 @@ void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double face
   AddField(fd, "MaxVertexGap", model->MaxVertexGap());
   AddField(fd, "MaxEdgeGap", model->MaxEdgeGap());
   AddIntField(fd, "NumberOfSeamsAdded", model->NumberOfSeamsAdded());
+  AddIntField(fd, "NumberOfPCurvesReprojected", model->NumberOfPCurvesReprojected());
   const ctcad::HealingReport& healed = model->Healing();
   AddIntField(fd, "NumberOfSewnEdges", healed.SewnEdges);
   AddIntField(fd, "NumberOfRemovedFaces", healed.RemovedFaces);

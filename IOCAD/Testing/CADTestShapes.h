@@ -43,6 +43,12 @@
 #include <TopoDS.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Ax3.hxx>
+#include <Geom2dAPI_Interpolate.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <TColgp_Array1OfPnt.hxx>
+#include <Geom2d_BSplineCurve.hxx>
+#include <TColStd_HArray1OfReal.hxx>
+#include <TColgp_HArray1OfPnt2d.hxx>
 
 #include <cmath>
 
@@ -55,6 +61,83 @@ inline TopoDS_Shape BoxWithHole()
   const TopoDS_Shape drill =
     BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0.2, 0.1, -0.5), gp_Dir(0, 0, 1)), 0.35, 2.0).Shape();
   return BRepAlgoAPI_Cut(box, drill).Shape();
+}
+
+/// BoxWithHole whose hole has, on its cylinder, one circle's pcurve off the circle: u(t) =
+/// t + sin(t) / 2 (still flagged SameParameter), as OCCT's STEP reader left the pcurves of KiCad's
+/// NXP_MPL115A1 on surfaces of revolution: the surface over it is off the edge by up to a third
+/// of the hole's radius. OCCT's STEP reader recomputes such a pcurve; its IGES reader keeps it
+/// (and raises the edge's tolerance over the gap).
+inline TopoDS_Shape BoxWithSkewedPCurve()
+{
+  const TopoDS_Shape shape = BoxWithHole();
+  for (TopExp_Explorer fx(shape, TopAbs_FACE); fx.More(); fx.Next())
+  {
+    const TopoDS_Face& F = TopoDS::Face(fx.Current());
+    if (BRepAdaptor_Surface(F).GetType() != GeomAbs_Cylinder)
+    {
+      continue;
+    }
+    for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      const TopoDS_Edge& E = TopoDS::Edge(ex.Current());
+      double a = 0, b = 0;
+      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+      if (BRep_Tool::IsClosed(E, F) || pc.IsNull())
+      {
+        continue;
+      }
+      const int n = 32;
+      const Handle(TColgp_HArray1OfPnt2d) points = new TColgp_HArray1OfPnt2d(1, n + 1);
+      const Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, n + 1);
+      for (int i = 0; i <= n; ++i)
+      {
+        const double t = a + (b - a) * i / n;
+        const gp_Pnt2d p = pc->Value(t);
+        points->SetValue(i + 1, gp_Pnt2d(p.X() + 0.5 * std::sin(p.X()), p.Y()));
+        params->SetValue(i + 1, t);
+      }
+      Geom2dAPI_Interpolate skewed(points, params, Standard_False, 1e-9);
+      skewed.Perform();
+      BRep_Builder().UpdateEdge(E, Handle(Geom2d_Curve)(skewed.Curve().get()), F, BRep_Tool::Tolerance(E));
+      return shape;
+    }
+  }
+  return TopoDS_Shape();
+}
+
+/// A prism (height 0.3) over a wedge between two cubic B-spline edges from the origin to
+/// (1, +-0.2) and the segment joining those: both edges have the poles (0, 0), (0, 0), (0, 0),
+/// (1e-6, 0) on their first knot span, so for half their parameter range they stall at the origin
+/// and run together (as the windings of KiCad's Bourns 8100 toroids do), then part.
+inline TopoDS_Shape StallingEdgesPrism()
+{
+  TColStd_Array1OfReal knots(1, 3);
+  TColStd_Array1OfInteger mults(1, 3);
+  for (int k = 1; k <= 3; ++k)
+  {
+    knots(k) = 0.5 * (k - 1);
+    mults(k) = k == 2 ? 1 : 4;
+  }
+  const TopoDS_Vertex origin = BRepBuilderAPI_MakeVertex(gp::Origin());
+  TopoDS_Vertex ends[2];
+  TopoDS_Edge edges[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    TColgp_Array1OfPnt poles(1, 5);
+    poles(1) = poles(2) = poles(3) = gp::Origin();
+    poles(4) = gp_Pnt(1e-6, 0, 0);
+    poles(5) = gp_Pnt(1, side == 0 ? 0.2 : -0.2, 0);
+    ends[side] = BRepBuilderAPI_MakeVertex(poles(5));
+    edges[side] =
+      BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(poles, knots, mults, 3), origin, ends[side]);
+  }
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(edges[0]);
+  wire.Add(BRepBuilderAPI_MakeEdge(ends[0], ends[1]).Edge());
+  wire.Add(TopoDS::Edge(edges[1].Reversed()));
+  return BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face(),
+    gp_Vec(0, 0, 0.3)).Shape();
 }
 
 /// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one

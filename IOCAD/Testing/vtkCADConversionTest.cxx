@@ -748,6 +748,44 @@ TEST(CADConversion, PeriodicFaceWithoutSeam)
   }
 }
 
+/// A pcurve off its edge (BoxWithSkewedPCurve through IGES, whose reader keeps it) is replaced
+/// by the edge's projection when read: the faces meet along the edge, and the model is closed
+/// and within the tolerance. Kept, the hole's faces missed each other by a third of its radius.
+TEST(CADHealing, PCurveOffItsEdgeIsReprojected)
+{
+  Conversion c;
+  c.Run(TempIges("skewed_pcurve", ctsplines_test::BoxWithSkewedPCurve()), 1e-4);
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 7u);
+  vtkFieldData* faces = c.Faces->GetFieldData();
+  std::printf("skewed pcurve: %g reprojected, edge gap %g (absolute tolerance %g)\n",
+    Field(faces, "NumberOfPCurvesReprojected"), Field(faces, "MaxEdgeGap"),
+    Field(faces, "AbsoluteTolerance"));
+  EXPECT_EQ(Field(faces, "NumberOfPCurvesReprojected"), 1);
+  EXPECT_LT(Field(faces, "MaxEdgeGap"), 0.01 * Field(faces, "AbsoluteTolerance"));
+  CheckSharedNodes(c);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+}
+
+/// Two edges that stall at their common vertex and run together there (StallingEdgesPrism): their
+/// samples within a hundredth of the tolerance of the vertex are dropped, else the wedge's faces
+/// get two nodes at one point and a parameter triangle of no area (the spline fails).
+TEST(CADConversion, EdgesRunningTogetherFromAVertex)
+{
+  Conversion c;
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("stalling_edges", ctsplines_test::StallingEdgesPrism()), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 5u);
+  CheckSharedNodes(c);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+}
+
 /// The aspect bound is met by circumcentres where they can go: boundary segments are never
 /// split by the face meshing, so triangles on them, and a few next to them, keep larger ratios,
 /// unless an edge length bound splits the edge spans. It used to refine
