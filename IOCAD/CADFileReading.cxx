@@ -723,8 +723,8 @@ std::string FacesAround(const TopoDS_Shape& wire, const TopTools_IndexedMapOfSha
   return text + (faces.size() > 8 ? ", ..." : "") + " (" + std::to_string(faces.size()) + " faces)";
 }
 
-/// The free edges the sewing leaves bound openings of the model, which the conversion keeps
-/// open: a warning describes each closed free boundary (its size, whether it is planar, the
+/// The free edges the sewing leaves (where it joined others) bound openings of the model, which
+/// the conversion keeps open: a warning describes each closed free boundary (its size, whether it is planar, the
 /// faces around it). One as wide as the model is a missing face (absent from the file, or
 /// skipped by the translation: see its warning), not a gap that healing should close.
 void DescribeOpenings(ShapeRead& r, double diagonal)
@@ -796,7 +796,7 @@ void Heal(ShapeRead& r, const HealingOptions& options, double diagonal)
     r.Warnings.push_back("healing (sliver faces, sewing at " + Number(tol) +
       ") failed, the shape is kept as read: " + failure);
   }
-  else if (options.Sew && freeAfter > 0 &&
+  else if (options.Sew && r.Healing.SewnEdges > 0 && freeAfter > 0 && // pieces joined: no sheet
     !RunGuarded([&] { DescribeOpenings(r, diagonal); }, failure))
   {
     r.Warnings.push_back("the free boundaries left after the sewing cannot be analysed "
