@@ -9,6 +9,7 @@
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepGProp.hxx>
+#include <BRepLib_FindSurface.hxx>
 #include <BRep_Builder.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Tool.hxx>
@@ -30,6 +31,7 @@
 #include <OSD.hxx>
 #include <Precision.hxx>
 #include <STEPControl_Reader.hxx>
+#include <ShapeAnalysis_FreeBounds.hxx>
 #include <ShapeAnalysis_Surface.hxx>
 #include <ShapeBuild_ReShape.hxx>
 #include <ShapeFix_Face.hxx>
@@ -48,6 +50,7 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Edge.hxx>
 #include <TopoDS_Face.hxx>
+#include <TopoDS_Wire.hxx>
 #include <TransferBRep.hxx>
 #include <gp_Pnt2d.hxx>
 #include <gp_Vec2d.hxx>
@@ -885,6 +888,77 @@ bool HealPass(ShapeRead& r, const HealingOptions& options, double tol, int freeB
     failure);
 }
 
+/// "face 3 (NAME), face 7, ... (12 faces)": the faces of the edges of `wire`, at most 8 named.
+std::string FacesAround(const TopoDS_Shape& wire, const TopTools_IndexedMapOfShape& faceMap,
+  const TopTools_IndexedDataMapOfShapeListOfShape& edgeFaces, const std::vector<std::string>& names)
+{
+  std::vector<int> faces;
+  for (TopExp_Explorer ex(wire, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const int k = edgeFaces.FindIndex(ex.Current());
+    for (const TopoDS_Shape& F : k > 0 ? edgeFaces(k) : TopTools_ListOfShape())
+    {
+      faces.push_back(faceMap.FindIndex(F));
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+  std::string text;
+  for (std::size_t j = 0; j < faces.size() && j < 8; ++j)
+  {
+    text += (j > 0 ? ", " : "") +
+      (faces[j] > 0 ? FaceLabel(faces[j] - 1, names[faces[j] - 1]) : std::string("a face"));
+  }
+  return text + (faces.size() > 8 ? ", ..." : "") + " (" + std::to_string(faces.size()) + " faces)";
+}
+
+/// The free edges the sewing leaves (where it joined others) bound openings of the model, which
+/// the conversion keeps open: a warning describes each closed free boundary (its size, whether it is planar, the
+/// faces around it). One as wide as the model is a missing face (absent from the file, or
+/// skipped by the translation: see its warning), not a gap that healing should close.
+void DescribeOpenings(ShapeRead& r, double diagonal)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  TopExp::MapShapesAndAncestors(r.Shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+  const ShapeAnalysis_FreeBounds bounds(r.Shape, Standard_False, Standard_True, Standard_False);
+  NamedList closed;
+  for (TopExp_Explorer wx(bounds.GetClosedWires(), TopAbs_WIRE); wx.More(); wx.Next())
+  {
+    int edges = 0;
+    for (TopExp_Explorer ex(wx.Current(), TopAbs_EDGE); ex.More(); ex.Next())
+    {
+      edges += !BRep_Tool::Degenerated(TopoDS::Edge(ex.Current()));
+    }
+    GProp_GProps length;
+    BRepGProp::LinearProperties(wx.Current(), length);
+    Bnd_Box box;
+    BRepBndLib::Add(wx.Current(), box);
+    const double across = std::sqrt(box.SquareExtent());
+    // In a plane within 1 % of its size: the boundary of a missing planar face.
+    const BRepLib_FindSurface plane(wx.Current(), 0.01 * across, Standard_True);
+    closed.Add(std::to_string(edges) + " edges, " + Number(length.Mass()) + " long, " +
+      Number(std::round(1000 * across / diagonal) / 10) + " % of the diagonal across, " +
+      (plane.Found() ? "in a plane within " + Number(plane.ToleranceReached())
+                     : std::string("not planar")) +
+      ", around " + FacesAround(wx.Current(), faceMap, edgeFaces, r.FaceNames));
+  }
+  int open = 0;
+  for (TopExp_Explorer wx(bounds.GetOpenWires(), TopAbs_WIRE); wx.More(); wx.Next())
+  {
+    ++open;
+  }
+  if (closed.Size() + open > 0)
+  {
+    r.Warnings.push_back("the model is open after the sewing (its free edges stay free edges "
+      "of the result): " + std::to_string(closed.Size()) + " closed free boundar" +
+      (closed.Size() == 1 ? "y" : "ies") + " (missing faces, or gaps wider than the tolerance)" +
+      (closed.Size() > 0 ? ": " + closed.Text() : std::string()) +
+      (open > 0 ? "; " + std::to_string(open) + " open chain(s) of free edges" : std::string()));
+  }
+}
+
 /// The healing of HealingOptions. Removing slivers must not open the model: where the sewing
 /// cannot close the gaps they leave (or is off), the slivers stay. An OCCT failure in it is a
 /// warning and keeps the shape as read.
@@ -910,6 +984,12 @@ void Heal(ShapeRead& r, const HealingOptions& options, double diagonal)
     r = asRead;
     r.Warnings.push_back("healing (sliver faces, sewing at " + Number(tol) +
       ") failed, the shape is kept as read: " + failure);
+  }
+  else if (options.Sew && r.Healing.SewnEdges > 0 && freeAfter > 0 && // pieces joined: no sheet
+    !RunGuarded([&] { DescribeOpenings(r, diagonal); }, failure))
+  {
+    r.Warnings.push_back("the free boundaries left after the sewing cannot be analysed "
+      "(ShapeAnalysis_FreeBounds): " + failure);
   }
 }
 

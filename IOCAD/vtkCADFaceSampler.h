@@ -103,7 +103,9 @@ public:
   /// Either way, sliver faces of no width (zero area, or 2 area / perimeter below a thousandth
   /// of the tolerance: they cannot be meshed) are removed where that leaves no new free edge
   /// (with Sew, the sewing closes the gap); every change is a warning naming the faces or edges
-  /// (also edges shorter than half the tolerance), and counted in the field data.
+  /// (also edges shorter than half the tolerance), and counted in the field data. Openings the
+  /// sewing leaves (missing faces, wider gaps) stay open: a warning describes each closed free
+  /// boundary (size, plane, the faces around it).
   vtkSetMacro(Sew, bool);
   vtkGetMacro(Sew, bool);
   vtkBooleanMacro(Sew, bool);

@@ -176,15 +176,20 @@ inline TopoDS_Shape CylinderOctantTwoFaces(double radius = 300.0, double halfLen
 /// The faces of a 2 x 1 x 0.5 box as loose faces, as in a STEP file of unconnected faces: each
 /// face is a copy with edges and vertices of its own, moved out along its normal by `gap`, so
 /// that neighbouring faces miss each other by up to ~1.4 gap and nothing connects them until
-/// they are sewn.
-inline TopoDS_Shape LooseBoxFaces(double gap = 1e-5)
+/// they are sewn. `missing` >= 0 leaves that face out (5: the top, z = 0.5): an open box.
+inline TopoDS_Shape LooseBoxFaces(double gap = 1e-5, int missing = -1)
 {
   const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), 2.0, 1.0, 0.5).Shape();
   BRep_Builder builder;
   TopoDS_Compound faces;
   builder.MakeCompound(faces);
+  int index = 0;
   for (TopExp_Explorer fx(box, TopAbs_FACE); fx.More(); fx.Next())
   {
+    if (index++ == missing)
+    {
+      continue;
+    }
     const TopoDS_Face face = TopoDS::Face(BRepBuilderAPI_Copy(fx.Current()).Shape());
     gp_Pnt centre;
     gp_Vec du, dv;

@@ -1211,6 +1211,24 @@ TEST(CADHealing, LooseFacesAreSewn)
   }
 }
 
+/// Loose faces of a box without its top: the sewing joins the 8 edges it can, and the opening
+/// it leaves (the missing face, 98 % of the diagonal across) is described in a warning: its
+/// edges, size, plane and the four faces around it.
+TEST(CADHealing, OpeningLeftBySewingIsDescribed)
+{
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  c.Run(TempStep("open_box_faces", ctsplines_test::LooseBoxFaces(1e-5, 5)), 1e-4);
+  EXPECT_EQ(Field(c.Faces->GetFieldData(), "NumberOfSewnEdges"), 8);
+  EXPECT_GT(Field(c.Merged->GetFieldData(), "NumberOfFreeEdges"), 0);
+  for (const char* part : { "the model is open after the sewing", "1 closed free boundary",
+         ": 4 edges, 6 long, 97.6 % of the diagonal across, in a plane within ",
+         ", around face 0, face 1, face 2, face 3 (4 faces)" })
+  {
+    EXPECT_NE(warnings.Text.find(part), std::string::npos) << part << "\n" << warnings.Text;
+  }
+}
+
 /// A model without free edges (the box with a hole), and an open one where nothing is within
 /// the tolerance of anything else (the trimmed patch): the sewing leaves them exactly as read,
 /// same faces in the same order, same names, same samples.

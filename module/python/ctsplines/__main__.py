@@ -632,7 +632,8 @@ def build_parser():
     cad.add_argument("--no-sew", action="store_true",
                      help="keep the file's topology: by default faces whose free edges lie within "
                      "the tolerance of each other are sewn on reading (IGES surface models, STEP "
-                     "files of loose faces), also across removed sliver faces of no width")
+                     "files of loose faces), also across removed sliver faces of no width; "
+                     "openings it leaves (missing faces) stay open, each described in a warning")
     cad.add_argument("--read-timeout", type=_non_negative_float, metavar="SECONDS", default=120.0,
                      help="OpenCASCADE translates the file in a separate process, which is "
                      "abandoned after this time (a malformed file on which it loops or crashes is "
