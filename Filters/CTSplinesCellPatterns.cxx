@@ -136,45 +136,63 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
   this->NPoints = this->InteriorStart[nCells];
 }
 
-vtkIdType CellPatterns::OutputId(vtkIdType c, int p, bool& owned) const
+void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) const
 {
-  const SamplingLattice::Point& q = this->Of[c]->Points[p];
-  switch (q.Kind)
+  // Per corner and edge of the cell once: ids, owners and the edges' directions.
+  vtkIdType corner[3], edgeFirst[3];
+  bool ownsCorner[3], ownsEdge[3], forward[3];
+  int segments[3];
+  for (int a = 0; a < 3; ++a)
   {
-    case SamplingLattice::Point::Corner:
-      owned = this->Topology.OwnsCorner(c, q.Local);
-      return this->Topology.CornerId(c, q.Local);
-    case SamplingLattice::Point::Edge:
+    corner[a] = this->Topology.CornerId(c, a);
+    ownsCorner[a] = this->Topology.OwnsCorner(c, a);
+    const vtkIdType e = this->Topology.EdgeId(c, a);
+    edgeFirst[a] = this->EdgeStart[e];
+    segments[a] = this->EdgeSegments[e];
+    ownsEdge[a] = this->Topology.OwnsEdge(c, a);
+  }
+  for (int l = 0; l < 3; ++l)
+  {
+    // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
+    forward[l] = corner[l] <= corner[(l + 1) % 3];
+  }
+  const std::vector<SamplingLattice::Point>& points = this->Of[c]->Points;
+  for (size_t p = 0; p < points.size(); ++p)
+  {
+    const SamplingLattice::Point& q = points[p];
+    switch (q.Kind)
     {
-      const vtkIdType e = this->Topology.EdgeId(c, q.Local);
-      owned = this->Topology.OwnsEdge(c, q.Local);
-      // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
-      const bool forward = this->Topology.CornerId(c, q.Local) <=
-        this->Topology.CornerId(c, (q.Local + 1) % 3);
-      const int n = this->EdgeSegments[e];
-      return this->EdgeStart[e] + (forward ? q.Step : n - q.Step) - 1;
+      case SamplingLattice::Point::Corner:
+        owned[p] = ownsCorner[q.Local];
+        ids[p] = corner[q.Local];
+        break;
+      case SamplingLattice::Point::Edge:
+        owned[p] = ownsEdge[q.Local];
+        ids[p] = edgeFirst[q.Local] +
+          (forward[q.Local] ? q.Step : segments[q.Local] - q.Step) - 1;
+        break;
+      default:
+        owned[p] = true;
+        ids[p] = this->InteriorStart[c] + q.Step;
     }
-    default:
-      owned = true;
-      return this->InteriorStart[c] + q.Step;
   }
 }
 
-void CellPatterns::WriteTriangles(
-  vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity, vtkIdType* sourceCell) const
+void CellPatterns::WriteTriangles(vtkIdType c, const vtkIdType* ids, vtkIdType* offsets,
+  vtkIdType* connectivity, vtkIdType* sourceCell) const
 {
   const std::vector<int>& triangles = this->Of[c]->Triangles;
   const vtkIdType first = this->TriangleStart[c];
-  for (size_t m = 0; m < triangles.size() / 3; ++m)
+  const vtkIdType count = static_cast<vtkIdType>(triangles.size() / 3);
+  vtkIdType* to = connectivity + 3 * first;
+  for (size_t k = 0; k < triangles.size(); ++k)
   {
-    const vtkIdType cell = first + static_cast<vtkIdType>(m);
-    for (int a = 0; a < 3; ++a)
-    {
-      bool owned = false;
-      connectivity[3 * cell + a] = this->OutputId(c, triangles[3 * m + a], owned);
-    }
-    offsets[cell] = 3 * cell;
-    sourceCell[cell] = c;
+    to[k] = ids[triangles[k]];
+  }
+  for (vtkIdType m = first; m < first + count; ++m)
+  {
+    offsets[m] = 3 * m;
+    sourceCell[m] = c;
   }
 }
 

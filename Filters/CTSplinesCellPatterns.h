@@ -49,11 +49,13 @@ public:
   vtkIdType NumberOfTriangles() const { return this->TriangleStart.back(); }
   /// First output triangle of cell c (cells' triangles are consecutive).
   vtkIdType FirstTriangle(vtkIdType c) const { return this->TriangleStart[c]; }
-  /// Output id of pattern point p of cell c, and whether c evaluates it.
-  vtkIdType OutputId(vtkIdType c, int p, bool& owned) const;
-  /// Writes cell c's triangles: offsets, connectivity and the source cell id of each.
-  void WriteTriangles(vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity,
-    vtkIdType* sourceCell) const;
+  /// Output ids of the pattern points of cell c (Pattern(c).Points.size() of them), and
+  /// whether c evaluates each (it is the owner).
+  void OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) const;
+  /// Writes cell c's triangles from its OutputIds: offsets, connectivity and the source cell id
+  /// of each.
+  void WriteTriangles(vtkIdType c, const vtkIdType* ids, vtkIdType* offsets,
+    vtkIdType* connectivity, vtkIdType* sourceCell) const;
 
 private:
   const BezierCells& Cells;
