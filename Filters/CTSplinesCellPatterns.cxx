@@ -98,6 +98,9 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
   }
   this->InteriorStart[0] = this->EdgeStart[nEdges];
   this->TriangleStart[0] = 0;
+  this->CellEdgeStart.resize(3 * nCells);
+  this->CellEdgeSegments.resize(3 * nCells);
+  std::array<int, 5> lastKey{};
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     std::array<int, 3> n{};
@@ -107,33 +110,54 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
       n[l] = this->EdgeSegments[this->Topology.EdgeId(c, l)];
       level = std::max(level, n[l]);
     }
-    const std::array<int, 4> key{ level, n[0], n[1], n[2] };
-    auto found = this->Patterns.find(key);
-    if (found == this->Patterns.end())
+    for (int l = 0; l < 3; ++l)
     {
-      const SamplingLattice& lattice =
-        this->Lattices.emplace(level, SamplingLattice(level)).first->second;
-      found = this->Patterns.emplace(key, SnappedLattice(lattice, n)).first;
+      this->CellEdgeStart[3 * c + l] = this->EdgeStart[this->Topology.EdgeId(c, l)];
+      this->CellEdgeSegments[3 * c + l] = n[l];
     }
-    this->Of[c] = &found->second;
     const std::array<int, 5> basisKey{ level, n[0], n[1], n[2], cells.Degree[c] };
-    auto basis = this->Bases.find(basisKey);
-    if (basis == this->Bases.end())
+    if (c > 0 && basisKey == lastKey)
     {
-      std::vector<ctk::Vec3> points;
-      for (const SamplingLattice::Point& q : found->second.Points)
-      {
-        points.push_back(q.T);
-      }
-      basis = this->Bases.emplace(basisKey, ctk::BezierBasisTable(cells.Degree[c], points)).first;
+      // Uniform tessellations: one pattern and basis for all cells, no search.
+      this->Of[c] = this->Of[c - 1];
+      this->BasisOf[c] = this->BasisOf[c - 1];
     }
-    this->BasisOf[c] = &basis->second;
+    else
+    {
+      this->FindPattern(c, basisKey);
+      lastKey = basisKey;
+    }
     const vtkIdType interior = static_cast<vtkIdType>(level - 1) * (level - 2) / 2;
     this->InteriorStart[c + 1] = this->InteriorStart[c] + interior;
     this->TriangleStart[c + 1] =
-      this->TriangleStart[c] + static_cast<vtkIdType>(found->second.Triangles.size() / 3);
+      this->TriangleStart[c] + static_cast<vtkIdType>(this->Of[c]->Triangles.size() / 3);
   }
   this->NPoints = this->InteriorStart[nCells];
+}
+
+void CellPatterns::FindPattern(vtkIdType c, const std::array<int, 5>& key)
+{
+  const std::array<int, 3> n{ key[1], key[2], key[3] };
+  const std::array<int, 4> patternKey{ key[0], n[0], n[1], n[2] };
+  auto found = this->Patterns.find(patternKey);
+  if (found == this->Patterns.end())
+  {
+    const SamplingLattice& lattice =
+      this->Lattices.emplace(key[0], SamplingLattice(key[0])).first->second;
+    found = this->Patterns.emplace(patternKey, SnappedLattice(lattice, n)).first;
+  }
+  this->Of[c] = &found->second;
+  auto basis = this->Bases.find(key);
+  if (basis == this->Bases.end())
+  {
+    std::vector<ctk::Vec3> points;
+    for (const SamplingLattice::Point& q : found->second.Points)
+    {
+      points.push_back(q.T);
+    }
+    basis = this->Bases.emplace(key, ctk::BezierBasisTable(key[4], points)).first;
+  }
+  this->BasisOf[c] = &basis->second;
 }
 
 void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) const
@@ -146,9 +170,8 @@ void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) 
   {
     corner[a] = this->Topology.CornerId(c, a);
     ownsCorner[a] = this->Topology.OwnsCorner(c, a);
-    const vtkIdType e = this->Topology.EdgeId(c, a);
-    edgeFirst[a] = this->EdgeStart[e];
-    segments[a] = this->EdgeSegments[e];
+    edgeFirst[a] = this->CellEdgeStart[3 * c + a];
+    segments[a] = this->CellEdgeSegments[3 * c + a];
     ownsEdge[a] = this->Topology.OwnsEdge(c, a);
   }
   for (int l = 0; l < 3; ++l)

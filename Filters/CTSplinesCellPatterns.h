@@ -58,6 +58,9 @@ public:
     vtkIdType* connectivity, vtkIdType* sourceCell) const;
 
 private:
+  // Sets the pattern and basis of cell c from key (level, segments of its 3 edges, degree).
+  void FindPattern(vtkIdType c, const std::array<int, 5>& key);
+
   const BezierCells& Cells;
   SamplingLattice UnitLattice{ 1 };
   LatticeNumbering Topology; // corners, edges and their owners (level-independent)
@@ -68,6 +71,9 @@ private:
   std::vector<const ctk::BezierBasisTable*> BasisOf;
   std::vector<int> EdgeSegments;
   std::vector<vtkIdType> EdgeStart, InteriorStart, TriangleStart;
+  // Per cell and local edge: EdgeStart and EdgeSegments of the edge (read in cell order).
+  std::vector<vtkIdType> CellEdgeStart;
+  std::vector<int> CellEdgeSegments;
   vtkIdType NPoints = 0;
 };
 
