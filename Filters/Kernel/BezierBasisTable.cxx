@@ -57,33 +57,78 @@ BezierBasisTable::BezierBasisTable(int n, const std::vector<Vec3>& points)
   }
 }
 
+namespace
+{
+// Sum with K ordinate arrays, four points at a time held in registers over all control points
+// (no store and reload per term). Every point's sum runs over i in order from zero: the same
+// doubles as a pointwise sum.
+template <int K>
+void SumPoints(const double* table, size_t stride, int count, const double* f, int m,
+  BezierBasisTable::BlockArray* out)
+{
+  constexpr int lanes = 4;
+  int q = 0;
+  for (; q + lanes <= m; q += lanes)
+  {
+    double acc[K][lanes];
+    for (int k = 0; k < K; ++k)
+    {
+      for (int l = 0; l < lanes; ++l)
+      {
+        acc[k][l] = 0.0 + table[q + l] * f[k * MaxBezierPoints];
+      }
+    }
+    for (int i = 1; i < count; ++i)
+    {
+      const double* b = table + i * stride + q;
+      for (int k = 0; k < K; ++k)
+      {
+        const double fi = f[k * MaxBezierPoints + i];
+        for (int l = 0; l < lanes; ++l)
+        {
+          acc[k][l] += b[l] * fi;
+        }
+      }
+    }
+    for (int k = 0; k < K; ++k)
+    {
+      std::copy_n(acc[k], lanes, out[k] + q);
+    }
+  }
+  for (; q < m; ++q)
+  {
+    for (int k = 0; k < K; ++k)
+    {
+      double sum = 0.0 + table[q] * f[k * MaxBezierPoints];
+      for (int i = 1; i < count; ++i)
+      {
+        sum += table[i * stride + q] * f[k * MaxBezierPoints + i];
+      }
+      out[k][q] = sum;
+    }
+  }
+}
+} // namespace
+
 void BezierBasisTable::Sum(const std::vector<double>& table, const double* f, int components,
   int begin, int end, BlockArray* out) const
 {
   assert(end - begin <= Block && begin >= 0 && end <= this->NP);
-  const int m = end - begin;
-  for (int k = 0; k < components; ++k)
+  const double* t = table.data() + begin;
+  const size_t stride = static_cast<size_t>(this->NP);
+  for (int k = 0; k < components; k += 3)
   {
-    // 0 + the first term, then the others in order: the doubles of a sum started at zero.
-    const double* b = table.data() + begin;
-    const double f0 = f[k * MaxBezierPoints];
-    double* o = out[k];
-    for (int q = 0; q < m; ++q)
+    const double* fk = f + k * MaxBezierPoints;
+    switch (std::min(3, components - k))
     {
-      o[q] = 0.0 + b[q] * f0;
-    }
-  }
-  for (int i = 1; i < this->Count; ++i)
-  {
-    const double* b = table.data() + static_cast<size_t>(i) * this->NP + begin;
-    for (int k = 0; k < components; ++k)
-    {
-      const double fi = f[k * MaxBezierPoints + i];
-      double* o = out[k];
-      for (int q = 0; q < m; ++q)
-      {
-        o[q] += b[q] * fi;
-      }
+      case 1:
+        SumPoints<1>(t, stride, this->Count, fk, end - begin, out + k);
+        break;
+      case 2:
+        SumPoints<2>(t, stride, this->Count, fk, end - begin, out + k);
+        break;
+      default:
+        SumPoints<3>(t, stride, this->Count, fk, end - begin, out + k);
     }
   }
 }
