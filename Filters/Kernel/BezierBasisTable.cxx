@@ -202,10 +202,10 @@ void BezierBasisTable::Evaluate(
     const double scale = dr[0][q] * dr[0][q] + dr[1][q] * dr[1][q] + dr[2][q] * dr[2][q] +
       ds[0][q] * ds[0][q] + ds[1][q] * ds[1][q] + ds[2][q] * ds[2][q];
     singular[q] = !(length > 1e-12 * scale); // IsSingularTangentPlane
-    const double inverse = length > 0 ? 1.0 / length : 1.0;
-    normal[0][q] = nx * inverse;
-    normal[1][q] = ny * inverse;
-    normal[2][q] = nz * inverse;
+    const double divisor = length > 0 ? length : 1.0; // PatchNormal's division
+    normal[0][q] = nx / divisor;
+    normal[1][q] = ny / divisor;
+    normal[2][q] = nz / divisor;
   }
   for (int q = 0; q < m; ++q)
   {
