@@ -76,6 +76,7 @@ std::string PointDataInterpolator::Gather(
 {
   this->Arrays.clear();
   this->Nets = 0;
+  this->Components = 0;
   vtkPointData* pd = ds->GetPointData();
   vtkDataArray* weights = pd->GetRationalWeights();
   for (int a = 0; a < pd->GetNumberOfArrays(); ++a)
@@ -103,8 +104,9 @@ std::string PointDataInterpolator::Gather(
     array.Out = vtkSmartPointer<vtkDoubleArray>::New();
     array.Out->SetName(array.Name.c_str());
     array.Out->SetNumberOfComponents(array.Components);
-    array.Out->SetNumberOfTuples(outputPoints);
+    AllocateTuples(array.Out, outputPoints);
     this->Nets += (array.Components + 2) / 3;
+    this->Components += array.Components;
     this->Arrays.push_back(std::move(array));
   }
   return {};
@@ -121,27 +123,46 @@ void PointDataInterpolator::LoadNets(const BezierCells& cells, vtkIdType c, ctk:
   }
 }
 
-void PointDataInterpolator::LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets,
-  const double* weights, Eigen::Vector4d* netsH) const
+void PointDataInterpolator::LoadOrdinates(
+  const BezierCells& cells, vtkIdType c, const double* weights, double* f) const
 {
-  this->LoadNets(cells, c, nets);
   const int n = cells.Degree[c];
-  for (int k = 0; k < this->Nets; ++k)
+  const std::vector<int>& order = cells.Orders[n];
+  const vtkIdType* ids = cells.CellIds(c);
+  for (const Array& a : this->Arrays)
   {
-    ctk::HomogeneousNet(n, nets + k * ctk::MaxBezierPoints, weights, netsH + k * ctk::MaxBezierPoints);
+    for (int k = 0; k < a.Components; ++k, f += ctk::MaxBezierPoints)
+    {
+      for (int p = 0; p < ctk::BezierPointCount(n); ++p)
+      {
+        const double value = a.Values[ids[p] * a.Components + k];
+        f[order[p]] = weights ? weights[order[p]] * value : value;
+      }
+    }
   }
 }
 
-void PointDataInterpolator::Write(const ctk::BezierBasisTable& basis,
-  const Eigen::Vector4d* netsH, int p, vtkIdType id) const
+void PointDataInterpolator::Write(const ctk::BezierBasisTable& basis, const double* f,
+  int begin, int end, const double* W, const vtkIdType* ids) const
 {
+  constexpr int batch = 4; // components per Combine
+  ctk::BezierBasisTable::BlockArray v[batch];
   for (const Array& a : this->Arrays)
   {
-    double* out = a.Out->GetPointer(id * a.Components);
-    for (int first = 0; first < a.Components; first += 3, netsH += ctk::MaxBezierPoints)
+    double* out = a.Out->GetPointer(0);
+    for (int first = 0; first < a.Components; first += batch)
     {
-      const ctk::Vec3 v = basis.Value(netsH, p);
-      std::copy_n(v.data(), std::min(3, a.Components - first), out + first);
+      const int count = std::min(batch, a.Components - first);
+      basis.Combine(f, count, begin, end, v);
+      f += count * ctk::MaxBezierPoints;
+      for (int q = 0; q < end - begin; ++q)
+      {
+        double* o = out + ids[q] * a.Components + first;
+        for (int k = 0; k < count; ++k)
+        {
+          o[k] = v[k][q] / W[q];
+        }
+      }
     }
   }
 }
@@ -482,10 +503,6 @@ SamplingLattice::SamplingLattice(int level)
   }
 }
 
-vtkIdType LatticeNumbering::CornerId(vtkIdType c, int a) const
-{
-  return this->CornerOf[this->Cells.CellIds(c)[a]];
-}
 
 LatticeNumbering::LatticeNumbering(
   const BezierCells& cells, const SamplingLattice& lattice, bool shared)
@@ -502,17 +519,22 @@ LatticeNumbering::LatticeNumbering(
   // Corners by point id and edges by their two corner point ids, each owned by the first cell
   // that uses it. Edges are bucketed by their lower corner: O(n).
   const int L = lattice.L;
-  this->CornerOf.assign(cells.Points.size(), -1);
+  // Per cell its corners' ids and what it owns (read cell by cell, not at random, later).
+  std::vector<vtkIdType> cornerOf(cells.Points.size(), -1);
+  this->CellCorner.resize(3 * nCells);
+  this->CellOwns.assign(nCells, 0);
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int a = 0; a < 3; ++a)
     {
-      vtkIdType& corner = this->CornerOf[cells.CellIds(c)[a]];
+      vtkIdType& corner = cornerOf[cells.CellIds(c)[a]];
       if (corner < 0)
       {
         corner = static_cast<vtkIdType>(this->CornerOwner.size());
         this->CornerOwner.push_back(c);
+        this->CellOwns[c] |= 1 << a;
       }
+      this->CellCorner[3 * c + a] = corner;
     }
   }
   const vtkIdType nCorners = static_cast<vtkIdType>(this->CornerOwner.size());
@@ -563,6 +585,7 @@ LatticeNumbering::LatticeNumbering(
         // Items are in cell order, so the first cell seen owns the edge.
         edge = static_cast<vtkIdType>(this->EdgeOwner.size());
         this->EdgeOwner.push_back(c);
+        this->CellOwns[c] |= 8 << (ce % 3);
       }
       this->CellEdge[ce] = edge;
     }
@@ -587,13 +610,13 @@ vtkIdType LatticeNumbering::OutputId(vtkIdType c, int index, bool& owned) const
     case SamplingLattice::Point::Corner:
     {
       const vtkIdType v = this->CornerId(c, p.Local);
-      owned = this->CornerOwner[v] == c;
+      owned = this->OwnsCorner(c, p.Local);
       return v;
     }
     case SamplingLattice::Point::Edge:
     {
       const vtkIdType e = this->CellEdge[3 * c + p.Local];
-      owned = this->EdgeOwner[e] == c;
+      owned = this->OwnsEdge(c, p.Local);
       // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
       const bool forward = this->CornerId(c, p.Local) <= this->CornerId(c, (p.Local + 1) % 3);
       return this->EdgeBase + e * (L - 1) + (forward ? p.Step : L - p.Step) - 1;
@@ -644,6 +667,20 @@ std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefi
   return {};
 }
 
+namespace
+{
+// to[k] = from[source[k]] for tuples of Bytes bytes (a constant size: one move each).
+template <size_t Bytes>
+void CopyTuples(const char* from, char* to, const vtkIdType* source, vtkIdType begin,
+  vtkIdType end)
+{
+  for (vtkIdType k = begin; k < end; ++k)
+  {
+    std::memcpy(to + k * Bytes, from + source[k] * Bytes, Bytes);
+  }
+}
+} // namespace
+
 vtkSmartPointer<vtkAbstractArray> GatherTuples(
   vtkAbstractArray* in, const vtkIdType* source, vtkIdType n)
 {
@@ -651,7 +688,14 @@ vtkSmartPointer<vtkAbstractArray> GatherTuples(
     vtkSmartPointer<vtkAbstractArray>::Take(in->NewInstance());
   array->SetName(in->GetName());
   array->SetNumberOfComponents(in->GetNumberOfComponents());
-  array->SetNumberOfTuples(n);
+  if (vtkDataArray* data = vtkDataArray::SafeDownCast(array))
+  {
+    AllocateTuples(data, n); // large outputs: huge pages
+  }
+  else
+  {
+    array->SetNumberOfTuples(n);
+  }
   auto copy = [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType k = begin; k < end; ++k)
     {
@@ -667,9 +711,21 @@ vtkSmartPointer<vtkAbstractArray> GatherTuples(
     const char* from = static_cast<const char*>(in->GetVoidPointer(0));
     char* to = static_cast<char*>(array->GetVoidPointer(0));
     ctsplines::ParallelFor(0, n, ctsplines::GrainForCopies, [&](vtkIdType begin, vtkIdType end) {
-      for (vtkIdType k = begin; k < end; ++k)
+      switch (bytes)
       {
-        std::memcpy(to + k * bytes, from + source[k] * bytes, bytes);
+        case 1:
+          return CopyTuples<1>(from, to, source, begin, end);
+        case 2:
+          return CopyTuples<2>(from, to, source, begin, end);
+        case 4:
+          return CopyTuples<4>(from, to, source, begin, end);
+        case 8:
+          return CopyTuples<8>(from, to, source, begin, end);
+        default:
+          for (vtkIdType k = begin; k < end; ++k)
+          {
+            std::memcpy(to + k * bytes, from + source[k] * bytes, bytes);
+          }
       }
     });
   }

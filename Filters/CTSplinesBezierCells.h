@@ -67,15 +67,20 @@ public:
   /// Number of 3-component nets per cell (LoadNets fills that many times MaxBezierPoints).
   int NumberOfNets() const { return this->Nets; }
   void LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets) const;
-  /// The same, plus the nets' HomogeneousNet with the cell's weights (for the table Write).
-  void LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets, const double* weights,
-    Eigen::Vector4d* netsH) const;
   /// Writes the values at barycentric t of a degree-n cell (nets from LoadNets) to point id.
   void Write(int n, const ctk::Vec3* nets, const double* weights, const ctk::Vec3& t,
     vtkIdType id) const;
-  /// Writes the values at point p of a basis table (homogeneous nets from LoadNets) to point id.
-  void Write(const ctk::BezierBasisTable& basis, const Eigen::Vector4d* netsH, int p,
-    vtkIdType id) const;
+  /// Number of components of all carried arrays.
+  int NumberOfComponents() const { return this->Components; }
+  /// The ordinates of every carried component at cell c's control points, in canonical order,
+  /// MaxBezierPoints apart (NumberOfComponents() of them), times the weights when rational.
+  void LoadOrdinates(
+    const BezierCells& cells, vtkIdType c, const double* weights, double* f) const;
+  /// Writes the values at table points [begin, end) (at most a Block) to points ids[0..) from
+  /// LoadOrdinates' f, divided by the denominators W of BezierBasisTable::Evaluate (the values
+  /// of EvaluateBezierTriangle to the bit).
+  void Write(const ctk::BezierBasisTable& basis, const double* f, int begin, int end,
+    const double* W, const vtkIdType* ids) const;
   /// Grows the outputs to `outputPoints` tuples, copying point from[k] to first + k.
   void Append(vtkIdType first, const std::vector<vtkIdType>& from);
   void AddTo(vtkDataSetAttributes* out) const;
@@ -89,7 +94,7 @@ private:
     vtkSmartPointer<vtkDoubleArray> Out;
   };
   std::vector<Array> Arrays;
-  int Nets = 0;
+  int Nets = 0, Components = 0;
 };
 
 /// Checks that every cell of ds is a VTK_BEZIER_TRIANGLE of an order in 1..ctk::MaxDegree and
@@ -155,10 +160,10 @@ public:
     vtkIdType* sourceCell) const;
 
   /// The shared corners and edges (shared numbering only): ids, counts and owners.
-  vtkIdType CornerId(vtkIdType c, int a) const;
+  vtkIdType CornerId(vtkIdType c, int a) const { return this->CellCorner[3 * c + a]; }
   vtkIdType EdgeId(vtkIdType c, int l) const { return this->CellEdge[3 * c + l]; }
-  bool OwnsCorner(vtkIdType c, int a) const { return this->CornerOwner[this->CornerId(c, a)] == c; }
-  bool OwnsEdge(vtkIdType c, int l) const { return this->EdgeOwner[this->EdgeId(c, l)] == c; }
+  bool OwnsCorner(vtkIdType c, int a) const { return (this->CellOwns[c] >> a) & 1; }
+  bool OwnsEdge(vtkIdType c, int l) const { return (this->CellOwns[c] >> (3 + l)) & 1; }
   vtkIdType NumberOfCorners() const { return static_cast<vtkIdType>(this->CornerOwner.size()); }
   vtkIdType NumberOfEdges() const { return static_cast<vtkIdType>(this->EdgeOwner.size()); }
 
@@ -167,7 +172,8 @@ private:
   const SamplingLattice& Lattice;
   bool Shared;
   vtkIdType NPoints = 0, EdgeBase = 0, InteriorBase = 0;
-  std::vector<vtkIdType> CornerOf, CornerOwner, CellEdge, EdgeOwner;
+  std::vector<vtkIdType> CellCorner, CornerOwner, CellEdge, EdgeOwner;
+  std::vector<unsigned char> CellOwns; // bits 0-2: corners, 3-5: edges the cell owns
 };
 
 /// Checks the input's cell data arrays: one tuple per cell each, and one component for

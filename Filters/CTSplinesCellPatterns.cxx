@@ -98,6 +98,9 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
   }
   this->InteriorStart[0] = this->EdgeStart[nEdges];
   this->TriangleStart[0] = 0;
+  this->CellEdgeStart.resize(3 * nCells);
+  this->CellEdgeSegments.resize(3 * nCells);
+  std::array<int, 5> lastKey{};
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     std::array<int, 3> n{};
@@ -107,74 +110,112 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
       n[l] = this->EdgeSegments[this->Topology.EdgeId(c, l)];
       level = std::max(level, n[l]);
     }
-    const std::array<int, 4> key{ level, n[0], n[1], n[2] };
-    auto found = this->Patterns.find(key);
-    if (found == this->Patterns.end())
+    for (int l = 0; l < 3; ++l)
     {
-      const SamplingLattice& lattice =
-        this->Lattices.emplace(level, SamplingLattice(level)).first->second;
-      found = this->Patterns.emplace(key, SnappedLattice(lattice, n)).first;
+      this->CellEdgeStart[3 * c + l] = this->EdgeStart[this->Topology.EdgeId(c, l)];
+      this->CellEdgeSegments[3 * c + l] = n[l];
     }
-    this->Of[c] = &found->second;
     const std::array<int, 5> basisKey{ level, n[0], n[1], n[2], cells.Degree[c] };
-    auto basis = this->Bases.find(basisKey);
-    if (basis == this->Bases.end())
+    if (c > 0 && basisKey == lastKey)
     {
-      std::vector<ctk::Vec3> points;
-      for (const SamplingLattice::Point& q : found->second.Points)
-      {
-        points.push_back(q.T);
-      }
-      basis = this->Bases.emplace(basisKey, ctk::BezierBasisTable(cells.Degree[c], points)).first;
+      // Uniform tessellations: one pattern and basis for all cells, no search.
+      this->Of[c] = this->Of[c - 1];
+      this->BasisOf[c] = this->BasisOf[c - 1];
     }
-    this->BasisOf[c] = &basis->second;
+    else
+    {
+      this->FindPattern(c, basisKey);
+      lastKey = basisKey;
+    }
     const vtkIdType interior = static_cast<vtkIdType>(level - 1) * (level - 2) / 2;
     this->InteriorStart[c + 1] = this->InteriorStart[c] + interior;
     this->TriangleStart[c + 1] =
-      this->TriangleStart[c] + static_cast<vtkIdType>(found->second.Triangles.size() / 3);
+      this->TriangleStart[c] + static_cast<vtkIdType>(this->Of[c]->Triangles.size() / 3);
   }
   this->NPoints = this->InteriorStart[nCells];
 }
 
-vtkIdType CellPatterns::OutputId(vtkIdType c, int p, bool& owned) const
+void CellPatterns::FindPattern(vtkIdType c, const std::array<int, 5>& key)
 {
-  const SamplingLattice::Point& q = this->Of[c]->Points[p];
-  switch (q.Kind)
+  const std::array<int, 3> n{ key[1], key[2], key[3] };
+  const std::array<int, 4> patternKey{ key[0], n[0], n[1], n[2] };
+  auto found = this->Patterns.find(patternKey);
+  if (found == this->Patterns.end())
   {
-    case SamplingLattice::Point::Corner:
-      owned = this->Topology.OwnsCorner(c, q.Local);
-      return this->Topology.CornerId(c, q.Local);
-    case SamplingLattice::Point::Edge:
+    const SamplingLattice& lattice =
+      this->Lattices.emplace(key[0], SamplingLattice(key[0])).first->second;
+    found = this->Patterns.emplace(patternKey, SnappedLattice(lattice, n)).first;
+  }
+  this->Of[c] = &found->second;
+  auto basis = this->Bases.find(key);
+  if (basis == this->Bases.end())
+  {
+    std::vector<ctk::Vec3> points;
+    for (const SamplingLattice::Point& q : found->second.Points)
     {
-      const vtkIdType e = this->Topology.EdgeId(c, q.Local);
-      owned = this->Topology.OwnsEdge(c, q.Local);
-      // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
-      const bool forward = this->Topology.CornerId(c, q.Local) <=
-        this->Topology.CornerId(c, (q.Local + 1) % 3);
-      const int n = this->EdgeSegments[e];
-      return this->EdgeStart[e] + (forward ? q.Step : n - q.Step) - 1;
+      points.push_back(q.T);
     }
-    default:
-      owned = true;
-      return this->InteriorStart[c] + q.Step;
+    basis = this->Bases.emplace(key, ctk::BezierBasisTable(key[4], points)).first;
+  }
+  this->BasisOf[c] = &basis->second;
+}
+
+void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) const
+{
+  // Per corner and edge of the cell once: ids, owners and the edges' directions.
+  vtkIdType corner[3], edgeFirst[3];
+  bool ownsCorner[3], ownsEdge[3], forward[3];
+  int segments[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    corner[a] = this->Topology.CornerId(c, a);
+    ownsCorner[a] = this->Topology.OwnsCorner(c, a);
+    edgeFirst[a] = this->CellEdgeStart[3 * c + a];
+    segments[a] = this->CellEdgeSegments[3 * c + a];
+    ownsEdge[a] = this->Topology.OwnsEdge(c, a);
+  }
+  for (int l = 0; l < 3; ++l)
+  {
+    // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
+    forward[l] = corner[l] <= corner[(l + 1) % 3];
+  }
+  const std::vector<SamplingLattice::Point>& points = this->Of[c]->Points;
+  for (size_t p = 0; p < points.size(); ++p)
+  {
+    const SamplingLattice::Point& q = points[p];
+    switch (q.Kind)
+    {
+      case SamplingLattice::Point::Corner:
+        owned[p] = ownsCorner[q.Local];
+        ids[p] = corner[q.Local];
+        break;
+      case SamplingLattice::Point::Edge:
+        owned[p] = ownsEdge[q.Local];
+        ids[p] = edgeFirst[q.Local] +
+          (forward[q.Local] ? q.Step : segments[q.Local] - q.Step) - 1;
+        break;
+      default:
+        owned[p] = true;
+        ids[p] = this->InteriorStart[c] + q.Step;
+    }
   }
 }
 
-void CellPatterns::WriteTriangles(
-  vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity, vtkIdType* sourceCell) const
+void CellPatterns::WriteTriangles(vtkIdType c, const vtkIdType* ids, vtkIdType* offsets,
+  vtkIdType* connectivity, vtkIdType* sourceCell) const
 {
   const std::vector<int>& triangles = this->Of[c]->Triangles;
   const vtkIdType first = this->TriangleStart[c];
-  for (size_t m = 0; m < triangles.size() / 3; ++m)
+  const vtkIdType count = static_cast<vtkIdType>(triangles.size() / 3);
+  vtkIdType* to = connectivity + 3 * first;
+  for (size_t k = 0; k < triangles.size(); ++k)
   {
-    const vtkIdType cell = first + static_cast<vtkIdType>(m);
-    for (int a = 0; a < 3; ++a)
-    {
-      bool owned = false;
-      connectivity[3 * cell + a] = this->OutputId(c, triangles[3 * m + a], owned);
-    }
-    offsets[cell] = 3 * cell;
-    sourceCell[cell] = c;
+    to[k] = ids[triangles[k]];
+  }
+  for (vtkIdType m = first; m < first + count; ++m)
+  {
+    offsets[m] = 3 * m;
+    sourceCell[m] = c;
   }
 }
 

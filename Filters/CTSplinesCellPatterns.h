@@ -49,13 +49,18 @@ public:
   vtkIdType NumberOfTriangles() const { return this->TriangleStart.back(); }
   /// First output triangle of cell c (cells' triangles are consecutive).
   vtkIdType FirstTriangle(vtkIdType c) const { return this->TriangleStart[c]; }
-  /// Output id of pattern point p of cell c, and whether c evaluates it.
-  vtkIdType OutputId(vtkIdType c, int p, bool& owned) const;
-  /// Writes cell c's triangles: offsets, connectivity and the source cell id of each.
-  void WriteTriangles(vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity,
-    vtkIdType* sourceCell) const;
+  /// Output ids of the pattern points of cell c (Pattern(c).Points.size() of them), and
+  /// whether c evaluates each (it is the owner).
+  void OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) const;
+  /// Writes cell c's triangles from its OutputIds: offsets, connectivity and the source cell id
+  /// of each.
+  void WriteTriangles(vtkIdType c, const vtkIdType* ids, vtkIdType* offsets,
+    vtkIdType* connectivity, vtkIdType* sourceCell) const;
 
 private:
+  // Sets the pattern and basis of cell c from key (level, segments of its 3 edges, degree).
+  void FindPattern(vtkIdType c, const std::array<int, 5>& key);
+
   const BezierCells& Cells;
   SamplingLattice UnitLattice{ 1 };
   LatticeNumbering Topology; // corners, edges and their owners (level-independent)
@@ -66,6 +71,9 @@ private:
   std::vector<const ctk::BezierBasisTable*> BasisOf;
   std::vector<int> EdgeSegments;
   std::vector<vtkIdType> EdgeStart, InteriorStart, TriangleStart;
+  // Per cell and local edge: EdgeStart and EdgeSegments of the edge (read in cell order).
+  std::vector<vtkIdType> CellEdgeStart;
+  std::vector<int> CellEdgeSegments;
   vtkIdType NPoints = 0;
 };
 

@@ -40,6 +40,40 @@ int vtkBezierTriangleTessellator::FillInputPortInformation(int, vtkInformation* 
 
 namespace
 {
+using Block = ctk::BezierBasisTable::BlockArray;
+
+// Per-thread scratch of the cell loops.
+struct CellScratch
+{
+  std::vector<vtkIdType> Ids;        // output id of each pattern point
+  std::vector<unsigned char> Owned;  // whether the cell evaluates it
+  ctk::Vec3 P[ctk::MaxBezierPoints]; // the net
+  double w[ctk::MaxBezierPoints];    // its weights when rational
+  ctk::ScalarNet Net;
+  std::vector<double> Ordinates; // of the carried point data (PointDataInterpolator)
+};
+
+// Calls f(begin, end) on the runs of consecutive pattern points whose owned flag is `owned`,
+// cut into blocks of at most BezierBasisTable::Block points.
+template <typename F>
+void ForEachRun(const std::vector<unsigned char>& flags, bool owned, F&& f)
+{
+  const int count = static_cast<int>(flags.size());
+  for (int p = 0; p < count;)
+  {
+    int end = p;
+    while (end < count && (flags[end] != 0) == owned && end - p < ctk::BezierBasisTable::Block)
+    {
+      ++end;
+    }
+    if (end > p)
+    {
+      f(p, end);
+    }
+    p = std::max(end, p + 1);
+  }
+}
+
 // The output being filled: conforming points (CellPatterns), exact normals, carried point data
 // and the triangles of every cell.
 struct Tessellation
@@ -53,41 +87,48 @@ struct Tessellation
   vtkIdType* Connectivity;
   vtkIdType* Source;
 
+  // Loads cell c's output ids, owners and net into s; returns its basis table.
+  const ctk::BezierBasisTable& Load(vtkIdType c, CellScratch& s) const;
   // Points owned by cell c (positions, normals, data) and its triangles.
-  void Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk::Vec3* nets,
-    Eigen::Vector4d* H, Eigen::Vector4d* HR, Eigen::Vector4d* netsH) const;
+  void Cell(vtkIdType c, CellScratch& s) const;
   // Splits the points where a cell's own normal differs from the owner's by more than the
   // feature angle (the copies keep the coordinates); returns the number of copies.
   vtkIdType SplitSharpPoints(double featureAngle);
 };
 
-void Tessellation::Cell(vtkIdType c, ctk::Vec3* P, ctk::Vec3* R, double* w, ctk::Vec3* nets,
-  Eigen::Vector4d* H, Eigen::Vector4d* HR, Eigen::Vector4d* netsH) const
+const ctk::BezierBasisTable& Tessellation::Load(vtkIdType c, CellScratch& s) const
 {
-  const int n = this->Cells.Degree[c];
-  const double* wp = this->Cells.Net(c, P, w);
-  ctk::RelativeNet(n, P, R); // for the normals' accuracy
-  ctk::HomogeneousNet(n, P, wp, H);
-  ctk::HomogeneousNet(n, R, wp, HR);
-  this->Data.LoadNets(this->Cells, c, nets, wp, netsH);
+  const ctk::BezierBasisTable& basis = this->Patterns.Basis(c);
+  s.Ids.resize(basis.NumberOfPoints());
+  s.Owned.resize(basis.NumberOfPoints());
+  this->Patterns.OutputIds(c, s.Ids.data(), s.Owned.data());
+  s.Net.Load(basis.Degree(), s.P, this->Cells.Net(c, s.P, s.w));
+  return basis;
+}
+
+void Tessellation::Cell(vtkIdType c, CellScratch& s) const
+{
+  const ctk::BezierBasisTable& basis = this->Load(c, s);
+  s.Ordinates.resize(std::max(1, this->Data.NumberOfComponents()) * ctk::MaxBezierPoints);
+  this->Data.LoadOrdinates(this->Cells, c, s.Net.Weights, s.Ordinates.data());
   double* xyz = this->Coordinates->GetPointer(0);
   double* nrm = this->Normals->GetPointer(0);
-  const ctk::BezierBasisTable& basis = this->Patterns.Basis(c);
-  for (int p = 0; p < basis.NumberOfPoints(); ++p)
-  {
-    bool owned = false;
-    const vtkIdType id = this->Patterns.OutputId(c, p, owned);
-    if (!owned)
+  ForEachRun(s.Owned, true, [&](int begin, int end) {
+    Block x[3], normal[3];
+    double W[ctk::BezierBasisTable::Block];
+    basis.Evaluate(s.Net, begin, end, x, normal, W);
+    const vtkIdType* ids = s.Ids.data() + begin;
+    for (int q = 0; q < end - begin; ++q)
     {
-      continue; // each point is written by its owner only
+      for (int k = 0; k < 3; ++k)
+      {
+        xyz[3 * ids[q] + k] = x[k][q];
+        nrm[3 * ids[q] + k] = normal[k][q];
+      }
     }
-    const ctk::Vec3 x = basis.Value(H, p);
-    std::copy_n(x.data(), 3, xyz + 3 * id);
-    const ctk::Vec3 normal = basis.Normal(HR, R, wp, p);
-    std::copy_n(normal.data(), 3, nrm + 3 * id);
-    this->Data.Write(basis, netsH, p, id);
-  }
-  this->Patterns.WriteTriangles(c, this->Offsets, this->Connectivity, this->Source);
+    this->Data.Write(basis, s.Ordinates.data(), begin, end, W, ids);
+  });
+  this->Patterns.WriteTriangles(c, s.Ids.data(), this->Offsets, this->Connectivity, this->Source);
 }
 
 vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
@@ -108,32 +149,25 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
   const vtkIdType cellsPerChunk = std::max<vtkIdType>(1, nCells / std::max<vtkIdType>(nChunks, 1));
   const vtkIdType minimumChunks = ctsplines::GrainForEvaluations / cellsPerChunk + 1;
   ctsplines::ParallelFor(0, nChunks, minimumChunks, [&](vtkIdType b, vtkIdType e) {
-    ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
-    Eigen::Vector4d HR[ctk::MaxBezierPoints];
-    double w[ctk::MaxBezierPoints];
+    CellScratch s;
     for (vtkIdType chunk = b; chunk < e; ++chunk)
     {
       for (vtkIdType c = chunk * nCells / nChunks; c < (chunk + 1) * nCells / nChunks; ++c)
       {
-        const int n = this->Cells.Degree[c];
-        const double* wp = this->Cells.Net(c, P, w);
-        ctk::RelativeNet(n, P, R);
-        ctk::HomogeneousNet(n, R, wp, HR);
-        const ctk::BezierBasisTable& basis = this->Patterns.Basis(c);
-        for (int p = 0; p < basis.NumberOfPoints(); ++p)
-        {
-          bool owned = true;
-          const vtkIdType id = this->Patterns.OutputId(c, p, owned);
-          if (owned)
+        const ctk::BezierBasisTable& basis = this->Load(c, s);
+        ForEachRun(s.Owned, false, [&](int begin, int end) {
+          Block normal[3];
+          basis.Evaluate(s.Net, begin, end, nullptr, normal, nullptr);
+          for (int q = 0; q < end - begin; ++q)
           {
-            continue;
+            const vtkIdType id = s.Ids[begin + q];
+            const ctk::Vec3 n(normal[0][q], normal[1][q], normal[2][q]);
+            if (!(n.dot(ctk::Vec3(nrm + 3 * id)) >= cosine))
+            {
+              chunks[chunk].push_back({ id, c, -1, begin + q, n });
+            }
           }
-          const ctk::Vec3 normal = basis.Normal(HR, R, wp, p);
-          if (!(normal.dot(ctk::Vec3(nrm + 3 * id)) >= cosine))
-          {
-            chunks[chunk].push_back({ id, c, -1, p, normal });
-          }
-        }
+        });
       }
     }
   });
@@ -351,15 +385,10 @@ int vtkBezierTriangleTessellator::RequestData(
   Tessellation tessellation{ cells, patterns, data, coords, normals, offsets->GetPointer(0),
     connectivity->GetPointer(0), bezierCellId->GetPointer(0) };
   const auto tessellate = [&](vtkIdType begin, vtkIdType end) {
-    ctk::Vec3 P[ctk::MaxBezierPoints], R[ctk::MaxBezierPoints];
-    Eigen::Vector4d H[ctk::MaxBezierPoints], HR[ctk::MaxBezierPoints];
-    double w[ctk::MaxBezierPoints];
-    const size_t netPoints = std::max(1, data.NumberOfNets()) * ctk::MaxBezierPoints;
-    std::vector<ctk::Vec3> nets(netPoints);
-    std::vector<Eigen::Vector4d> netsH(netPoints);
+    CellScratch s;
     for (vtkIdType c = begin; c < end; ++c)
     {
-      tessellation.Cell(c, P, R, w, nets.data(), H, HR, netsH.data());
+      tessellation.Cell(c, s);
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.

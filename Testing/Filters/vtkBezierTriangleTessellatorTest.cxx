@@ -228,6 +228,29 @@ vtkSmartPointer<vtkUnstructuredGrid> SphereOctants(bool mirrored, bool active = 
   }
   return grid;
 }
+
+// Barycentric coordinates of the corners of the level-L lattice's triangles in the order of the
+// tessellator's output: rows k, then j; the up triangle (j, k), (j+1, k), (j, k+1), then the
+// down one (j+1, k), (j+1, k+1), (j, k+1).
+std::vector<std::array<ctk::Vec3, 3>> LatticeTriangles(int L)
+{
+  auto t = [L](int j, int k) {
+    return ctk::Vec3(double(L - j - k) / L, double(j) / L, double(k) / L);
+  };
+  std::vector<std::array<ctk::Vec3, 3>> triangles;
+  for (int k = 0; k < L; ++k)
+  {
+    for (int j = 0; j < L - k; ++j)
+    {
+      triangles.push_back({ t(j, k), t(j + 1, k), t(j, k + 1) });
+      if (j + k + 2 <= L)
+      {
+        triangles.push_back({ t(j + 1, k), t(j + 1, k + 1), t(j, k + 1) });
+      }
+    }
+  }
+  return triangles;
+}
 } // namespace
 
 TEST(vtkBezierTriangleTessellator, CubicSplineMatchesVtkEvaluation)
@@ -479,6 +502,71 @@ TEST(vtkBezierTriangleTessellator, ResultIndependentOfThreadCount)
       ASSERT_EQ(ia->GetId(k), ib->GetId(k));
     }
   }
+}
+
+// The batched fast path against the pointwise de Casteljau-style kernel evaluation, point by
+// point at level 8: at each output point's owner (its lowest cell), positions and UV are the
+// same doubles as EvaluateBezierTriangle's and the normals PatchNormal's to round-off.
+void ExpectOwnersMatchPointwiseEvaluation(vtkUnstructuredGrid* grid, int L)
+{
+  vtkSmartPointer<vtkPolyData> out = Tessellate(grid, L, false);
+  const std::vector<std::array<ctk::Vec3, 3>> lattice = LatticeTriangles(L);
+  ASSERT_EQ(out->GetNumberOfCells(), grid->GetNumberOfCells() * L * L);
+  vtkDataArray* normals = out->GetPointData()->GetNormals();
+  vtkDataArray* uvOut = out->GetPointData()->GetArray("UV");
+  vtkDataArray* uvIn = grid->GetPointData()->GetArray("UV");
+  vtkDataArray* weights = grid->GetPointData()->GetRationalWeights();
+  std::vector<char> seen(out->GetNumberOfPoints(), 0);
+  vtkNew<vtkIdList> ids, tri;
+  for (vtkIdType c = 0; c < grid->GetNumberOfCells(); ++c)
+  {
+    grid->GetCellPoints(c, ids);
+    const int n =
+      static_cast<int>(std::lround((std::sqrt(8.0 * ids->GetNumberOfIds() + 1) - 3) / 2));
+    const std::vector<int> order = ctk::VtkBezierTriangleOrder(n);
+    std::vector<ctk::Vec3> P(order.size()), R(order.size()), UV(order.size());
+    std::vector<double> w(order.size(), 1.0);
+    for (size_t p = 0; p < order.size(); ++p)
+    {
+      P[order[p]] = Point(grid, ids->GetId(p));
+      w[order[p]] = weights ? weights->GetComponent(ids->GetId(p), 0) : 1.0;
+      UV[order[p]] = uvIn ? ctk::Vec3(uvIn->GetComponent(ids->GetId(p), 0),
+                              uvIn->GetComponent(ids->GetId(p), 1), 0.0)
+                          : ctk::Vec3::Zero();
+    }
+    const double* wp = weights ? w.data() : nullptr;
+    ctk::RelativeNet(n, P.data(), R.data());
+    for (vtkIdType m = 0; m < L * L; ++m)
+    {
+      out->GetCellPoints(c * L * L + m, tri);
+      for (int a = 0; a < 3; ++a)
+      {
+        const vtkIdType id = tri->GetId(a);
+        if (seen[id]++)
+        {
+          continue; // owned by a lower cell
+        }
+        const ctk::Vec3& t = lattice[m][a];
+        EXPECT_EQ(Point(out, id), ctk::EvaluateBezierTriangle(n, P.data(), wp, t).Value);
+        EXPECT_LE((Tuple3(normals, id) - ctk::PatchNormal(n, R.data(), wp, t)).norm(), 1e-12)
+          << "cell " << c << " point " << id;
+        if (uvIn)
+        {
+          const ctk::Vec3 uv = ctk::EvaluateBezierTriangle(n, UV.data(), wp, t).Value;
+          EXPECT_EQ(uvOut->GetComponent(id, 0), uv.x());
+          EXPECT_EQ(uvOut->GetComponent(id, 1), uv.y());
+        }
+      }
+    }
+  }
+  EXPECT_EQ(std::count(seen.begin(), seen.end(), 0), 0);
+}
+
+TEST(vtkBezierTriangleTessellator, FastPathMatchesPointwiseEvaluation)
+{
+  ExpectOwnersMatchPointwiseEvaluation(MakeSpline(ctk::AnalyticSurface::Franke, 6), 8);
+  ExpectOwnersMatchPointwiseEvaluation(SphereOctants(true), 8);
+  ExpectOwnersMatchPointwiseEvaluation(SphereOctants(true), 3);
 }
 
 TEST(vtkBezierTriangleTessellator, EmptyInputGivesEmptyOutput)
