@@ -94,57 +94,6 @@ Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B)
   return Blossom(3, PA, args);
 }
 
-namespace
-{
-// Canonical index of the cubic ordinate with exponents e.
-constexpr int CubicIndex(const int* e)
-{
-  return BezierIndex(3, e[0], e[1]);
-}
-} // namespace
-
-Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, const Vec3& x)
-{
-  Vec3 sum = Vec3::Zero();
-  for (int k = 0; k < 3; ++k)
-  {
-    int e[3] = { 0, 0, 0 };
-    ++e[a];
-    ++e[b];
-    ++e[k];
-    const int idx = CubicIndex(e);
-    sum += x[k] * (idx == BezierIndex(3, 1, 1) ? centre : PA[idx]);
-  }
-  return sum;
-}
-
-Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreWeight)
-{
-  Vec3 sum = Vec3::Zero();
-  centreWeight = 0.0;
-  for (int p = 0; p < 3; ++p)
-  {
-    for (int q = p; q < 3; ++q)
-    {
-      int e[3] = { 0, 0, 0 };
-      ++e[a];
-      ++e[p];
-      ++e[q];
-      const int idx = CubicIndex(e);
-      const double w = (p == q ? 1.0 : 2.0) * x[p] * x[q];
-      if (idx == BezierIndex(3, 1, 1))
-      {
-        centreWeight = w;
-      }
-      else
-      {
-        sum += w * PA[idx];
-      }
-    }
-  }
-  return sum;
-}
-
 Vec3 SolveCubicRuleARow2(const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B,
   bool sumToZero, SharedCubicEdge& edge)
 {
@@ -177,7 +126,7 @@ Vec3 SolveCubicRuleARow2(const Vec3* PA, const Vec2* A, const Vec3* PB, const Ve
     e[off] = 2;
     e[b] = 1;
     double w = 0.0;
-    const Vec3 K = PB[CubicIndex(e)] - CubicRuleARow2(PA, match[b], edge.X, w);
+    const Vec3 K = PB[BezierIndex(3, e[0], e[1])] - CubicRuleARow2(PA, match[b], edge.X, w);
     num += (sumToZero ? 1.0 : w) * K;
     den += sumToZero ? w : w * w;
   }

@@ -35,12 +35,53 @@ Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B);
 ///   evaluated at x, in which the central ordinate P_111 has the weight 2 x_b x_c
 ///   ({a, b, c} = {0, 1, 2}).
 
+namespace detail
+{
+// Canonical cubic index of the ordinate with exponents e_a + e_b + e_c.
+constexpr int CubicIndexOf(int a, int b, int c)
+{
+  const int i = (a == 0) + (b == 0) + (c == 0), j = (a == 1) + (b == 1) + (c == 1);
+  return BezierIndex(3, i, j);
+}
+constexpr int CubicCentreIndex = BezierIndex(3, 1, 1);
+// Row 2: f = 200 020 002 110 101 011 (|f| = 2), as pairs (p, q) of vertices.
+constexpr int Row2P[6] = { 0, 1, 2, 0, 0, 1 };
+constexpr int Row2Q[6] = { 0, 1, 2, 1, 2, 2 };
+} // namespace detail
+
 /// Row 1: b(e_a, e_b, x) of the cubic net PA with `centre` standing for its P_111 (a may equal b).
-Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, const Vec3& x);
+inline Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, const Vec3& x)
+{
+  Vec3 sum = Vec3::Zero();
+  for (int k = 0; k < 3; ++k)
+  {
+    const int idx = detail::CubicIndexOf(a, b, k);
+    sum += x[k] * (idx == detail::CubicCentreIndex ? centre : PA[idx]);
+  }
+  return sum;
+}
 
 /// Row 2: b(e_a, x, x) of the cubic net PA without its P_111 term, whose weight goes to
 /// centreWeight.
-Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreWeight);
+inline Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreWeight)
+{
+  Vec3 sum = Vec3::Zero();
+  for (int f = 0; f < 6; ++f)
+  {
+    const int p = detail::Row2P[f], q = detail::Row2Q[f];
+    const double w = (p == q ? 1.0 : 2.0) * x[p] * x[q];
+    const int idx = detail::CubicIndexOf(a, p, q);
+    if (idx == detail::CubicCentreIndex)
+    {
+      centreWeight = w;
+    }
+    else
+    {
+      sum += w * PA[idx];
+    }
+  }
+  return sum;
+}
 
 /// The edge that a cubic net over B shares with one over A: A's vertices a, b at its ends, and
 /// x, B's off-edge vertex in A's barycentric coordinates.
