@@ -371,32 +371,34 @@ void Builder::InitialEdgeCentres(Id t0, int l0, Id t1, int l1)
 {
   const Vec3* P = this->Spline.ControlPoints.data();
   const MacroElementIds ids0 = this->Ids(t0), ids1 = this->Ids(t1);
-  const Vec2 A[3] = { this->U(t0, 0), this->U(t0, 1), this->U(t0, 2) };
-  const Vec2 B[3] = { this->U(t1, 0), this->U(t1, 1), this->U(t1, 2) };
-  Vec2 AM[3], AMbar[3];
-  this->MicroDomain(t0, l0, AM);
-  this->MicroDomain(t1, l1, AMbar);
+  const Vec3& tau0 = this->Spline.SplitTau[t0];
+  const Vec3& tau1 = this->Spline.SplitTau[t1];
   if (this->Options.Method == Construction::Fa)
   {
     // Eq. (18)-(19): the quadratic-precision macro-patches subdivided at Z, then eq. (20)-(21).
-    std::array<Vec3, 10> macro0 = MacroNet(ids0, P, QuadraticPrecisionQ(ids0, P));
-    std::array<Vec3, 10> macro1 = MacroNet(ids1, P, QuadraticPrecisionQ(ids1, P));
+    const std::array<Vec3, 10> macro0 = MacroNet(ids0, P, QuadraticPrecisionQ(ids0, P));
+    const std::array<Vec3, 10> macro1 = MacroNet(ids1, P, QuadraticPrecisionQ(ids1, P));
     Vec3 PM[10], PMbar[10];
-    auto corner = [](int i) { return Vec3(Vec3::Unit(i)); };
-    SubTriangle(3, macro0.data(), corner(l0), corner((l0 + 1) % 3), this->Spline.SplitTau[t0], PM);
-    SubTriangle(3, macro1.data(), corner(l1), corner((l1 + 1) % 3), this->Spline.SplitTau[t1], PMbar);
+    Vec2 AM[3], AMbar[3];
+    MacroPatchMicroNet(macro0.data(), l0, tau0, PM);
+    MacroPatchMicroNet(macro1.data(), l1, tau1, PMbar);
+    this->MicroDomain(t0, l0, AM);
+    this->MicroDomain(t1, l1, AMbar);
     MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(ids0, l0), this->Centre(ids1, l1));
     return;
   }
   // FO (eq. 22), Ka and KaG (eq. 23); Kashyap's scheme starts from FO's cubic precision.
+  const Vec2 A[3] = { this->U(t0, 0), this->U(t0, 1), this->U(t0, 2) };
+  const Vec2 B[3] = { this->U(t1, 0), this->U(t1, 1), this->U(t1, 2) };
   const MacroEdgeRule rule = Info(this->Options.Method).EdgeRule;
-  std::array<Vec3, 10> macro0 = MacroNet(ids0, P, Vec3::Zero());
-  std::array<Vec3, 10> macro1 = MacroNet(ids1, P, Vec3::Zero());
-  macro0[CubicCentre] = MacroEdgeQ(rule, macro0.data(), A, macro1.data(), B);
-  macro1[CubicCentre] = TiedCubicCentre(macro0.data(), A, B);
-  // C = the macro-patch blossomed at the micro-triangle's vertices (its centre).
-  this->Centre(ids0, l0) = TiedCubicCentre(macro0.data(), A, AM);
-  this->Centre(ids1, l1) = TiedCubicCentre(macro1.data(), B, AMbar);
+  const std::array<Vec3, 10> macro0 = MacroNet(ids0, P, Vec3::Zero());
+  const std::array<Vec3, 10> macro1 = MacroNet(ids1, P, Vec3::Zero());
+  SharedCubicEdge edge;
+  const Vec3 Q = MacroEdgeQ(rule, macro0.data(), A, macro1.data(), B, edge);
+  const Vec3 Qbar = CubicRuleARow1(macro0.data(), Q, edge.A, edge.B, edge.X); // C1 (eq. 6)
+  // C = the macro-patch blossomed at the micro-triangle's vertices (its centre): b(U_l, U_l+1, Z).
+  this->Centre(ids0, l0) = CubicRuleARow1(macro0.data(), Q, l0, (l0 + 1) % 3, tau0);
+  this->Centre(ids1, l1) = CubicRuleARow1(macro1.data(), Qbar, l1, (l1 + 1) % 3, tau1);
 }
 
 void Builder::MinimiseC2AcrossMacroEdges()

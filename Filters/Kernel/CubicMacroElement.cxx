@@ -2,6 +2,7 @@
 #include "CubicMacroElement.h"
 
 #include "InnerEdgeC1Smoothing.h"
+#include "RuleA.h"
 
 namespace ctk
 {
@@ -55,6 +56,34 @@ Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* P)
            P[ids.T[0][2]]) /
     4.0 -
     (P[ids.V[0]] + P[ids.V[1]] + P[ids.V[2]]) / 6.0;
+}
+
+void MacroPatchMicroNet(const Vec3* macro, int l, const Vec3& tau, Vec3* PM)
+{
+  const int i = l, j = (l + 1) % 3, k = (l + 2) % 3;
+  const Vec3& Q = macro[BezierIndex(3, 1, 1)];
+  auto corner = [macro](int a, int b) {
+    int e[3] = { 0, 0, 0 };
+    e[a] += 2;
+    ++e[b];
+    return macro[BezierIndex(3, e[0], e[1])];
+  };
+  auto row2 = [&](int a) {
+    double w = 0.0;
+    const Vec3 b = CubicRuleARow2(macro, a, tau, w);
+    return Vec3(b + w * Q);
+  };
+  // Exponents 300 210 201 120 111 102 030 021 012 003 over (U_i, U_j, Z).
+  PM[0] = corner(i, i);
+  PM[1] = corner(i, j);
+  PM[2] = CubicRuleARow1(macro, Q, i, i, tau);
+  PM[3] = corner(j, i);
+  PM[4] = CubicRuleARow1(macro, Q, i, j, tau);
+  PM[5] = row2(i);
+  PM[6] = corner(j, j);
+  PM[7] = CubicRuleARow1(macro, Q, j, j, tau);
+  PM[8] = row2(j);
+  PM[9] = tau[i] * PM[5] + tau[j] * PM[8] + tau[k] * row2(k); // b(Z, Z, Z)
 }
 
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points)

@@ -80,6 +80,11 @@ std::array<Vec3, 10> MacroNet(const MacroElementIds& ids, const Vec3* points, co
 /// Eq. (18): Q of the quadratic-precision macro-patch (Fa).
 Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* points);
 
+/// Net (canonical order) of the micro-triangle (U_l, U_l+1, Z) of the cubic macro-patch `macro`
+/// over (U0, U1, U2), Z with barycentric tau: SubTriangle(3, macro, e_l, e_l+1, tau) in closed
+/// form, ordinate (a, b, c) being the blossom b(U_l^a, U_l+1^b, Z^c) (RuleA.h, rows 1 and 2).
+void MacroPatchMicroNet(const Vec3* macro, int l, const Vec3& tau, Vec3* PM);
+
 /// Step 1, eq. (12): I_i1 = tau_i V_i + tau_j T_ij + tau_k T_ik.
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points);
 

@@ -11,14 +11,16 @@
 
 #include "BezierTriangle.h"
 #include "Constructions.h" // MacroEdgeRule
+#include "RuleA.h"         // SharedCubicEdge
 
 namespace ctk
 {
 /// macroT, macroTbar: cubic macro nets (canonical order) over domains A (T's vertices) and B
-/// (Tbar's vertices, any order); their central points are ignored. Returns T's Q by rule
-/// (ZeroResidualSum or LeastSquares).
+/// (Tbar's vertices, any order, the shared two with equal coordinates); their central points are
+/// ignored. Returns T's Q by rule (ZeroResidualSum or LeastSquares), in closed form
+/// (SolveCubicRuleARow2); edge receives the shared edge for Tbar's tied Qbar (CubicRuleARow1).
 Vec3 MacroEdgeQ(MacroEdgeRule rule, const Vec3* macroT, const Vec2* A, const Vec3* macroTbar,
-  const Vec2* B);
+  const Vec2* B, SharedCubicEdge& edge);
 
 } // namespace ctk
 

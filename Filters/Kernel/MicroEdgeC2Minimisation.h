@@ -14,8 +14,10 @@ namespace ctk
 constexpr int CubicCentre = 4;
 
 /// PM, PMbar: the cubic nets (canonical order) of the micro-triangles at a macro-edge, over
-/// domains AM = (U_i, U_j, Z) and AMbar (the same edge and Zbar, any vertex order). Their
-/// central points are ignored and replaced by the optimum C, Cbar (returned).
+/// domains AM = (U_i, U_j, Z) and AMbar (the same edge, with equal coordinates, and Zbar, any
+/// vertex order). Their central points are ignored and replaced by the optimum C, Cbar
+/// (returned). Closed form; Testing/Kernel/CubicConstructionsTest.cxx checks it against the
+/// minimisation of the Rule A residuals.
 void MinimiseMicroEdgeC2Jump(
   const Vec3* PM, const Vec2* AM, const Vec3* PMbar, const Vec2* AMbar, Vec3& C, Vec3& Cbar);
 

@@ -94,6 +94,45 @@ Vec3 TiedCubicCentre(const Vec3* PA, const Vec2* A, const Vec2* B)
   return Blossom(3, PA, args);
 }
 
+Vec3 SolveCubicRuleARow2(const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B,
+  bool sumToZero, SharedCubicEdge& edge)
+{
+  // A's vertex at each of B's vertices (-1: B's off-edge vertex).
+  int match[3];
+  int off = 0, shared = 0;
+  for (int b = 0; b < 3; ++b)
+  {
+    match[b] = B[b] == A[0] ? 0 : (B[b] == A[1] ? 1 : (B[b] == A[2] ? 2 : -1));
+    off = match[b] < 0 ? b : off;
+    shared += match[b] >= 0 ? 1 : 0;
+  }
+  if (shared != 2)
+  {
+    return Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  edge.X = Barycentric(A[0], A[1], A[2], B[off]);
+  // B's row-2 ordinates, in B's canonical order: exponent 2 at `off`, 1 at an edge vertex.
+  Vec3 num = Vec3::Zero();
+  double den = 0.0;
+  int s = 0;
+  for (int b = 0; b < 3; ++b)
+  {
+    if (b == off)
+    {
+      continue;
+    }
+    (s++ == 0 ? edge.A : edge.B) = match[b];
+    int e[3] = { 0, 0, 0 };
+    e[off] = 2;
+    e[b] = 1;
+    double w = 0.0;
+    const Vec3 K = PB[BezierIndex(3, e[0], e[1])] - CubicRuleARow2(PA, match[b], edge.X, w);
+    num += (sumToZero ? 1.0 : w) * K;
+    den += sumToZero ? w : w * w;
+  }
+  return num / den;
+}
+
 void MoveLeastOntoTie(int n, Vec3* PA, int index, const Vec3* args, Vec3& X, Vec3& Xbar)
 {
   // Xbar = a X + b with a scalar a (the blossom is affine in each ordinate).

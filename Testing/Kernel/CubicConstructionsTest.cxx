@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The non-local constructions of the study (Fa, FO, Ka, KaG), the IM iteration and Kashyap's
 // fairing scheme: precision, C1, invariance and IM's convergence, measured on the output.
+#include "AffineLeastSquares.h"
 #include "CubicCloughTocher.h"
 #include "MacroEdgeCubicPrecision.h"
 #include "MicroEdgeC2Minimisation.h"
@@ -10,6 +11,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 using namespace ctk;
@@ -214,6 +216,112 @@ TEST(CubicConstructions, FOAgreesWithThePrintedClosedForm)
                          t0 * t0 * T20 + T31 - t1 * t1 * T01 - 2 * t1 * t2 * T10 -
                          2 * t0 * t2 * T12 - t2 * t2 * V1 - t0 * t0 * T21) /
     (2 * t0 * (t1 + t2));
-  const Vec3 ours = MacroEdgeQ(MacroEdgeRule::ZeroResidualSum, macroT, A, macroTbar, B);
+  SharedCubicEdge edge;
+  const Vec3 ours = MacroEdgeQ(MacroEdgeRule::ZeroResidualSum, macroT, A, macroTbar, B, edge);
   EXPECT_LT((ours - printed).norm(), 1e-12 * printed.norm());
+}
+
+namespace
+{
+// Reference for the closed forms: the step solved from its definition, the Rule A residuals of
+// row 2 evaluated by blossoming (RuleAResiduals) and SolveAffineResiduals; the tie by the full
+// blossom (TiedCubicCentre).
+Vec3 RuleAReferenceCentre(const Vec3* PA, const Vec2* A, const Vec3* PB, const Vec2* B,
+  bool sumToZero)
+{
+  Vec3 net[10];
+  std::copy(PA, PA + 10, net);
+  auto residuals = [&](const Vec3& X, Vec3* out) {
+    net[CubicCentre] = X;
+    RuleAResiduals(3, net, A, PB, B, 2, out);
+  };
+  return SolveAffineResiduals(residuals, 2, sumToZero);
+}
+
+double RelativeError(const Vec3& a, const Vec3& b)
+{
+  return (a - b).norm() / std::max(1.0, b.norm());
+}
+} // namespace
+
+TEST(CubicConstructions, ClosedFormsAgreeWithTheRuleAMinimisation)
+{
+  // Random triangle pairs sharing an edge (both orientations of the neighbour, every edge of T),
+  // random nets: Fa's micro-edge step, FO's and Ka's macro-edge Q and their C1 ties, and the
+  // micro-net of a macro-patch, against the generic definitions.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> R(-1.0, 1.0);
+  auto pt = [&] { return Vec2(R(rng), R(rng)); };
+  double worst = 0.0;
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial)
+  {
+    Vec3 PA[10], PB[10];
+    for (int a = 0; a < 10; ++a)
+    {
+      PA[a] = Vec3(R(rng), R(rng), R(rng));
+      PB[a] = Vec3(R(rng), R(rng), R(rng));
+    }
+    const Vec2 A[3] = { pt(), pt(), pt() };
+    if (std::abs(SignedArea2(A[0], A[1], A[2])) < 0.05)
+    {
+      continue;
+    }
+    const int l = trial % 3, flip = (trial / 3) % 2, rot = (trial / 6) % 3;
+    // B: T's edge (l, l+1), reversed unless flip, and an off-edge vertex, rotated by rot.
+    const Vec2 edge0 = A[flip ? l : (l + 1) % 3], edge1 = A[flip ? (l + 1) % 3 : l];
+    const Vec2 off =
+      0.5 * (edge0 + edge1) - (0.4 + std::abs(R(rng))) * (A[(l + 2) % 3] - edge0) + 0.3 * pt();
+    const Vec2 AM[3] = { A[l], A[(l + 1) % 3], (A[0] + A[1] + A[2]) / 3.0 };
+    if (std::abs(Barycentric(A[0], A[1], A[2], off)[(l + 2) % 3]) < 0.1 ||
+      std::abs(Barycentric(AM[0], AM[1], AM[2], off)[2]) < 0.1)
+    {
+      continue; // the off-edge vertex (nearly) on the edge's line: ill-conditioned
+    }
+    ++checked;
+    const Vec2 B0[3] = { edge0, edge1, off };
+    const Vec2 B[3] = { B0[rot], B0[(rot + 1) % 3], B0[(rot + 2) % 3] };
+    for (const bool sumToZero : { true, false })
+    {
+      const MacroEdgeRule rule =
+        sumToZero ? MacroEdgeRule::ZeroResidualSum : MacroEdgeRule::LeastSquares;
+      SharedCubicEdge edge;
+      const Vec3 Q = MacroEdgeQ(rule, PA, A, PB, B, edge);
+      worst = std::max(worst, RelativeError(Q, RuleAReferenceCentre(PA, A, PB, B, sumToZero)));
+      Vec3 net[10];
+      std::copy(PA, PA + 10, net);
+      net[CubicCentre] = Q;
+      worst = std::max(worst,
+        RelativeError(CubicRuleARow1(PA, Q, edge.A, edge.B, edge.X), TiedCubicCentre(net, A, B)));
+    }
+    // Fa's step on micro-triangles: AM = (U_l, U_l+1, Z), AMbar = (edge, Zbar) as the builder
+    // passes them (and rotated).
+    Vec3 C, Cbar;
+    MinimiseMicroEdgeC2Jump(PA, AM, PB, B, C, Cbar);
+    const Vec3 refC = RuleAReferenceCentre(PA, AM, PB, B, false);
+    Vec3 net[10];
+    std::copy(PA, PA + 10, net);
+    net[CubicCentre] = refC;
+    worst = std::max(worst, RelativeError(C, refC));
+    worst = std::max(worst, RelativeError(Cbar, TiedCubicCentre(net, AM, B)));
+    // The micro-net of a macro-patch at a split point inside T.
+    Vec3 tau(0.2 + 0.5 * std::abs(R(rng)), 0.2, 0.0);
+    tau[2] = 1.0 - tau[0] - tau[1];
+    Vec3 closed[10], sub[10];
+    MacroPatchMicroNet(PA, l, tau, closed);
+    SubTriangle(3, PA, Vec3::Unit(l), Vec3::Unit((l + 1) % 3), tau, sub);
+    for (int a = 0; a < 10; ++a)
+    {
+      worst = std::max(worst, RelativeError(closed[a], sub[a]));
+    }
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_LT(worst, 1e-12);
+  // Not a shared edge: a clear NaN, never a silent value.
+  const Vec2 A[3] = { Vec2(0, 0), Vec2(1, 0), Vec2(0, 1) };
+  const Vec2 B[3] = { Vec2(1, 0), Vec2(0, 1e-3), Vec2(1, -1) };
+  Vec3 P[10];
+  std::fill(P, P + 10, Vec3::Ones());
+  SharedCubicEdge edge;
+  EXPECT_TRUE(MacroEdgeQ(MacroEdgeRule::LeastSquares, P, A, P, B, edge).hasNaN());
 }
