@@ -422,12 +422,12 @@ struct FaceSplineInput : ctk::SplineInput
   }
 };
 
-/// Whether triangle f has two boundary segments meeting at a vertex in nearly the same or the
+/// The vertex (0-2) of triangle f where two boundary segments meet in nearly the same or the
 /// opposite 3D direction (within 3 degrees; exactly opposite at a node inside a B-rep edge, whose
-/// spans share its derivative). That corner of the stitched spline is degenerate: its normal at
-/// the vertex is undefined, and flips with round-off. Such triangles (ears on a curved boundary)
-/// are split.
-bool FlatBoundaryCorner(
+/// spans share its derivative), or -1. That corner of the stitched spline is degenerate: its
+/// normal at the vertex is undefined, and flips with round-off. Such triangles (ears on a curved
+/// boundary) are split (CornerSplit).
+int FlatBoundaryCorner(
   const CDT& cdt, const CDT::Face_handle f, const SegmentMap& segments, const FaceMesh& mesh)
 {
   for (int l = 0; l < 3; ++l)
@@ -446,10 +446,39 @@ bool FlatBoundaryCorner(
     const ctk::Vec3 db(b[0] - V[0], b[1] - V[1], b[2] - V[2]);
     if (da.cross(db).norm() <= std::sin(3 * M_PI / 180) * da.norm() * db.norm())
     {
-      return true;
+      return l;
     }
   }
-  return false;
+  return -1;
+}
+
+/// The point that splits the flat boundary corner at vertex l of triangle f: inside the corner,
+/// on the perpendicular to the chord of its two segments, half their mean length from the vertex
+/// (or a half, a quarter of that where it cannot go in), so that the vertex joins the interior
+/// by two triangles of a sound shape. The centroid of an ear on a nearly straight boundary lies
+/// a third of its sagitta from it (linkrods.step: 2 % of the segment): two triangles on the
+/// boundary segments that thin fold the stitched spline wherever the edge cubic leaves the
+/// segment's chord by a larger angle. The centroid where no such point can go in.
+Steiner CornerSplit(const CDT& cdt, const CDT::Face_handle f, int l)
+{
+  const Point &v = f->vertex(l)->point(), &a = f->vertex(CDT::ccw(l))->point(),
+              &b = f->vertex(CDT::cw(l))->point();
+  const ctk::Vec2 chord(b.x() - a.x(), b.y() - a.y());
+  const ctk::Vec2 inward(a.x() + b.x() - 2 * v.x(), a.y() + b.y() - 2 * v.y());
+  ctk::Vec2 n(-chord.y(), chord.x());
+  n *= (n.dot(inward) < 0 ? -1 : 1) / n.norm();
+  const double h = 0.25 *
+    (std::sqrt(CGAL::squared_distance(v, a)) + std::sqrt(CGAL::squared_distance(v, b)));
+  for (const double scale : { 1.0, 0.5, 0.25 })
+  {
+    const Steiner q{ Point(v.x() + scale * h * n.x(), v.y() + scale * h * n.y()),
+      0.5 * scale * h, false, {} };
+    if (n.allFinite() && CanInsert(cdt, q))
+    {
+      return q;
+    }
+  }
+  return { CGAL::centroid(v, a, b), 0, false, {} };
 }
 
 /// A point splitting triangle f where its error is largest (parameter X), not next to a vertex
@@ -879,12 +908,12 @@ bool FaceMesher::EstimateTriangles(
     const CDT::Face_handle f = this->Faces[triFace[j]];
     const TriangleKey key = MakeKey(
       f->vertex(0)->info().Index, f->vertex(1)->info().Index, f->vertex(2)->info().Index);
-    if (this->Plane.Refinable(f) &&
-      FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh))
+    const int corner = this->Plane.Refinable(f)
+      ? FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh)
+      : -1;
+    if (corner >= 0)
     {
-      inserts.push_back({ CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(),
-                            f->vertex(2)->point()),
-        0, false, {} });
+      inserts.push_back(CornerSplit(this->Triangulation, f, corner));
       continue;
     }
     const ctk::Id tj = static_cast<ctk::Id>(j);
