@@ -26,6 +26,7 @@
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <gp_Circ.hxx>
@@ -365,6 +366,13 @@ inline TopoDS_Shape HemisphereWithPoleOnTangentEdge(double r)
 inline TopoDS_Shape SphericalCap(double r, double top)
 {
   return BRepPrimAPI_MakeSphere(gp_Ax2(gp::Origin(), gp::DZ()), r, -M_PI / 2, top).Shape();
+}
+
+/// A section of `degrees` of a torus of radii R and r about the z axis, capped by two disks: a
+/// bent wire. Its seam runs along the outer equator.
+inline TopoDS_Shape BentWire(double R, double r, double degrees)
+{
+  return BRepPrimAPI_MakeTorus(R, r, degrees * M_PI / 180).Shape();
 }
 } // namespace ctsplines_test
 
