@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The stitcher's VTK-free stages (CADFaceSplines, CADStitch, CADMeasure) on OCCT-built shapes
 // sampled by vtkCADFaceSampler: facts each stage promises, stage by stage.
+#include "BoundarySpanBulge.h"
 #include "CADFaceSplines.h"
 #include "CADMeasure.h"
 #include "CADSampledFace.h"
@@ -418,4 +419,66 @@ TEST(CADStages, TangentSpansAcrossAFastCurvatureAreSplitByTheSkew)
   EXPECT_GE(spans, 8) << "the seam's spans, on both sides";
   EXPECT_LE(worst, 1.0 + 1e-3) << "turn^2 * max(turn, across) over 11.25 degrees cubed";
   ExpectG1AtTangentInterfaces(s);
+}
+
+// SpansBulgingAcrossFaces splits a span whose cubic bulges into its face by more than a quarter
+// of the distance to the nearest other loop node. On a thin strip of an anisotropic plane
+// (x = s, y = t / 4) with 1,000 bottom spans and 2,500 top nodes, the bottom spans bulge by 0.5
+// to 1.5 times a quarter of the strip's width (the top nodes are nearer than the bottom
+// neighbours): exactly the upper half is split, and no top span. The nodes near a span are
+// looked up in a grid of the parameter plane, whose reach through the Jacobian this checks.
+TEST(CADStages, SpansBulgingAcrossAStripAreThoseAboveAQuarterOfItsWidth)
+{
+  constexpr int bottom = 1000, top = 2500;
+  constexpr double widthST = 0.0016, scaleT = 0.25; // 3D width 4e-4, bottom spans 1e-3 long
+  constexpr double threshold = ctcad::MaxBulgeAcrossFace * widthST * scaleT;
+  std::vector<ctcad::Point3> nodes;
+  ctcad::CADFace face;
+  ctcad::FaceLoop& loop = face.Loops.emplace_back();
+  auto addNode = [&](double s, double t) {
+    loop.Nodes.push_back({ { s, t }, static_cast<ctcad::Id>(nodes.size()) });
+    nodes.push_back({ s, scaleT * t, 0 });
+  };
+  for (int i = 0; i <= bottom; ++i)
+  {
+    addNode(static_cast<double>(i) / bottom, 0);
+  }
+  for (int j = top; j >= 0; --j)
+  {
+    addNode(static_cast<double>(j) / top, widthST);
+  }
+  for (std::size_t k = 0; k < loop.Nodes.size(); ++k)
+  {
+    const ctcad::Point3& a = nodes[loop.Nodes[k].GlobalNode];
+    const ctcad::Point3& b = nodes[loop.Nodes[(k + 1) % loop.Nodes.size()].GlobalNode];
+    ctcad::LoopSegment seg;
+    const bool onBottom = k < static_cast<std::size_t>(bottom);
+    seg.Edge = onBottom ? 0 : 1;
+    seg.Span = onBottom ? static_cast<ctcad::Id>(k) : static_cast<ctcad::Id>(k - bottom);
+    // Inner control points at the chord's thirds, raised by 4/3 of the bulge (the cubic's
+    // midpoint then lies the bulge above the chord's).
+    const double bulge = onBottom ? threshold * (0.5 + (k + 0.5) / bottom) : 0;
+    for (int c = 0; c < 3; ++c)
+    {
+      seg.Near0[c] = (2 * a[c] + b[c]) / 3;
+      seg.Near1[c] = (a[c] + 2 * b[c]) / 3;
+    }
+    seg.Near0[1] += 4.0 / 3 * bulge;
+    seg.Near1[1] += 4.0 / 3 * bulge;
+    loop.Segments.push_back(seg);
+  }
+  const ctcad::FaceDerivatives plane = [](int, double s, double t, double P[3], double Ds[3],
+                                         double Dt[3]) {
+    P[0] = s, P[1] = scaleT * t, P[2] = 0;
+    Ds[0] = 1, Ds[1] = 0, Ds[2] = 0;
+    Dt[0] = 0, Dt[1] = scaleT, Dt[2] = 0;
+  };
+  const std::vector<std::pair<ctcad::Id, ctcad::Id>> spans =
+    ctcad::SpansBulgingAcrossFaces({ face }, nodes, plane, 0.0);
+  std::vector<std::pair<ctcad::Id, ctcad::Id>> expected;
+  for (int i = bottom / 2; i < bottom; ++i)
+  {
+    expected.emplace_back(0, i);
+  }
+  EXPECT_EQ(spans, expected);
 }

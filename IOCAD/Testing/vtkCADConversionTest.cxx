@@ -409,6 +409,16 @@ struct Conversion
   vtkPolyData* Face(unsigned int f) { return vtkPolyData::SafeDownCast(this->Faces->GetBlock(f)); }
 };
 
+/// The merged spline's watertightness promises: no free or non-manifold edge, a C0 gap of exactly
+/// 0, and the deviation from the CAD surfaces within maxDeviation.
+void ExpectWatertight(vtkFieldData* fd, double maxDeviation)
+{
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), maxDeviation);
+}
+
 /// Every GlobalNodeId has one position, bit for bit, across all faces; returns the number of
 /// nodes seen in more than one face.
 int CheckSharedNodes(Conversion& c)
@@ -764,10 +774,7 @@ TEST(CADHealing, PCurveOffItsEdgeIsReprojected)
   EXPECT_LT(Field(faces, "MaxEdgeGap"), 0.01 * Field(faces, "AbsoluteTolerance"));
   CheckSharedNodes(c);
   vtkFieldData* fd = c.Merged->GetFieldData();
-  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
-  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
-  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
-  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  ExpectWatertight(fd, 1e-4);
 }
 
 /// Two edges that stall at their common vertex and run together there (StallingEdgesPrism): their
@@ -1204,10 +1211,7 @@ TEST(CADHealing, LooseFacesAreSewn)
     EXPECT_NEAR(Field(sf, "SewingTolerance"), 1e-4 * Field(sf, "Diagonal"), 1e-12);
     CheckSharedNodes(c);
     EXPECT_GT(CheckInterfacesBitIdentical(c), 0);
-    EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
-    EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
-    EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
-    EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+    ExpectWatertight(fd, 1e-4);
   }
 }
 
@@ -1288,10 +1292,7 @@ TEST(CADHealing, SliverFaceIsRemoved)
   EXPECT_EQ(Field(sf, "NumberOfRemovedFaces"), 1);
   EXPECT_EQ(Field(sf, "NumberOfCollapsedEdges"), 2);
   CheckSharedNodes(c);
-  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
-  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
-  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
-  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-2);
+  ExpectWatertight(fd, 1e-2);
 
   // At 1e-4 the sliver is thin but not of no width: it stays, and the model converts as read.
   Conversion kept;

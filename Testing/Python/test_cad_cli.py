@@ -222,6 +222,22 @@ class CADCommandLineTest(CommandLineCase):
         p = self.cli("convert", mesh, self.path("s.vtu"), "--no-g1", code=2)
         self.assertIn("--no-g1 applies to CAD models", p.stderr)
 
+    def test_missing_output_folder_is_named_before_the_work(self):
+        # The folder is checked first: the conversion (here: of a file that cannot be read)
+        # does not run, and nothing is left behind.
+        garbage = self.path("garbage.step")
+        with open(garbage, "w") as f:
+            f.write("this is not ISO-10303-21\n")
+        missing = self.path("no/such/folder")
+        for option in ("-o", "--summary-json"):
+            args = ["convert", garbage, "-o", os.path.join(missing, "o.vtm")] if option == "-o" \
+                else ["convert", garbage, "-o", self.path("o.vtm"), option,
+                      os.path.join(missing, "s.json")]
+            p = self.cli(*args, code=3)
+            self.assertIn(f"folder {missing} does not exist", p.stderr, option)
+            self.assertNotIn("cannot read", p.stderr, option)
+        self.assertFalse(os.path.exists(self.path("o.vtm")))
+
     def test_malformed_files_are_clean_errors(self):
         # Each was a crash or a hang of OpenCASCADE before; now exit code 3 naming the file.
         with open(self.box()) as f:

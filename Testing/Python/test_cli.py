@@ -135,6 +135,11 @@ class CommandLineTest(CommandLineCase):
     def test_bad_files(self):
         p = self.cli("convert", self.path("missing.vtp"), self.path("o.vtu"), code=3)
         self.assertIn("no such file", p.stderr)
+        # Output folders are checked before the input is read (and before any work).
+        for out in (["no/o.vtu"], ["o.vtu", "-t", "2", "--tessellation", "no/t.vtp"]):
+            p = self.cli("convert", self.path("missing.vtp"), self.path(out[0]), *out[1:], code=3)
+            self.assertIn("does not exist", p.stderr, out)
+            self.assertNotIn("no such file", p.stderr, out)
         bad = self.path("bad.txt")
         with open(bad, "w") as f:
             f.write("hello\n")

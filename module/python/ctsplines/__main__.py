@@ -253,10 +253,13 @@ def _write_cad_summary(args, options, result, warnings, error=None):
 
 def _convert_cad(args):
     from . import cad
-    from .io import Progress, VTKMessages
+    from .io import Progress, VTKMessages, check_output_folder
 
     _cad_usage(args)
     output = args.output or os.path.splitext(os.path.basename(args.input))[0] + ".vtm"
+    for path in (output, args.summary_json):
+        if path:
+            check_output_folder(path)
     options = {
         "tolerance": 1e-4 if args.tolerance is None else args.tolerance,
         "angular_tolerance": args.angular_tolerance or 0.0,
@@ -319,7 +322,7 @@ def _convert_cad(args):
 
 def _convert(args):
     from . import vtkBezierTriangleTessellator, vtkCloughTocherSplineFilter
-    from .io import Progress, VTKMessages, as_polydata, is_cad, read, write
+    from .io import Progress, VTKMessages, as_polydata, check_output_folder, is_cad, read, write
 
     if args.output_option is not None:
         if args.output is not None and args.output != args.output_option:
@@ -343,6 +346,9 @@ def _convert(args):
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
         args.construction = "CTi"
+    for path in (args.output, args.tessellation):
+        if path:
+            check_output_folder(path)
 
     log = lambda text: print(text, file=sys.stderr)  # noqa: E731
     progress = Progress(Progress.wanted(args.progress))

@@ -239,6 +239,14 @@ def as_polydata(data):
     return mesh
 
 
+def check_output_folder(path):
+    """Raises InputError when the folder `path` is to be written into does not exist; called
+    before the work too, so that a typo costs no conversion."""
+    directory = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(directory):
+        raise InputError(f"{path}: folder {directory} does not exist")
+
+
 def write(data, path, messages):
     """Writes a data set by the file's extension. A spline (vtkUnstructuredGrid) only goes to
     .vtu or .vtk; polydata to any of WRITE_FORMATS (OBJ/PLY with the UV as texture
@@ -276,9 +284,7 @@ def write(data, path, messages):
             tcoords.DeepCopy(pd.GetTCoords())
             pd.SetTCoords(tcoords)
         data = copy
-    directory = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(directory):
-        raise InputError(f"{path}: folder {directory} does not exist")
+    check_output_folder(path)
     if ext == ".vtm" and _flat_blocks(data):
         return _write_blocks(data, path, messages)
     if ext == ".vtm":
