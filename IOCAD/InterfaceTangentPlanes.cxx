@@ -105,6 +105,9 @@ public:
 
 private:
   Jacobian Derivatives(int face, double s, double t) const;
+  Vector3 NormalAtEnd(const SegmentUse& use, int side) const;
+  double CurvatureAcross(const SegmentUse& use) const;
+  bool TurnsTooFar(const std::vector<int>& uses, double length) const;
   void Collect();
   void FormGroups();
   void ClassifySpans();
@@ -324,41 +327,102 @@ void TangentPlanes::ClassifySpans()
     // cross-boundary derivative is a quadratic: where the normal turns along the span (an arc
     // of a fillet), each side leaves the shared plane by about the cube of that turn (0.08
     // degrees at 45 degrees on KiCad's L_Bourns-SRN4018, 0.026 at 22.5); spans are split to
-    // 11.25 degrees (the error also grows with the boundary triangles' skew: 0.12 degrees
-    // remain on Resonator-3Pin_W6.0mm_H3.0mm at spans turning less). Where the faces are
-    // not exactly tangent, each side turns by half their angle within its boundary triangles:
-    // the surface moves by about their width (a third of the span) times the sine of that.
+    // 11.25 degrees, and further where the boundary triangles are skewed (TurnsTooFar).
+    // Where the faces are not exactly tangent, each side turns by half their angle within its
+    // boundary triangles: the surface moves by about their width (a third of the span) times
+    // the sine of that.
     const FaceVertex& a = this->Vertices[this->Uses[uses[0]].Vertex[0]];
     const FaceVertex& b = this->Vertices[this->Uses[uses[0]].Vertex[1]];
     const double halfSine = std::sqrt(std::max(0.0, 0.5 * (1 - minCos)));
     const double length = (V3(this->Nodes[a.Global]) - V3(this->Nodes[b.Global])).norm();
-    // On every face with a normal at both nodes: at a pole one face has none, the other's
-    // still turns (26 degrees along Altech_AK300's corner patches, 1 degree off G1). The pole
-    // face's degenerate macro-triangles follow the turn less closely: half of it next to a
-    // pole (DirectFET_MP: 0.12 degrees off G1 at 11.25, 0.008 at 5.6).
-    bool pole = false;
-    for (const int u : uses)
-    {
-      for (const int v : this->Uses[u].Vertex)
-      {
-        pole = pole || this->Vertices[v].Normal.squaredNorm() == 0;
-      }
-    }
-    const double maxTurn = pole ? MaxTurnPerSpan / 2 : MaxTurnPerSpan;
-    bool turns = false;
-    for (const int u : uses)
-    {
-      const FaceVertex& p = this->Vertices[this->Uses[u].Vertex[0]];
-      const FaceVertex& q = this->Vertices[this->Uses[u].Vertex[1]];
-      turns = turns || (p.Normal.squaredNorm() > 0 && q.Normal.squaredNorm() > 0 &&
-                         p.Normal.dot(q.Normal) < std::cos(maxTurn));
-    }
     if (this->Options.RestoreG1 && this->Options.MaxMove > 0 &&
-      (turns || length * halfSine / 3 > this->Options.MaxMove))
+      (length * halfSine / 3 > this->Options.MaxMove || this->TurnsTooFar(uses, length)))
     {
       this->Report.SpansToSplit.push_back(entry.first);
     }
   }
+}
+
+/// Whether the normal turns too far along a tangent span (its uses, its chord's length) for
+/// G1 between its nodes and midpoint (ClassifySpans).
+bool TangentPlanes::TurnsTooFar(const std::vector<int>& uses, double length) const
+{
+  // On every face: at a pole, where it has no normal, from its normal next to the pole
+  // along the span (a seam from a sphere's pole, 54 degrees on the balls of KiCad's BGA-100:
+  // 0.14 degrees off G1; along the other face, 26 degrees on Altech_AK300's corner patches, 1
+  // degree off G1). The pole face's degenerate macro-triangles follow the turn less closely:
+  // half of it next to a pole (DirectFET_MP: 0.12 degrees off G1 at 11.25, 0.008 at 5.6).
+  bool pole = false;
+  for (const int u : uses)
+  {
+    for (const int v : this->Uses[u].Vertex)
+    {
+      pole = pole || this->Vertices[v].Normal.squaredNorm() == 0;
+    }
+  }
+  // A boundary micro-triangle's normal is the edge cubic's tangent E' times its derivative D
+  // toward the triangle's inside. Where the face curves much faster across the span than
+  // along it, its boundary triangles are much longer than wide (the mesher turns by about as
+  // many degrees each way), and D runs mostly along E': where E' leaves the face's tangent
+  // plane (not at the nodes and midpoint, where the planes are imposed; between them by an
+  // error of the cubic, which shrinks with the turn), each side's normal tilts by that times
+  // the triangle's length over its width, the two sides opposite ways. So the bound is
+  // turn^2 * max(turn, turn across) <= maxTurn^3, with the normal's turn across the face over
+  // the span's length (the turn rule where the face curves alike both ways). KiCad's
+  // LairdTech_28C0236, a bent wire's seam: 7.6 degrees along, 84 across, triangles 15 times
+  // longer than wide, 0.118 degrees off G1 (a torus's seam, of uniform speed, stays at 1e-5).
+  const double maxTurn = pole ? MaxTurnPerSpan / 2 : MaxTurnPerSpan;
+  double turn = 0, across = 0;
+  for (const int u : uses)
+  {
+    const Vector3 p = this->NormalAtEnd(this->Uses[u], 0);
+    const Vector3 q = this->NormalAtEnd(this->Uses[u], 1);
+    if (p.squaredNorm() > 0 && q.squaredNorm() > 0)
+    {
+      turn = std::max(turn, std::atan2(p.cross(q).norm(), p.dot(q)));
+    }
+    across = std::max(across, this->CurvatureAcross(this->Uses[u]) * length);
+  }
+  return turn * turn * std::max(turn, across) > maxTurn * maxTurn * maxTurn;
+}
+
+/// The face's unit normal at one end of a segment; at a pole (no normal there) its limit along
+/// the segment: the normal a thousandth of the chord away (exact for a sphere or a cone's
+/// generator up to that thousandth of their turn).
+Vector3 TangentPlanes::NormalAtEnd(const SegmentUse& use, int side) const
+{
+  const Vector3& n = this->Vertices[use.Vertex[side]].Normal;
+  if (n.squaredNorm() > 0)
+  {
+    return n;
+  }
+  const FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+  const LoopNode& a = loop.Nodes[use.Segment];
+  const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
+  const double r = side == 0 ? 1e-3 : 1 - 1e-3;
+  return UnitNormal(
+    this->Derivatives(use.Face, (1 - r) * a.UV[0] + r * b.UV[0], (1 - r) * a.UV[1] + r * b.UV[1]));
+}
+
+/// How fast (radians per unit length) the face's normal turns across a segment, into the face
+/// at its chord's midpoint; 0 where the face has no normal there.
+double TangentPlanes::CurvatureAcross(const SegmentUse& use) const
+{
+  const FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+  const LoopNode& a = loop.Nodes[use.Segment];
+  const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
+  const Eigen::Vector2d mid(0.5 * (a.UV[0] + b.UV[0]), 0.5 * (a.UV[1] + b.UV[1]));
+  // A thousandth of the chord to its left, into the face (faces lie left of their loops).
+  const Eigen::Vector2d step = 1e-3 * Eigen::Vector2d(a.UV[1] - b.UV[1], b.UV[0] - a.UV[0]);
+  const Jacobian J0 = this->Derivatives(use.Face, mid.x(), mid.y());
+  const Vector3 n0 = UnitNormal(J0);
+  const Vector3 n1 = UnitNormal(this->Derivatives(use.Face, mid.x() + step.x(), mid.y() + step.y()));
+  const double distance = (J0 * step).norm();
+  if (n0.squaredNorm() == 0 || n1.squaredNorm() == 0 || distance == 0)
+  {
+    return 0;
+  }
+  return std::atan2(n0.cross(n1).norm(), n0.dot(n1)) / distance;
 }
 
 /// The plane of a tangent group: the faces' mean normal; where every edge cubic at the node

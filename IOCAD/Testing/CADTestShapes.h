@@ -25,6 +25,8 @@
 #include <BRepFilletAPI_MakeFillet.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
 #include <GC_MakeArcOfCircle.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <gp_Circ.hxx>
@@ -357,6 +359,20 @@ inline TopoDS_Shape HemisphereWithPoleOnTangentEdge(double r)
   sewing.Add(disk.Face());
   sewing.Perform();
   return sewing.SewedShape();
+}
+
+/// A sphere of radius r below the latitude `top` (radians, above -pi/2): a cap with a flat top,
+/// like a BGA ball. The sphere's seam runs from its south pole to the top's circle.
+inline TopoDS_Shape SphericalCap(double r, double top)
+{
+  return BRepPrimAPI_MakeSphere(gp_Ax2(gp::Origin(), gp::DZ()), r, -M_PI / 2, top).Shape();
+}
+
+/// A section of `degrees` of a torus of radii R and r about the z axis, capped by two disks: a
+/// bent wire. Its seam runs along the outer equator.
+inline TopoDS_Shape BentWire(double R, double r, double degrees)
+{
+  return BRepPrimAPI_MakeTorus(R, r, degrees * M_PI / 180).Shape();
 }
 } // namespace ctsplines_test
 
