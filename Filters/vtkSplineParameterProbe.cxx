@@ -151,7 +151,6 @@ struct Spline
   ctsplines::BezierCells Cells;
   std::vector<ctk::Vec2> Corners; // parameter triangle of each cell
   std::vector<vtkIdType> MacroIds;
-  std::vector<ctk::Id> SourceCell; // the source's id of each cell; empty: the same
 };
 
 // Read access to a valid spline's cells and arrays: the source's own arrays (RawSource) or a
@@ -256,8 +255,7 @@ void BuildSpline(const SplineArrays<OffsetT, IdT>& in, const std::vector<vtkIdTy
   out.Cells.Points.resize(next);
   out.Cells.Weights.resize(in.Weights ? next : 0);
   out.Corners.clear();
-  out.SourceCell = std::move(order);
-  locator.Build(std::move(corners), reordered ? out.SourceCell.data() : nullptr);
+  locator.Build(std::move(corners), std::move(order));
 }
 
 // Whether the source's own arrays pass every check of ReadSpline (cell types and sizes, point
@@ -405,7 +403,6 @@ std::string ReadSpline(
   {
     return error;
   }
-  s.SourceCell.clear();
   const vtkIdType nCells = s.Cells.NumberOfCells();
   ctk::ResizeForOverwrite(s.Corners, static_cast<size_t>(3 * nCells));
   ctsplines::ParallelFor(0, nCells, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
