@@ -7,6 +7,7 @@
 #include "CTSplinesSMP.h"
 #include "LargeArrays.h"
 #include "LocalityOrder.h"
+#include "SplineDataValidation.h"
 #include "ParameterLocator.h"
 
 #include <Eigen/Geometry> // for cross
@@ -31,6 +32,9 @@
 #include "vtkSMPTools.h"
 #include "vtkSmartPointer.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+#include "vtkCellArray.h"
 #include "vtkWeakPointer.h"
 
 #include <algorithm>
@@ -38,6 +42,7 @@
 #include <cstring>
 #include <numeric>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -146,83 +151,238 @@ struct Spline
   ctsplines::BezierCells Cells;
   std::vector<ctk::Vec2> Corners; // parameter triangle of each cell
   std::vector<vtkIdType> MacroIds;
-  std::vector<ctk::Id> SourceCell; // the source's id of each cell; empty: the same
 };
 
-// Moves the cells (with their corners and macro-triangle ids) into the locality order of their
-// parameter triangles (ctk::TriangleLocalityOrder), renumbers the control points by first use in
-// that order and rebuilds the locator: the cells and points that neighbouring queries read are
-// then neighbours in memory. On 1e6 Delaunay triangles in qhull's order, gathering control points
-// was half of a probe's time. Small splines (they fit in cache) keep their order. The locator
-// breaks ties by source cell id, so that every query gets the same cell as before.
-void ToLocalityOrder(Spline& s, ctk::ParameterLocator& locator)
+// Read access to a valid spline's cells and arrays: the source's own arrays (RawSource) or a
+// gathered copy of them (ReadSpline), whichever the build reads.
+template <typename OffsetT, typename IdT>
+struct SplineArrays
 {
-  const ctsplines::BezierCells& in = s.Cells;
-  const vtkIdType nCells = in.NumberOfCells();
-  // The corners as a mesh of 3 vertices per triangle.
-  std::vector<ctk::Id> cornerIds;
-  ctk::ResizeForOverwrite(cornerIds, static_cast<size_t>(3 * nCells));
-  std::iota(cornerIds.begin(), cornerIds.end(), ctk::Id(0));
-  const ctk::Vec2* corners = nCells > 0 ? locator.TriangleCorners(0) : nullptr;
-  std::vector<ctk::Id> order = ctk::TriangleLocalityOrder(3 * nCells, nCells, cornerIds.data(),
-    corners ? corners->data() : nullptr);
-  std::vector<ctk::Id>().swap(cornerIds);
-  if (order.empty())
+  const OffsetT* Offsets; // NCells + 1, Offsets[0] == 0
+  const IdT* Ids;
+  const double* XYZ;     // 3 per point
+  const double* Weights; // 1 per point, or nullptr (polynomial)
+  const double* UV;      // 2 per point
+  vtkIdType NPoints, NCells;
+
+  vtkIdType Id(vtkIdType c, int a) const { return static_cast<vtkIdType>(this->Ids[this->Offsets[c] + a]); }
+};
+
+// Builds the spline the queries read, in ONE pass over the arrays: the cells (with their
+// parameter triangles and macro-triangle ids) in the locality order of their parameter
+// triangles (ctk::TriangleLocalityOrder; small splines keep their order), the control points
+// renumbered by first use in that order (points no cell uses are dropped), and the locator over
+// the triangles. The cells and points that neighbouring queries read are then neighbours in
+// memory: on 1e6 Delaunay triangles in qhull's order, gathering control points was half of a
+// probe's time. The locator breaks ties by source cell id, so every query gets the cell it
+// would get in the source's order. macroIds: per source cell, or empty (the source cell id).
+template <typename OffsetT, typename IdT>
+void BuildSpline(const SplineArrays<OffsetT, IdT>& in, const std::vector<vtkIdType>& macroIds,
+  Spline& out, ctk::ParameterLocator& locator)
+{
+  const vtkIdType nCells = in.NCells;
+  std::vector<ctk::Id> order;
   {
-    return;
+    std::vector<ctk::Id> cornerIds;
+    ctk::ResizeForOverwrite(cornerIds, static_cast<size_t>(3 * nCells));
+    for (vtkIdType c = 0; c < nCells; ++c)
+    {
+      for (int a = 0; a < 3; ++a)
+      {
+        cornerIds[3 * c + a] = in.Id(c, a);
+      }
+    }
+    order = ctk::TriangleLocalityOrder(in.NPoints, nCells, cornerIds.data(), in.UV);
   }
-  Spline out;
-  out.Cells.Orders = in.Orders;
+  const bool reordered = !order.empty();
+  auto source = [&](vtkIdType k) { return reordered ? order[k] : k; };
+  out.Cells = ctsplines::BezierCells();
   ctk::ResizeForOverwrite(out.Cells.Degree, nCells);
   ctk::ResizeForOverwrite(out.Cells.Offsets, nCells + 1);
-  ctk::ResizeForOverwrite(out.Corners, 3 * nCells);
+  std::vector<ctk::Vec2> corners;
+  ctk::ResizeForOverwrite(corners, 3 * nCells);
   ctk::ResizeForOverwrite(out.MacroIds, nCells);
   out.Cells.Offsets[0] = 0;
   for (vtkIdType k = 0; k < nCells; ++k)
   {
-    const vtkIdType c = order[k];
-    out.Cells.Degree[k] = in.Degree[c];
-    out.Cells.Offsets[k + 1] = out.Cells.Offsets[k] + in.Offsets[c + 1] - in.Offsets[c];
-    std::copy_n(corners + 3 * c, 3, &out.Corners[3 * k]);
-    out.MacroIds[k] = s.MacroIds[c];
+    const vtkIdType c = source(k);
+    const vtkIdType npts = static_cast<vtkIdType>(in.Offsets[c + 1] - in.Offsets[c]);
+    int n = 1;
+    while (ctk::BezierPointCount(n) < npts)
+    {
+      ++n; // valid cells only: npts is (n + 1)(n + 2) / 2 for some n <= MaxDegree
+    }
+    out.Cells.Degree[k] = static_cast<signed char>(n);
+    if (out.Cells.Orders[n].empty())
+    {
+      out.Cells.Orders[n] = ctk::VtkBezierTriangleOrder(n);
+    }
+    out.Cells.Offsets[k + 1] = out.Cells.Offsets[k] + npts;
+    for (int a = 0; a < 3; ++a)
+    {
+      const vtkIdType p = in.Id(c, a);
+      corners[3 * k + a] = ctk::Vec2(in.UV[2 * p], in.UV[2 * p + 1]);
+    }
+    out.MacroIds[k] = macroIds.empty() ? c : macroIds[c];
   }
-  // Points by first use; points no cell uses are dropped.
-  const vtkIdType nPoints = static_cast<vtkIdType>(in.Points.size());
-  const bool rational = !in.Weights.empty();
+  // Points by first use.
   std::vector<vtkIdType> newId;
-  ctk::AssignLarge(newId, static_cast<size_t>(nPoints), vtkIdType(-1));
+  ctk::AssignLarge(newId, static_cast<size_t>(in.NPoints), vtkIdType(-1));
   ctk::ResizeForOverwrite(out.Cells.Ids, static_cast<size_t>(out.Cells.Offsets[nCells]));
-  ctk::ResizeForOverwrite(out.Cells.Points, static_cast<size_t>(nPoints));
-  ctk::ResizeForOverwrite(out.Cells.Weights, rational ? static_cast<size_t>(nPoints) : 0);
+  ctk::ResizeForOverwrite(out.Cells.Points, static_cast<size_t>(in.NPoints));
+  ctk::ResizeForOverwrite(out.Cells.Weights, in.Weights ? static_cast<size_t>(in.NPoints) : 0);
   vtkIdType next = 0;
   for (vtkIdType k = 0; k < nCells; ++k)
   {
-    const vtkIdType* ids = in.CellIds(order[k]);
+    const vtkIdType c = source(k);
     vtkIdType* newIds = &out.Cells.Ids[out.Cells.Offsets[k]];
     for (vtkIdType i = 0; i < out.Cells.Offsets[k + 1] - out.Cells.Offsets[k]; ++i)
     {
-      vtkIdType& p = newId[ids[i]];
+      const vtkIdType q = in.Id(c, static_cast<int>(i));
+      vtkIdType& p = newId[q];
       if (p < 0)
       {
         p = next++;
-        out.Cells.Points[p] = in.Points[ids[i]];
-        if (rational)
+        out.Cells.Points[p] = ctk::Vec3(in.XYZ[3 * q], in.XYZ[3 * q + 1], in.XYZ[3 * q + 2]);
+        if (in.Weights)
         {
-          out.Cells.Weights[p] = in.Weights[ids[i]];
+          out.Cells.Weights[p] = in.Weights[q];
         }
       }
       newIds[i] = p;
     }
   }
   out.Cells.Points.resize(next);
-  out.Cells.Weights.resize(rational ? next : 0);
-  out.SourceCell = std::move(order);
-  s = std::move(out);
-  locator.Build(std::move(s.Corners), s.SourceCell.data());
+  out.Cells.Weights.resize(in.Weights ? next : 0);
+  out.Corners.clear();
+  locator.Build(std::move(corners), std::move(order));
 }
 
-std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
+// Whether the source's own arrays pass every check of ReadSpline (cell types and sizes, point
+// ids, usable coordinates, (u, v) and weights, parameter triangles of nonzero area).
+template <typename OffsetT, typename IdT>
+bool IsValidInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in)
 {
+  if (in.NCells > 0 && in.Offsets[0] != 0)
+  {
+    return false;
+  }
+  for (vtkIdType c = 0; c < in.NCells; ++c)
+  {
+    const vtkIdType npts = static_cast<vtkIdType>(in.Offsets[c + 1] - in.Offsets[c]);
+    bool sized = false;
+    for (int n = 1; n <= ctk::MaxDegree; ++n)
+    {
+      sized = sized || ctk::BezierPointCount(n) == npts;
+    }
+    if (types[c] != VTK_BEZIER_TRIANGLE || !sized)
+    {
+      return false;
+    }
+    for (vtkIdType i = in.Offsets[c]; i < static_cast<vtkIdType>(in.Offsets[c + 1]); ++i)
+    {
+      if (in.Ids[i] < 0 || static_cast<vtkIdType>(in.Ids[i]) >= in.NPoints)
+      {
+        return false;
+      }
+    }
+  }
+  for (vtkIdType p = 0; p < in.NPoints; ++p)
+  {
+    if (!ctk::IsUsablePoint(ctk::Vec3(in.XYZ[3 * p], in.XYZ[3 * p + 1], in.XYZ[3 * p + 2])) ||
+      !ctk::IsUsableValue(in.UV[2 * p]) || !ctk::IsUsableValue(in.UV[2 * p + 1]) ||
+      (in.Weights && !(ctk::IsUsableValue(in.Weights[p]) && in.Weights[p] > 0)))
+    {
+      return false;
+    }
+  }
+  if (in.NCells == 0)
+  {
+    return true;
+  }
+  auto corner = [&](vtkIdType c, int a) {
+    const vtkIdType p = in.Id(c, a);
+    return ctk::Vec2(in.UV[2 * p], in.UV[2 * p + 1]);
+  };
+  ctk::Vec2 lo = corner(0, 0), hi = lo;
+  for (vtkIdType c = 0; c < in.NCells; ++c)
+  {
+    for (int a = 0; a < 3; ++a)
+    {
+      lo = lo.cwiseMin(corner(c, a));
+      hi = hi.cwiseMax(corner(c, a));
+    }
+  }
+  const double diag2 = (hi - lo).squaredNorm();
+  for (vtkIdType c = 0; c < in.NCells; ++c)
+  {
+    if (!(std::abs(ctk::SignedArea2(corner(c, 0), corner(c, 1), corner(c, 2))) > 1e-13 * diag2))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// The usual source (an unstructured grid with double points, (u, v) and weights) read in place:
+// the probe's spline is built from the source's own arrays, without first copying them (on
+// 1e6 triangles the copy touched about 1 GB of fresh memory). False, with nothing built, when
+// the source is of another kind or fails a check: ReadSpline then reads it (and names the
+// offender).
+bool ReadSplineInPlace(
+  vtkDataSet* source, const std::string& uvName, Spline& out, ctk::ParameterLocator& locator)
+{
+  vtkUnstructuredGrid* ug = vtkUnstructuredGrid::SafeDownCast(source);
+  vtkCellArray* cells = ug ? ug->GetCells() : nullptr;
+  vtkUnsignedCharArray* types = ug ? ug->GetCellTypesArray() : nullptr;
+  const vtkIdType nCells = source->GetNumberOfCells(), nPoints = source->GetNumberOfPoints();
+  vtkPointData* pd = source->GetPointData();
+  vtkDataArray* w = pd->GetRationalWeights();
+  w = w ? w : ctsplines::FindArray(pd, "RationalWeights");
+  auto doubles = [](vtkDataArray* a, int components, vtkIdType tuples) {
+    vtkDoubleArray* d = vtkDoubleArray::FastDownCast(a);
+    return d && d->GetNumberOfComponents() == components && d->GetNumberOfTuples() == tuples
+      ? d->GetPointer(0)
+      : nullptr;
+  };
+  const double* xyz = ug && ug->GetPoints() ? doubles(ug->GetPoints()->GetData(), 3, nPoints) : nullptr;
+  const double* uv = doubles(ctsplines::FindArray(pd, uvName), 2, nPoints);
+  const double* weights = w ? doubles(w, 1, nPoints) : nullptr;
+  if (!cells || !types || types->GetNumberOfTuples() != nCells ||
+    cells->GetNumberOfCells() != nCells || nPoints == 0 || !xyz || !uv || (w && !weights))
+  {
+    return false;
+  }
+  std::vector<vtkIdType> macroIds;
+  if (vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId"))
+  {
+    if (!ctsplines::CopyIdArray(macro, "", nCells, "cell", -1, macroIds).empty())
+    {
+      return false;
+    }
+  }
+  auto build = [&](const auto* offsets, const auto* ids) {
+    using OffsetT = std::remove_cv_t<std::remove_pointer_t<decltype(offsets)>>;
+    using IdT = std::remove_cv_t<std::remove_pointer_t<decltype(ids)>>;
+    const SplineArrays<OffsetT, IdT> arrays{ offsets, ids, xyz, weights, uv, nPoints, nCells };
+    if (!IsValidInPlace(types->GetPointer(0), arrays))
+    {
+      return false;
+    }
+    BuildSpline(arrays, macroIds, out, locator);
+    return true;
+  };
+  return cells->IsStorage64Bit()
+    ? build(cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0))
+    : build(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
+}
+
+// The reference reading: copies and checks the source's arrays (any array types, any data
+// set), naming the first offender, then builds the probe's spline from the copy.
+std::string ReadSpline(
+  vtkDataSet* source, const std::string& uvName, Spline& out, ctk::ParameterLocator& locator)
+{
+  Spline s;
   std::ostringstream os;
   vtkPointData* pd = source->GetPointData();
   vtkDataArray* uvArray = ctsplines::FindArray(pd, uvName);
@@ -243,7 +403,6 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
   {
     return error;
   }
-  s.SourceCell.clear();
   const vtkIdType nCells = s.Cells.NumberOfCells();
   ctk::ResizeForOverwrite(s.Corners, static_cast<size_t>(3 * nCells));
   ctsplines::ParallelFor(0, nCells, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
@@ -302,9 +461,14 @@ std::string ReadSpline(vtkDataSet* source, const std::string& uvName, Spline& s)
   }
   else
   {
-    ctk::ResizeForOverwrite(s.MacroIds, nCells);
-    std::iota(s.MacroIds.begin(), s.MacroIds.end(), vtkIdType(0));
+    s.MacroIds.clear();
   }
+  std::vector<ctk::Vec2>().swap(s.Corners);
+  const SplineArrays<vtkIdType, vtkIdType> arrays{ s.Cells.Offsets.data(), s.Cells.Ids.data(),
+    s.Cells.Points.empty() ? nullptr : s.Cells.Points.data()->data(),
+    s.Cells.Weights.empty() ? nullptr : s.Cells.Weights.data(), uv.data(),
+    static_cast<vtkIdType>(s.Cells.Points.size()), nCells };
+  BuildSpline(arrays, s.MacroIds, out, locator);
   return {};
 }
 } // namespace
@@ -389,7 +553,6 @@ struct vtkSplineParameterProbe::SplineCache
   std::string UVName;
   Spline Data;
   ctk::ParameterLocator Locator;
-  bool Reordered = false; // Data and Locator in the locality order (ToLocalityOrder)
 
   bool Holds(vtkDataSet* source, const std::string& uvName) const
   {
@@ -487,26 +650,20 @@ int vtkSplineParameterProbe::RequestData(
   if (!this->Cache->Holds(source, this->UVArrayName))
   {
     this->Cache->Source = nullptr; // invalid until rebuilt
-    const std::string error = ReadSpline(source, this->UVArrayName, this->Cache->Data);
-    if (!error.empty())
+    if (!ReadSplineInPlace(source, this->UVArrayName, this->Cache->Data, this->Cache->Locator))
     {
-      vtkErrorMacro(<< error);
-      return 0;
+      const std::string error =
+        ReadSpline(source, this->UVArrayName, this->Cache->Data, this->Cache->Locator);
+      if (!error.empty())
+      {
+        vtkErrorMacro(<< error);
+        return 0;
+      }
     }
-    // The locator takes over the corners; the evaluation reads them from there.
-    this->Cache->Locator.Build(std::move(this->Cache->Data.Corners));
     this->Cache->Source = source;
     this->Cache->SourceTime = source->GetMTime();
     this->Cache->UVName = this->UVArrayName;
-    this->Cache->Reordered = false;
     ++this->NumberOfSplineBuilds;
-  }
-  else if (!this->Cache->Reordered)
-  {
-    // Probed again: the locality order pays for itself from now on (one probe alone would not
-    // repay it: it allocates the spline's arrays a second time).
-    ToLocalityOrder(this->Cache->Data, this->Cache->Locator);
-    this->Cache->Reordered = true;
   }
   const Spline& spline = this->Cache->Data;
   const ctk::ParameterLocator& locator = this->Cache->Locator;

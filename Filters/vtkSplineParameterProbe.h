@@ -24,10 +24,11 @@
  * Points are located with a bucket grid over the parameter triangles (constant expected time per
  * query), built once per source and reused while the source is unchanged, and evaluated exactly
  * with the kernel, in the locator's bucket order (results scattered back); the loop over points
- * runs with vtkSMPTools. When the same spline is probed again, its cells and control points are
- * moved into the Morton order of the parameter triangles (large splines only), so that nearby
- * queries read nearby memory; every result keeps its bits (ties between cells still go to the
- * lowest source cell id). ComputeDerivatives off outputs positions only.
+ * runs with vtkSMPTools. The spline is built once, in one pass over the source's arrays (read in
+ * place for an unstructured grid with double points, UV and weights; copied otherwise): its
+ * cells and control points in the Morton order of the parameter triangles (large splines only),
+ * so that nearby queries read nearby memory; every result keeps its bits (ties between cells
+ * still go to the lowest source cell id). ComputeDerivatives off outputs positions only.
  * A missing source, a missing or non-2-component UV array, source cells that are not Bézier
  * triangles, and zero-area parameter triangles are reported with vtkErrorMacro and RequestData
  * returns 0.

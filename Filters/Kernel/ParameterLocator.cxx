@@ -62,16 +62,22 @@ void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
 {
   ResizeForOverwrite(this->Corners, static_cast<size_t>(3 * numTriangles));
   std::copy_n(corners, 3 * numTriangles, this->Corners.data());
-  this->BuildBuckets(nullptr);
+  this->TieRank.clear();
+  this->BuildBuckets();
 }
 
-void ParameterLocator::Build(std::vector<Vec2>&& corners, const Id* tieRank)
+void ParameterLocator::Build(std::vector<Vec2>&& corners, std::vector<Id>&& tieRank)
 {
   this->Corners = std::move(corners);
-  this->BuildBuckets(tieRank);
+  this->TieRank = std::move(tieRank);
+  if (!this->TieRank.empty() && this->TieRank.size() != this->Corners.size() / 3)
+  {
+    this->TieRank.clear(); // not one per triangle: ignored (ids break ties)
+  }
+  this->BuildBuckets();
 }
 
-void ParameterLocator::BuildBuckets(const Id* tieRank)
+void ParameterLocator::BuildBuckets()
 {
   const Id numTriangles = this->GetNumberOfTriangles();
   this->Offsets.clear();
@@ -158,16 +164,6 @@ void ParameterLocator::BuildBuckets(const Id* tieRank)
       }
     }
   }
-  if (tieRank)
-  {
-    // Rows are short (a few triangles): sorting each is cheap, and stays in cache when the
-    // triangles are stored in a locality order.
-    for (Id b = 0; b < nBuckets; ++b)
-    {
-      std::sort(this->Items.begin() + this->Offsets[b], this->Items.begin() + this->Offsets[b + 1],
-        [tieRank](Id s, Id t) { return tieRank[s] < tieRank[t]; });
-    }
-  }
 }
 
 void ParameterLocator::Build(const std::vector<Vec2>& uv, Id numTriangles, const Id* triangles)
@@ -207,8 +203,12 @@ ParameterLocator::Hit ParameterLocator::Locate(double u, double v) const
     const Vec2* c = &this->Corners[3 * t];
     const Vec3 bary = Barycentric(c[0], c[1], c[2], X);
     const double m = bary.minCoeff();
-    // Rows are sorted by id, so a strict comparison keeps the lowest id among ties.
-    if (m > bestMin || (m == bestMin && hit.Triangle < 0))
+    // Rows are sorted by id, so a strict comparison keeps the lowest id among ties; tie ranks
+    // are compared only at exact ties (rare: no row sorting by rank).
+    if (m > bestMin ||
+      (m == bestMin &&
+        (hit.Triangle < 0 ||
+          (!this->TieRank.empty() && this->TieRank[t] < this->TieRank[hit.Triangle]))))
     {
       bestMin = m;
       hit.Triangle = t;

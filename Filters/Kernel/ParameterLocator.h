@@ -40,10 +40,12 @@ public:
   void Build(Id numTriangles, const Vec2* corners);
 
   /// The same, taking over the corners (3 per triangle) instead of copying them. With tieRank
-  /// (one value per triangle), Locate breaks ties by the lowest tieRank instead of the lowest
-  /// id: a caller that stores its triangles in another order (a locality order) then gets the
-  /// triangle it would get in its original numbering, tieRank being the original ids.
-  void Build(std::vector<Vec2>&& corners, const Id* tieRank = nullptr);
+  /// (one value per triangle, taken over), Locate breaks ties by the lowest tieRank instead of
+  /// the lowest id: a caller that stores its triangles in another order (a locality order) then
+  /// gets the triangle it would get in its original numbering, tieRank being the original ids.
+  void Build(std::vector<Vec2>&& corners, std::vector<Id>&& tieRank = {});
+  /// The tie ranks given to Build (empty: the ids).
+  const std::vector<Id>& GetTieRank() const { return this->TieRank; }
 
   /// Corner a of triangle t is TriangleCorners(t)[a].
   const Vec2* TriangleCorners(Id t) const { return &this->Corners[3 * t]; }
@@ -66,14 +68,15 @@ public:
 
 private:
   bool BucketRange(Id t, Id range[4]) const;
-  void BuildBuckets(const Id* tieRank);
+  void BuildBuckets();
 
   std::vector<Vec2> Corners;
   double Origin[2] = { 0.0, 0.0 };
   double InverseSpacing[2] = { 1.0, 1.0 };
   Id NX = 0, NY = 0;
+  std::vector<Id> TieRank;
   /// Compressed rows: triangles of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
-  /// id (or tieRank).
+  /// id.
   std::vector<Id> Offsets;
   std::vector<Id> Items;
 };

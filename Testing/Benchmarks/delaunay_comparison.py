@@ -7,8 +7,8 @@ square, in qhull's numbering, with the exact values and gradients of z = sin 3x 
 
 - ours:       vtkCloughTocherSplineFilter CTi (SciPy's element) and CTo (Matplotlib's), then
               vtkSplineParameterProbe on the CTi spline, one probe object for every call (it
-              builds its spline and locator once and reuses them while the source is unchanged;
-              the second call also moves them into a locality order): first call, second call,
+              builds its spline, in a locality order, and its locator once and reuses them while
+              the source is unchanged): first call, second call,
               later calls (positions and derivatives, and positions only);
 - SciPy:      CloughTocher2DInterpolator(tri, z, maxiter=0) with .grad set to the exact gradients;
 - Matplotlib: CubicTriInterpolator(kind='user', dz=exact), its TriFinder built beforehand (not
@@ -219,8 +219,8 @@ def main():
         "matplotlib": peak_extra(lambda: mpl_build()[1])[0],
     }
 
-    # Probes. Ours: the first call builds the spline's locator, the second moves the spline into
-    # a locality order, later calls reuse it.
+    # Probes. Ours: the first call builds the spline (in a locality order) and its locator, later
+    # calls reuse them.
     probe = Probe(spline)
     t_first, _ = best(lambda: probe(sorted_q), 1)
     t_second, _ = best(lambda: probe(sorted_q), 1)

@@ -6,12 +6,19 @@
 #include "vtkBezierTriangleTessellator.h"
 #include "vtkCloughTocherSplineFilter.h"
 
+#include "BezierTriangle.h"
 #include "LocalityOrder.h"
 
 #include "vtkCellType.h"
 #include "vtkCharArray.h"
 #include "vtkExecutive.h"
 #include "vtkImageData.h"
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkIdList.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkPointData.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
@@ -205,9 +212,9 @@ void ExpectSameBits(vtkDataSet* a, vtkDataSet* b)
 }
 
 // A spline large enough for the locality order (38,400 cells), probed at random points and at
-// the mesh's vertices and edge midpoints (ties between cells). The first probe works in the
-// source's cell order, the second in the locality order (cells and points renumbered): the same
-// bits, the same cell at ties. Queries in another order give the same result per query.
+// the mesh's vertices and edge midpoints (ties between cells): probing again with the spline
+// reused gives the same bits, and queries in another order give the same result per query.
+// (InPlaceAndCopiedSourcesKeepTheBits compares with the source's own order.)
 TEST(vtkSplineParameterProbe, LocalityOrderKeepsTheBits)
 {
   const ctk::ParameterMesh mesh = ctk::RegularGridMesh(80, ctk::GridDiagonal::Alternating);
@@ -266,6 +273,122 @@ TEST(vtkSplineParameterProbe, LocalityOrderKeepsTheBits)
       a->GetArray("MacroTriangleId")->GetComponent(perm[k], 0))
       << k;
   }
+}
+
+// Query k of a probe against a brute-force reference over the source's cells in their own
+// order and VTK's point order: the cell whose smallest barycentric coordinate is largest (at
+// least -1e-12), the lowest cell id among ties, evaluated with the kernel: the same bits.
+void ExpectBruteForceBits(vtkUnstructuredGrid* spline, const std::vector<ctk::Vec2>& corners,
+  vtkDataSet* out, const ctk::Vec2& X, vtkIdType k)
+{
+  vtkNew<vtkIdList> ids;
+  vtkIdType best = -1;
+  double bestMin = -1e-12;
+  ctk::Vec3 bestBary;
+  for (vtkIdType c = 0; c < spline->GetNumberOfCells(); ++c)
+  {
+    const ctk::Vec2* A = &corners[3 * c];
+    const ctk::Vec3 b = ctk::Barycentric(A[0], A[1], A[2], X);
+    if (b.minCoeff() > bestMin || (b.minCoeff() == bestMin && best < 0))
+    {
+      best = c, bestMin = b.minCoeff(), bestBary = b;
+    }
+  }
+  const ctk::Vec2* bestCorners = &corners[3 * std::max<vtkIdType>(best, 0)];
+  ASSERT_GE(best, 0) << "query " << k;
+  spline->GetCellPoints(best, ids);
+  const int n = ids->GetNumberOfIds() == 10 ? 3 : -1;
+  ASSERT_EQ(n, 3);
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(n);
+  ctk::Vec3 P[ctk::MaxBezierPoints];
+  for (int p = 0; p < ctk::BezierPointCount(n); ++p)
+  {
+    spline->GetPoint(ids->GetId(p), P[order[p]].data());
+  }
+  const ctk::ParametricJet jet = ctk::EvaluateOverDomain(
+    n, P, nullptr, bestCorners[0], bestCorners[1], bestCorners[2], bestBary, 1);
+  ASSERT_EQ(Point(out, k), jet.Value) << "query " << k;
+  ASSERT_EQ(Tuple3(out->GetPointData()->GetArray("dFdu"), k), jet.Du) << "query " << k;
+  ASSERT_EQ(Tuple3(out->GetPointData()->GetArray("dFdv"), k), jet.Dv) << "query " << k;
+  ASSERT_EQ(out->GetPointData()->GetArray("MacroTriangleId")->GetComponent(k, 0),
+    spline->GetCellData()->GetArray("MacroTriangleId")->GetComponent(best, 0))
+    << "query " << k;
+}
+
+// The usual source (64-bit cells, double arrays) is read in place; 32-bit cells too; a source
+// with a float array goes through the copying reader. All give the bits of a brute-force
+// search in the source's own order, although the probe works in the locality order from the
+// first call on (ties between cells at the mesh's vertices and edge midpoints included).
+TEST(vtkSplineParameterProbe, InPlaceAndCopiedSourcesKeepTheBits)
+{
+  const ctk::ParameterMesh mesh = ctk::RegularGridMesh(80, ctk::GridDiagonal::Alternating);
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  filter->SetInputData(ctsplines_test::MakeSampledPolyData(mesh, ctk::AnalyticSurface::Franke));
+  filter->SetConstructionToCTi();
+  filter->Update();
+  auto spline = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  spline->ShallowCopy(filter->GetOutput());
+  ASSERT_GE(spline->GetNumberOfCells(), ctk::MinTrianglesForLocalityOrder);
+  ASSERT_TRUE(spline->GetCells()->IsStorage64Bit());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  std::vector<ctk::Vec2> uv;
+  for (int i = 0; i < 600; ++i)
+  {
+    uv.emplace_back(U(rng), U(rng));
+  }
+  for (ctk::Id t = 0; t < mesh.NumberOfTriangles(); t += 97)
+  {
+    const ctk::Vec2& a = mesh.UV[mesh.Triangles[3 * t]];
+    uv.push_back(a);
+    uv.push_back(0.5 * (a + mesh.UV[mesh.Triangles[3 * t + 1]]));
+  }
+  vtkSmartPointer<vtkDataSet> reference = Probe(QueryPoints(uv), spline);
+  std::vector<ctk::Vec2> corners; // of every cell, in the source's order
+  vtkDataArray* uvArray = spline->GetPointData()->GetArray("UV");
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < spline->GetNumberOfCells(); ++c)
+  {
+    spline->GetCellPoints(c, ids);
+    for (int a = 0; a < 3; ++a)
+    {
+      corners.emplace_back(uvArray->GetComponent(ids->GetId(a), 0), uvArray->GetComponent(ids->GetId(a), 1));
+    }
+  }
+  for (size_t k = 0; k < uv.size(); ++k)
+  {
+    ExpectBruteForceBits(spline, corners, reference, uv[k], static_cast<vtkIdType>(k));
+    if (testing::Test::HasFatalFailure())
+    {
+      return;
+    }
+  }
+
+  // 32-bit cell storage: read in place as well.
+  auto cells32 = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  cells32->DeepCopy(spline);
+  vtkNew<vtkCellArray> narrow;
+  narrow->DeepCopy(spline->GetCells());
+  ASSERT_TRUE(narrow->ConvertTo32BitStorage());
+  cells32->SetCells(cells32->GetCellTypesArray(), narrow);
+  ASSERT_FALSE(cells32->GetCells()->IsStorage64Bit());
+  ExpectSameBits(reference, Probe(QueryPoints(uv), cells32));
+
+  // Rational weights of 1 as doubles (in place) and as floats (copied): the same bits.
+  vtkSmartPointer<vtkDataSet> weighted[2];
+  for (int copied = 0; copied < 2; ++copied)
+  {
+    auto rational = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    rational->ShallowCopy(spline);
+    vtkSmartPointer<vtkDataArray> w = copied ? vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkFloatArray>::New())
+                                             : vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkDoubleArray>::New());
+    w->SetName("RationalWeights");
+    w->SetNumberOfTuples(rational->GetNumberOfPoints());
+    w->Fill(1.0);
+    rational->GetPointData()->AddArray(w);
+    weighted[copied] = Probe(QueryPoints(uv), rational);
+  }
+  ExpectSameBits(weighted[0], weighted[1]);
 }
 
 // ComputeDerivatives off: the same positions, no derivative arrays.

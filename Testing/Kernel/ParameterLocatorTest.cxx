@@ -265,9 +265,8 @@ TEST(ParameterLocator, TiesFollowTheTieRank)
   ParameterLocator byId;
   byId.Build(std::vector<Vec2>(corners));
   EXPECT_EQ(byId.Locate(onEdge.x(), onEdge.y()).Triangle, 0);
-  const Id reversed[2] = { 1, 0 };
   ParameterLocator byRank;
-  byRank.Build(std::vector<Vec2>(corners), reversed);
+  byRank.Build(std::vector<Vec2>(corners), std::vector<Id>{ 1, 0 });
   EXPECT_EQ(byRank.Locate(onEdge.x(), onEdge.y()).Triangle, 1);
   EXPECT_EQ(byRank.Locate(inside.x(), inside.y()).Triangle, 0);
 }
