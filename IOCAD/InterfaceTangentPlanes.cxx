@@ -77,6 +77,9 @@ using SpanEndKey = std::tuple<Id, Id, Id>;
 
 /// Largest turn of the surface normal along a tangent span (radians) with RestoreG1.
 constexpr double MaxTurnPerSpan = 3.14159265358979323846 / 16;
+/// Largest difference, relative to its length, between an edge cubic's end tangent and the face's
+/// derivative along the span's chord at a node where the faces share a tangent plane.
+constexpr double MaxChordMismatch = 0.05;
 
 /// Key of a span end: (B-rep edge, span, node) for edge spans; joints get keys of their own.
 SpanEndKey KeyOf(const LoopSegment& seg, int face, int loop, int segment, Id node)
@@ -467,6 +470,7 @@ void TangentPlanes::Project()
     const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
     const Eigen::Vector2d chord(b.UV[0] - a.UV[0], b.UV[1] - a.UV[1]);
     double move = 0;
+    bool mismatch = false;
     for (int side = 0; side < 2; ++side)
     {
       const int v = use.Vertex[side];
@@ -477,8 +481,24 @@ void TangentPlanes::Project()
       this->Report.MaxDerivativeChange =
         std::max(this->Report.MaxDerivativeChange, dJ.norm() * scale);
       move = std::max({ move, (end.Tau - end.Tau0).norm(), (dJ * chord).norm() / 3 });
+      // Where the span's cubic leaves a smooth node off the face's derivative along the chord
+      // (its pcurve curves within the span), the node's T points disagree: the boundary
+      // micro-triangle there reads the cubic, the one across the tangent span the derivative,
+      // and the span's cross-boundary derivative gets an along-edge kink that, as the normal
+      // turns along the span, tilts it out of the shared plane (0.2 degrees on KiCad's
+      // Crystal_SMD_0603-4Pin). Halving the span halves the mismatch.
+      const int group = this->Vertices[v].Group;
+      const Vector3 alongChord = this->Vertices[v].J0 * (side == 0 ? chord : (-chord).eval()) / 3;
+      mismatch = mismatch ||
+        (group >= 0 && this->Groups[group].Tangent &&
+          (alongChord - end.Tau0).norm() >
+            std::max(MaxChordMismatch * end.Tau0.norm(), 0.1 * this->Options.MaxMove));
     }
     if (this->Options.MaxMove > 0 && move > this->Options.MaxMove && seg.Edge >= 0 && seg.Span >= 0)
+    {
+      this->Report.SpansToSplit.emplace_back(seg.Edge, seg.Span);
+    }
+    if (this->Options.MaxMove > 0 && mismatch && seg.Edge >= 0 && seg.Span >= 0)
     {
       this->Report.SpansToSplit.emplace_back(seg.Edge, seg.Span);
     }
