@@ -885,8 +885,10 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
     }
     for (std::size_t i = 0; i + 1 < n; ++i)
     {
-      spanLengths.push_back(std::hypot(run.Nodes[i + 1].UV[0] - run.Nodes[i].UV[0],
-        run.Nodes[i + 1].UV[1] - run.Nodes[i].UV[1]));
+      double* chord = run.Segments[i].PCurveChord;
+      chord[0] = run.Nodes[i + 1].UV[0] - run.Nodes[i].UV[0];
+      chord[1] = run.Nodes[i + 1].UV[1] - run.Nodes[i].UV[1];
+      spanLengths.push_back(std::hypot(chord[0], chord[1]));
     }
     pushRun(run);
   }

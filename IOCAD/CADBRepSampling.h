@@ -47,6 +47,10 @@ struct LoopSegment
   /// Whether the CAD faces along the span meet tangentially (normals at the span midpoint
   /// within the G1 threshold): a smooth interface rather than a feature edge.
   bool Tangent = false;
+  /// The span's chord along its own pcurve (end minus start, in the face's oriented parameter
+  /// plane). The loop's nodes at B-rep vertices are the mean of the pcurve ends that meet there
+  /// (JoinRuns), off each pcurve by half their gap: this chord is not.
+  double PCurveChord[2] = { 0, 0 };
 };
 
 struct FaceLoop

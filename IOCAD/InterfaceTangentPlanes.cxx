@@ -77,6 +77,13 @@ using SpanEndKey = std::tuple<Id, Id, Id>;
 
 /// Largest turn of the surface normal along a tangent span (radians) with RestoreG1.
 constexpr double MaxTurnPerSpan = 3.14159265358979323846 / 16;
+/// Largest difference, relative to its length, between an edge cubic's end tangent and the face's
+/// derivative along the span's chord at a node where the faces share a tangent plane.
+constexpr double MaxChordMismatch = 0.05;
+/// Largest offset of a span's chord in its face's loop from its pcurve's (the loop's nodes at
+/// B-rep vertices are the mean of the pcurve ends), relative to the chord of either half, for
+/// which the span is split (DropSkewingSplits).
+constexpr double MaxSplitSkew = 0.05;
 
 /// Key of a span end: (B-rep edge, span, node) for edge spans; joints get keys of their own.
 SpanEndKey KeyOf(const LoopSegment& seg, int face, int loop, int segment, Id node)
@@ -114,6 +121,7 @@ private:
   void ChoosePlanes();
   void Project();
   void FitCuspDerivatives();
+  void DropSkewingSplits();
   void WriteBack();
   void SetMidNormals();
 
@@ -531,6 +539,7 @@ void TangentPlanes::Project()
     const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
     const Eigen::Vector2d chord(b.UV[0] - a.UV[0], b.UV[1] - a.UV[1]);
     double move = 0;
+    bool mismatch = false;
     for (int side = 0; side < 2; ++side)
     {
       const int v = use.Vertex[side];
@@ -541,16 +550,32 @@ void TangentPlanes::Project()
       this->Report.MaxDerivativeChange =
         std::max(this->Report.MaxDerivativeChange, dJ.norm() * scale);
       move = std::max({ move, (end.Tau - end.Tau0).norm(), (dJ * chord).norm() / 3 });
+      // Where the span's cubic leaves a smooth node off the face's derivative along the chord
+      // (its pcurve curves within the span), the node's T points disagree: the boundary
+      // micro-triangle there reads the cubic, the one across the tangent span the derivative,
+      // and the span's cross-boundary derivative gets an along-edge kink that, as the normal
+      // turns along the span, tilts it out of the shared plane (0.2 degrees on KiCad's
+      // Crystal_SMD_0603-4Pin). Halving the span halves the mismatch. The chord is the span's
+      // pcurve's: the loop's, off it at B-rep vertices by a constant (DropSkewingSplits), made
+      // the mismatch grow with every split (KiCad's TQFP-44, split 7 times).
+      const int group = this->Vertices[v].Group;
+      const Eigen::Vector2d own(seg.PCurveChord[0], seg.PCurveChord[1]);
+      const Vector3 alongChord = this->Vertices[v].J0 * (side == 0 ? own : (-own).eval()) / 3;
+      mismatch = mismatch ||
+        (group >= 0 && this->Groups[group].Tangent &&
+          (alongChord - end.Tau0).norm() >
+            std::max(MaxChordMismatch * end.Tau0.norm(), 0.1 * this->Options.MaxMove));
     }
     if (this->Options.MaxMove > 0 && move > this->Options.MaxMove && seg.Edge >= 0 && seg.Span >= 0)
     {
       this->Report.SpansToSplit.emplace_back(seg.Edge, seg.Span);
     }
+    if (this->Options.MaxMove > 0 && mismatch && seg.Edge >= 0 && seg.Span >= 0)
+    {
+      this->Report.SpansToSplit.emplace_back(seg.Edge, seg.Span);
+    }
   }
-  std::sort(this->Report.SpansToSplit.begin(), this->Report.SpansToSplit.end());
-  this->Report.SpansToSplit.erase(
-    std::unique(this->Report.SpansToSplit.begin(), this->Report.SpansToSplit.end()),
-    this->Report.SpansToSplit.end());
+  this->DropSkewingSplits();
   for (const Group& g : this->Groups)
   {
     bool twoFaces = false; // not just the two copies of a seam node
@@ -560,6 +585,43 @@ void TangentPlanes::Project()
     }
     this->Report.SmoothNodes += g.Tangent && twoFaces ? 1 : 0;
   }
+}
+
+/// The spans to split, sorted and unique, less those a split would skew. A loop node at a B-rep
+/// vertex is the mean of the pcurve ends that meet there (JoinRuns), off each by half their gap:
+/// a span's chord in the loop is its pcurve's plus that offset, which a split does not halve.
+/// Where the pcurves of a face miss each other (re-projected pcurves: KiCad's QFP packages, off
+/// by 3e-4 of 17 at a corner), halving the span next to the vertex again and again (its cubic
+/// disagrees with the face's derivative there) leaves a span whose chord runs across the edge
+/// and whose boundary micro-triangles fold (180 degrees). A span is not split where the offset
+/// (through the face's derivatives) would exceed MaxSplitSkew of the halves' chords.
+void TangentPlanes::DropSkewingSplits()
+{
+  std::vector<std::pair<Id, Id>>& split = this->Report.SpansToSplit;
+  std::sort(split.begin(), split.end());
+  split.erase(std::unique(split.begin(), split.end()), split.end());
+  std::vector<std::pair<Id, Id>> skewing;
+  for (const SegmentUse& use : this->Uses)
+  {
+    const FaceLoop& loop = this->Faces[use.Face].Loops[use.Loop];
+    const LoopSegment& seg = loop.Segments[use.Segment];
+    const LoopNode& a = loop.Nodes[use.Segment];
+    const LoopNode& b = loop.Nodes[(use.Segment + 1) % loop.Nodes.size()];
+    const Eigen::Vector2d own(seg.PCurveChord[0], seg.PCurveChord[1]);
+    const Eigen::Vector2d offset =
+      Eigen::Vector2d(b.UV[0] - a.UV[0], b.UV[1] - a.UV[1]) - own;
+    const Jacobian& J0 = this->Vertices[use.Vertex[0]].J0;
+    if ((J0 * offset).norm() > MaxSplitSkew * 0.5 * (J0 * own).norm())
+    {
+      skewing.emplace_back(seg.Edge, seg.Span);
+    }
+  }
+  std::sort(skewing.begin(), skewing.end());
+  split.erase(std::remove_if(split.begin(), split.end(),
+                [&](const std::pair<Id, Id>& span) {
+                  return std::binary_search(skewing.begin(), skewing.end(), span);
+                }),
+    split.end());
 }
 
 /// Signed angle from a to b about the unit normal n, in (-pi, pi].

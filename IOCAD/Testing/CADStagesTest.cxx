@@ -6,6 +6,7 @@
 #include "CADMeasure.h"
 #include "CADSampledFace.h"
 #include "CADStitch.h"
+#include "InterfaceTangentPlanes.h"
 
 #include "vtkCADFaceSampler.h"
 
@@ -20,6 +21,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -481,4 +483,84 @@ TEST(CADStages, SpansBulgingAcrossAStripAreThoseAboveAQuarterOfItsWidth)
     expected.emplace_back(0, i);
   }
   EXPECT_EQ(spans, expected);
+}
+
+namespace
+{
+/// Two faces on the edge (0,0,0)-(1,0,0) (B-rep edge 0, one span), the plane z = 0 (s, t) and
+/// the plane turned by `degrees` about the edge, each closed by a triangle's other two edges.
+/// Face 0's loop node at (0,0,0) is `offset` off its pcurves in t (their ends merged at a
+/// vertex, JoinRuns). Returns the spans SetInterfaceTangentPlanes reports for splitting.
+std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(double degrees, double offset)
+{
+  const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
+  const std::vector<ctcad::Point3> nodes{ { 0, 0, 0 }, { 1, 0, 0 }, { 0.5, 1, 0 },
+    { 0.5, -c, -s } };
+  std::vector<ctcad::CADFace> faces(2);
+  // Per face: its nodes (global, uv on the pcurves) and the B-rep edges of its segments.
+  const ctcad::Id globals[2][3] = { { 0, 1, 2 }, { 1, 0, 3 } };
+  const double uv[2][3][2] = { { { 0, 0 }, { 1, 0 }, { 0.5, 1 } },
+    { { 1, 0 }, { 0, 0 }, { 0.5, -1 } } };
+  const ctcad::Id edges[2][3] = { { 0, 1, 2 }, { 0, 3, 4 } };
+  for (int f = 0; f < 2; ++f)
+  {
+    faces[f].Index = f;
+    ctcad::FaceLoop loop;
+    for (int k = 0; k < 3; ++k)
+    {
+      const double shift = f == 0 && globals[f][k] == 0 ? offset : 0;
+      loop.Nodes.push_back({ { uv[f][k][0], uv[f][k][1] + shift }, globals[f][k] });
+      const int n = (k + 1) % 3;
+      ctcad::LoopSegment seg;
+      seg.Edge = edges[f][k];
+      seg.Span = 0;
+      const ctcad::Point3& a = nodes[globals[f][k]];
+      const ctcad::Point3& b = nodes[globals[f][n]];
+      for (int i = 0; i < 3; ++i)
+      {
+        seg.Near0[i] = (2 * a[i] + b[i]) / 3;
+        seg.Near1[i] = (a[i] + 2 * b[i]) / 3;
+      }
+      seg.PCurveChord[0] = uv[f][n][0] - uv[f][k][0];
+      seg.PCurveChord[1] = uv[f][n][1] - uv[f][k][1];
+      loop.Segments.push_back(seg);
+    }
+    faces[f].Loops.push_back(loop);
+  }
+  const ctcad::FaceDerivatives evaluate = [c, s](int f, double u, double v, double P[3],
+                                            double Ds[3], double Dt[3]) {
+    const double dt[3] = { 0, f == 0 ? 1 : c, f == 0 ? 0 : s };
+    for (int i = 0; i < 3; ++i)
+    {
+      Ds[i] = i == 0 ? 1 : 0;
+      Dt[i] = dt[i];
+      P[i] = u * Ds[i] + v * Dt[i];
+    }
+  };
+  ctcad::TangentPlaneOptions options;
+  options.RestoreG1 = true;
+  options.MaxMove = 1e-3;
+  return ctcad::SetInterfaceTangentPlanes(faces, nodes, evaluate, options).SpansToSplit;
+}
+} // namespace
+
+// A loop node off its pcurves (their ends merged at a B-rep vertex) does not get the spans next
+// to it split: the offset does not halve with the span, and the halves' chords would run across
+// the edge until the boundary micro-triangles fold (KiCad's TQFP-44 and LQFP-128, re-projected
+// pcurves: 180 degrees). Neither as a mismatch between the edge cubic and the face's derivative
+// along the chord (coplanar faces), nor where the faces meet at 4 degrees (which splits the span
+// when the node is on its pcurves).
+TEST(CADStages, NoSplitNextToALoopNodeOffItsPCurves)
+{
+  auto splitsEdge0 = [](double degrees, double offset) {
+    const auto spans = SplitsNextToAnOffsetNode(degrees, offset);
+    return std::find(spans.begin(), spans.end(), std::make_pair(ctcad::Id(0), ctcad::Id(0))) !=
+      spans.end();
+  };
+  EXPECT_TRUE(SplitsNextToAnOffsetNode(0, 0).empty());
+  EXPECT_TRUE(SplitsNextToAnOffsetNode(0, 0.1).empty());
+  EXPECT_TRUE(splitsEdge0(4, 0));
+  EXPECT_FALSE(splitsEdge0(4, 0.1));
+  // An offset that the halves' chords bear (1 % of the half) does not stop the split.
+  EXPECT_TRUE(splitsEdge0(4, 0.005));
 }

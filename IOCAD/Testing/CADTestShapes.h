@@ -374,6 +374,43 @@ inline TopoDS_Shape BentWire(double R, double r, double degrees)
 {
   return BRepPrimAPI_MakeTorus(R, r, degrees * M_PI / 180).Shape();
 }
+
+/// A cylinder (radius 1, height 1, axis z) with its top rim rounded (a torus of tube radius
+/// `rim`, tangent to the side and the top along circles), cut off by the plane through `point`
+/// with normal `normal`. The cut crosses the tangent circles: at those vertices the tangent
+/// interfaces (the normal turning along them) meet the cut's edges, whose pcurves on the
+/// cylinder and the torus curve (ellipse-like), so that their cubics leave the vertices off the
+/// faces' derivatives along the chords.
+inline TopoDS_Shape CutRoundedCylinder(double rim, const gp_Pnt& point, const gp_Dir& normal)
+{
+  const TopoDS_Shape cylinder =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp::Origin(), gp::DZ()), 1.0, 1.0).Shape();
+  BRepFilletAPI_MakeFillet fillet(cylinder);
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(cylinder, TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i)
+  {
+    TopoDS_Vertex a, b;
+    TopExp::Vertices(TopoDS::Edge(edges(i)), a, b);
+    if (BRep_Tool::Pnt(a).Z() > 0.99 && BRep_Tool::Pnt(b).Z() > 0.99 &&
+      !BRep_Tool::Degenerated(TopoDS::Edge(edges(i))))
+    {
+      fillet.Add(rim, TopoDS::Edge(edges(i)));
+    }
+  }
+  fillet.Build();
+  if (!fillet.IsDone())
+  {
+    return TopoDS_Shape();
+  }
+  // The half-space beyond the plane: a box with one face on it.
+  const gp_Ax2 frame(point, normal);
+  const gp_Pnt corner =
+    point.Translated(-2.5 * gp_Vec(frame.XDirection()) - 2.5 * gp_Vec(frame.YDirection()));
+  const TopoDS_Shape beyond =
+    BRepPrimAPI_MakeBox(gp_Ax2(corner, normal, frame.XDirection()), 5, 5, 5).Shape();
+  return BRepAlgoAPI_Cut(fillet.Shape(), beyond).Shape();
+}
 } // namespace ctsplines_test
 
 #endif
