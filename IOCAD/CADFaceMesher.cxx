@@ -453,24 +453,31 @@ bool FlatBoundaryCorner(
 }
 
 /// A point splitting triangle f where its error is largest (parameter X), not next to a vertex
-/// (a fifth of the shortest edge in the triangulation's plane), with the fallbacks of Steiner.
+/// or a boundary segment (a fifth of the triangle's smallest altitude in the triangulation's
+/// plane), with the fallbacks of Steiner. The altitude, not the shortest edge: a thin triangle on
+/// a boundary segment (a long span next to a node whose derivatives were turned into a shared
+/// tangent plane, where the error lies) has no point a fifth of its shortest edge away from the
+/// segment, and would never be split (SOT-23's lead: 1.04 times the tolerance, "too small").
 Steiner RefinementPoint(const CDT& cdt, const CDT::Face_handle f, const ctk::Vec2& X,
   const TriangulationPlane& plane)
 {
-  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
+  double longestEdge = 0, longest = 0;
   Point mid;
   for (int i = 0; i < 3; ++i)
   {
     const Point &a = f->vertex(CDT::ccw(i))->point(), &b = f->vertex(CDT::cw(i))->point();
     const double len = std::sqrt(CGAL::squared_distance(a, b));
-    shortest = std::min(shortest, len);
+    longestEdge = std::max(longestEdge, len);
     if (len > longest && !cdt.is_constrained(CDT::Edge(f, i)))
     {
       longest = len;
       mid = CGAL::midpoint(a, b);
     }
   }
-  Steiner q{ Point(plane.Scale[0] * X.x(), plane.Scale[1] * X.y()), 0.2 * shortest, false, {} };
+  const double altitude = 2 *
+    std::abs(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point())) /
+    longestEdge;
+  Steiner q{ Point(plane.Scale[0] * X.x(), plane.Scale[1] * X.y()), 0.2 * altitude, false, {} };
   q.Fallbacks.push_back(
     CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
   if (longest > 0)
@@ -617,16 +624,16 @@ private:
   bool Unrefinable = false; // a triangle or edge over the tolerance is too small to split
 };
 
-/// With geometric bounds (aspect, edge length) the triangulation works in a plane scaled by the
-/// mean lengths of F_s and F_t over the boundary nodes (point (ks s, kt t)), so that shapes there
-/// are close to the 3D ones (a cylinder's (angle, height) plane becomes isometric) and Delaunay
-/// refinement in it can meet a 3D bound.
+/// The triangulation works in a plane scaled by the mean lengths of F_s and F_t over the
+/// boundary nodes (point (ks s, kt t)), so that shapes there are close to the 3D ones (a
+/// cylinder's (angle, height) plane becomes isometric): Delaunay refinement in it can meet a 3D
+/// bound, and the distances that keep refinement points off vertices and boundary segments
+/// (CanInsert) mean the same along s and t. In the raw parameter plane of a face whose F_t is
+/// 500 times F_s (KiCad's L_Axial_L16.0mm_D6.3mm Fastron VHBCC: the end face, an arc of radius
+/// 327 about the axis) every point near its inner circle was within a fifth of an edge of the
+/// circle, and no triangle there could be split (10 times the tolerance).
 void FaceMesher::ScalePlane()
 {
-  if (this->Options.AspectRatio <= 0 && this->Options.MaxEdgeLength <= 0)
-  {
-    return;
-  }
   double ss = 0, st = 0;
   long n = 0;
   for (const FaceLoop& loop : this->Loops)
