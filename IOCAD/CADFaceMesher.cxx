@@ -453,31 +453,24 @@ bool FlatBoundaryCorner(
 }
 
 /// A point splitting triangle f where its error is largest (parameter X), not next to a vertex
-/// or a boundary segment (a fifth of the triangle's smallest altitude in the triangulation's
-/// plane), with the fallbacks of Steiner. The altitude, not the shortest edge: a thin triangle on
-/// a boundary segment (a long span next to a node whose derivatives were turned into a shared
-/// tangent plane, where the error lies) has no point a fifth of its shortest edge away from the
-/// segment, and would never be split (SOT-23's lead: 1.04 times the tolerance, "too small").
+/// (a fifth of the shortest edge in the triangulation's plane), with the fallbacks of Steiner.
 Steiner RefinementPoint(const CDT& cdt, const CDT::Face_handle f, const ctk::Vec2& X,
   const TriangulationPlane& plane)
 {
-  double longestEdge = 0, longest = 0;
+  double shortest = std::numeric_limits<double>::infinity(), longest = 0;
   Point mid;
   for (int i = 0; i < 3; ++i)
   {
     const Point &a = f->vertex(CDT::ccw(i))->point(), &b = f->vertex(CDT::cw(i))->point();
     const double len = std::sqrt(CGAL::squared_distance(a, b));
-    longestEdge = std::max(longestEdge, len);
+    shortest = std::min(shortest, len);
     if (len > longest && !cdt.is_constrained(CDT::Edge(f, i)))
     {
       longest = len;
       mid = CGAL::midpoint(a, b);
     }
   }
-  const double altitude = 2 *
-    std::abs(CGAL::area(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point())) /
-    longestEdge;
-  Steiner q{ Point(plane.Scale[0] * X.x(), plane.Scale[1] * X.y()), 0.2 * altitude, false, {} };
+  Steiner q{ Point(plane.Scale[0] * X.x(), plane.Scale[1] * X.y()), 0.2 * shortest, false, {} };
   q.Fallbacks.push_back(
     CGAL::centroid(f->vertex(0)->point(), f->vertex(1)->point(), f->vertex(2)->point()));
   if (longest > 0)
@@ -624,14 +617,23 @@ private:
   bool Unrefinable = false; // a triangle or edge over the tolerance is too small to split
 };
 
-/// The triangulation works in a plane scaled by the mean lengths of F_s and F_t over the
-/// boundary nodes (point (ks s, kt t)), so that shapes there are close to the 3D ones (a
-/// cylinder's (angle, height) plane becomes isometric): Delaunay refinement in it can meet a 3D
-/// bound, and the distances that keep refinement points off vertices and boundary segments
-/// (CanInsert) mean the same along s and t. In the raw parameter plane of a face whose F_t is
-/// 500 times F_s (KiCad's L_Axial_L16.0mm_D6.3mm Fastron VHBCC: the end face, an arc of radius
-/// 327 about the axis) every point near its inner circle was within a fifth of an edge of the
-/// circle, and no triangle there could be split (10 times the tolerance).
+/// Above this ratio of the mean |F_s| and |F_t| the raw parameter plane is not used.
+constexpr double MaxRawPlaneAnisotropy = 20;
+
+/// With geometric bounds (aspect, edge length), or where the surface's metric is far from
+/// isotropic (|F_s| and |F_t| more than MaxRawPlaneAnisotropy apart), the triangulation works in
+/// a plane scaled by the mean lengths of F_s and F_t over the boundary nodes (point (ks s,
+/// kt t)), so that shapes there are close to the 3D ones (a cylinder's (angle, height) plane
+/// becomes isometric): Delaunay refinement in it can meet a 3D bound, and the distances that
+/// keep refinement points off vertices and segments (CanInsert) mean the same along s and t.
+/// KiCad's L_Axial_L16.0mm_D6.3mm Fastron VHBCC: its end faces (an arc of radius 327 about the
+/// axis) have F_t 270 times F_s; in the raw plane no point near their inner rim, whose nodes
+/// have the shared tangent planes of a 5-degree tangent interface, was a fifth of an edge away
+/// from it, and the triangles there were never split (10 times the tolerance, normals folded by
+/// 88 degrees). Not
+/// everywhere: the G1 of a tangent interface depends on the boundary triangles' shapes in the
+/// parameter plane, which the raw plane keeps (C_Trimmer_Murata_TZB4-B, faces 5 to 8 times
+/// anisotropic: 0.034 degrees off G1 in the raw plane, 2.25 scaled).
 void FaceMesher::ScalePlane()
 {
   double ss = 0, st = 0;
@@ -647,7 +649,13 @@ void FaceMesher::ScalePlane()
       ++n;
     }
   }
-  if (n > 0 && ss > 0 && st > 0 && std::isfinite(ss) && std::isfinite(st))
+  if (n == 0 || !(ss > 0) || !(st > 0) || !std::isfinite(ss) || !std::isfinite(st))
+  {
+    return;
+  }
+  const double anisotropy = std::sqrt(std::max(ss, st) / std::min(ss, st));
+  if (this->Options.AspectRatio > 0 || this->Options.MaxEdgeLength > 0 ||
+    anisotropy > MaxRawPlaneAnisotropy)
   {
     this->Plane.Scale[0] = std::sqrt(ss / n);
     this->Plane.Scale[1] = std::sqrt(st / n);
