@@ -607,14 +607,18 @@ class FaceMesher
 {
 public:
   FaceMesher(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nodePoints,
-    const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh)
+    const SurfaceFunction& surface, const FaceMeshOptions& options, FaceMesh& mesh,
+    bool anisotropicScaled = false)
     : Loops(loops)
     , NodePoints(nodePoints)
     , Surface(surface)
     , Options(options)
     , Mesh(mesh)
+    , AnisotropicScaled(anisotropicScaled)
   {
   }
+  /// Whether the surface's metric is far from isotropic (ScalePlane), after Triangulate.
+  bool Anisotropic = false;
   bool Triangulate();
   bool Refine();
   bool CheckConstruction();
@@ -634,6 +638,7 @@ private:
   const SurfaceFunction& Surface;
   const FaceMeshOptions& Options;
   FaceMesh& Mesh;
+  const bool AnisotropicScaled; // scale the plane where Anisotropic
   CDT Triangulation;
   TriangulationPlane Plane;
   SegmentMap Segments;
@@ -646,16 +651,26 @@ private:
   bool Unrefinable = false; // a triangle or edge over the tolerance is too small to split
 };
 
-/// With geometric bounds (aspect, edge length) the triangulation works in a plane scaled by the
-/// mean lengths of F_s and F_t over the boundary nodes (point (ks s, kt t)), so that shapes there
-/// are close to the 3D ones (a cylinder's (angle, height) plane becomes isometric) and Delaunay
-/// refinement in it can meet a 3D bound.
+/// Above this ratio of the mean |F_s| and |F_t| a face that the raw parameter plane leaves
+/// over the tolerance is meshed again in the scaled plane.
+constexpr double MaxRawPlaneAnisotropy = 20;
+
+/// With geometric bounds (aspect, edge length), or AnisotropicScaled where the surface's metric
+/// is far from isotropic (|F_s| and |F_t| more than MaxRawPlaneAnisotropy apart), the
+/// triangulation works in a plane scaled by the mean lengths of F_s and F_t over the boundary
+/// nodes (point (ks s, kt t)), so that shapes there are close to the 3D ones (a cylinder's
+/// (angle, height) plane becomes isometric): Delaunay refinement in it can meet a 3D bound, and
+/// the distances that keep refinement points off vertices and segments (CanInsert) mean the
+/// same along s and t. KiCad's L_Axial_L16.0mm_D6.3mm Fastron VHBCC: its end faces (an arc of
+/// radius 327 about the axis) have F_t 270 times F_s; in the raw plane no point near their
+/// inner rim, whose nodes have the shared tangent planes of a 5-degree tangent interface, was a
+/// fifth of an edge away from it, and the triangles there were never split (10 times the
+/// tolerance, normals folded by 88 degrees). Not by default: the G1 of a tangent interface
+/// depends on the boundary triangles' shapes in the parameter plane, which the raw plane keeps
+/// (C_Trimmer_Murata_TZB4-B: 0.034 degrees off G1 in the raw plane, 2.25 scaled), and thin
+/// faces of TQFP-44 (re-projected pcurves, over 20 times anisotropic) converge only raw.
 void FaceMesher::ScalePlane()
 {
-  if (this->Options.AspectRatio <= 0 && this->Options.MaxEdgeLength <= 0)
-  {
-    return;
-  }
   double ss = 0, st = 0;
   long n = 0;
   for (const FaceLoop& loop : this->Loops)
@@ -669,7 +684,13 @@ void FaceMesher::ScalePlane()
       ++n;
     }
   }
-  if (n > 0 && ss > 0 && st > 0 && std::isfinite(ss) && std::isfinite(st))
+  if (n == 0 || !(ss > 0) || !(st > 0) || !std::isfinite(ss) || !std::isfinite(st))
+  {
+    return;
+  }
+  this->Anisotropic = std::sqrt(std::max(ss, st) / std::min(ss, st)) > MaxRawPlaneAnisotropy;
+  if (this->Options.AspectRatio > 0 || this->Options.MaxEdgeLength > 0 ||
+    (this->Anisotropic && this->AnisotropicScaled))
   {
     this->Plane.Scale[0] = std::sqrt(ss / n);
     this->Plane.Scale[1] = std::sqrt(st / n);
@@ -1110,6 +1131,22 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
     return false;
   }
   mesher.Output();
+  if (mesh.Converged || !mesher.Anisotropic)
+  {
+    return true;
+  }
+  // Left over the tolerances in the raw plane of a far from isotropic surface: the scaled
+  // plane's mesh where it does better (ScalePlane).
+  FaceMesh scaled;
+  FaceMesher again(loops, nodePoints, surface, options, scaled, true);
+  if (again.Triangulate() && again.Refine() && again.CheckConstruction())
+  {
+    again.Output();
+    if (scaled.Converged || scaled.MaxEstimatedError < mesh.MaxEstimatedError)
+    {
+      mesh = std::move(scaled);
+    }
+  }
   return true;
 }
 

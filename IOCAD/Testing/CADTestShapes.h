@@ -11,6 +11,7 @@
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
 #include <BRepTools.hxx>
 #include <BRep_Builder.hxx>
 #include <TopExp_Explorer.hxx>
@@ -410,6 +411,30 @@ inline TopoDS_Shape CutRoundedCylinder(double rim, const gp_Pnt& point, const gp
   const TopoDS_Shape beyond =
     BRepPrimAPI_MakeBox(gp_Ax2(corner, normal, frame.XDirection()), 5, 5, 5).Shape();
   return BRepAlgoAPI_Cut(fillet.Shape(), beyond).Shape();
+}
+
+/// A tube about the x axis like the body of KiCad's axial inductors (Fastron VHBCC): bore 0.3,
+/// outer cylinder 3.15 from x = -16 to about -0.24, and at x = 0 a flat ring out to radius 0.6
+/// whose rim the end face, the revolution of an arc of radius 327 (the face's F_t is 327, its
+/// F_s the distance to the axis: 0.6 to 3.15), leaves at `degrees` to the ring: a tangent
+/// interface within the default G1 threshold but not an exact one.
+inline TopoDS_Shape TubeWithDomedEnd(double degrees)
+{
+  const double a = degrees * M_PI / 180, radius = 327, sweep = 0.0078;
+  // In the (x, y) plane, y the distance to the axis: the arc leaves A along (-sin a, cos a).
+  const gp_Pnt A(0, 0.6, 0);
+  const gp_Pnt C(-radius * std::cos(a), 0.6 - radius * std::sin(a), 0);
+  const double start = std::atan2(A.Y() - C.Y(), A.X() - C.X());
+  const gp_Pnt B(C.X() + radius * std::cos(start + sweep), C.Y() + radius * std::sin(start + sweep), 0);
+  const gp_Pnt outer(-16, B.Y(), 0), innerEnd(-16, 0.3, 0), inner(0, 0.3, 0);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(BRepBuilderAPI_MakeEdge(inner, A).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(GC_MakeArcOfCircle(A, gp_Vec(-std::sin(a), std::cos(a), 0), B).Value()).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(B, outer).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(outer, innerEnd).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(innerEnd, inner).Edge());
+  const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+  return BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp::Origin(), gp::DX()), 2 * M_PI).Shape();
 }
 } // namespace ctsplines_test
 

@@ -1430,6 +1430,34 @@ TEST(CADConversion, FlatBoundaryCornersAreSplitOffTheBoundary)
   EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
 }
 
+/// A tube whose domed end face meets its flat ring at 5 degrees (KiCad's Fastron VHBCC axial
+/// inductors): a tangent interface, so the ring's rim gets shared tangent planes 2.5 degrees
+/// off the end face's. That face's F_t is 327 and its F_s 0.6 to 3.15: in its raw parameter
+/// plane no refinement point near the rim was a fifth of an edge away from it, and the face
+/// stopped refining at 10 times the tolerance (normals off by 88 degrees). In the scaled plane
+/// it converges: within the tolerance on a dense lattice, and G1 at the rim.
+TEST(CADConversion, AnisotropicFaceAtAnAlmostTangentRimIsRefined)
+{
+  const TopoDS_Shape tube = ctsplines_test::TubeWithDomedEnd(5);
+  ASSERT_FALSE(tube.IsNull());
+  Conversion c;
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  c.Stitcher->SetDeviationLevel(12);
+  c.Run(TempStep("tube_domed_end", tube), 1e-4);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("tube with a domed end: %g macro-triangles, max deviation %.3g, normals max %.3g "
+              "degrees, G1 over %g tangent macro-edges max %.3g degrees\n",
+    Field(fd, "NumberOfMacroTriangles"), Field(fd, "MaxDeviation"),
+    Field(fd, "MaxNormalDeviation"), Field(fd, "NumberOfTangentInterfaceEdges"),
+    Field(fd, "MaxG1AngleTangent"));
+  EXPECT_EQ(warnings.Text.find("stopped refining"), std::string::npos) << warnings.Text;
+  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  EXPECT_LE(Field(fd, "MaxG1AngleTangent"), 0.1);
+  EXPECT_LT(Field(fd, "MaxNormalDeviation"), 10.0);
+}
+
 /// A face whose inner loop touches the outer one, at a vertex or along two coincident edges
 /// shorter than the tolerance (KiCad's ST_HLGA-6, LED_D3.0mm_Horizontal): the vertex's pcurve
 /// ends differ by round-off and the tiny edges bound a region of no width, which used to give
