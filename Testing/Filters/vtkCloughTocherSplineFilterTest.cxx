@@ -1175,9 +1175,10 @@ TEST(vtkCloughTocherSplineFilter, LocalityOutputOrderNamesInputIdsInErrors)
     auto pipelineCapture = ErrorCapture::Attach(f->GetExecutive());
     f->Update();
     EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 0);
-    messages[order] = capture->Message;
+    // The text from the kernel's message on (VTK's prefix names the object's address).
+    const size_t at = capture->Message.find("degenerate parameter triangle: cell ");
+    EXPECT_NE(at, std::string::npos) << capture->Message;
+    messages[order] = capture->Message.substr(std::min(at, capture->Message.size()));
   }
-  EXPECT_NE(messages[0].find("degenerate parameter triangle: cell "), std::string::npos)
-    << messages[0];
   EXPECT_EQ(messages[1], messages[0]);
 }
