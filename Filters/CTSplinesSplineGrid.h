@@ -16,10 +16,13 @@ namespace ctsplines
 /// VTK_BEZIER_TRIANGLE cells per triangle (3 t + k: micro-triangle k of triangle t) with cell
 /// data MacroTriangleId and MicroTriangleId. With keptTriangles (a distributed piece without its
 /// ghost triangles), only those triangles' cells (3 i + k for the i-th) and the control points
-/// they use, in their order, are written; MacroTriangleId keeps the input's triangle ids.
+/// they use, in their order, are written; MacroTriangleId keeps in's triangle ids. With
+/// inputTriangles (in renumbered, ctk::LocalityRenumbering::Triangles), MacroTriangleId is
+/// inputTriangles[t] for in's triangle t: the caller's input numbering.
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
-  const std::vector<ctk::Id>* keptTriangles = nullptr);
+  const std::vector<ctk::Id>* keptTriangles = nullptr,
+  const std::vector<ctk::Id>* inputTriangles = nullptr);
 } // namespace ctsplines
 
 #endif

@@ -453,7 +453,7 @@ namespace ctsplines
 // triangle with MacroTriangleId and MicroTriangleId. Consumes the spline's points.
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
-  const std::vector<ctk::Id>* keptTriangles)
+  const std::vector<ctk::Id>* keptTriangles, const std::vector<ctk::Id>* inputTriangles)
 {
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
@@ -498,7 +498,7 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
         }
         off[c] = perCell * c;
         typeOf[c] = VTK_BEZIER_TRIANGLE;
-        macroOf[c] = t;
+        macroOf[c] = inputTriangles ? (*inputTriangles)[t] : t;
         microOf[c] = static_cast<signed char>(k);
       }
     }
@@ -526,9 +526,64 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
 
 namespace
 {
-// Distributed runs: the triangles that are not ghosts (duplicates of another piece's), or
+// 2. The topology, the estimated derivatives (estimation: NoEstimation or the method; in the
+// input's numbering, so that their bits do not depend on the order) and the kernel's spline,
+// built in the locality order when renumber is set and the mesh large enough (in is then left
+// renumbered by order). An error message, or empty.
+std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options, int estimation,
+  bool renumber, ctk::LocalityRenumbering& order, ctk::MeshTopology& topology,
+  ctk::CloughTocherSpline& spline, std::string& warning)
+{
+  order = ctk::LocalityRenumbering();
+  auto buildTopology = [&]() -> std::string {
+    const ctk::TopologyStatus topo = ctk::BuildMeshTopology(
+      in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology);
+    return topo.Ok ? std::string() : "invalid mesh: " + topo.Message;
+  };
+  std::string error;
+  if (estimation != vtkCloughTocherSplineFilter::NoEstimation)
+  {
+    if (!(error = buildTopology()).empty())
+    {
+      return error;
+    }
+    in.Fu.assign(in.F.size(), 0.0);
+    in.Fv.assign(in.F.size(), 0.0);
+    const ctk::BuildStatus est = ctk::EstimateDerivatives(in.View(), topology,
+      static_cast<ctk::DerivativeEstimation>(estimation), in.Fu.data(), in.Fv.data(),
+      ctsplines::SMPFor);
+    if (!est.Ok)
+    {
+      return est.Message;
+    }
+  }
+  if (renumber)
+  {
+    order = ctk::MakeLocalityRenumbering(
+      in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), in.UV.data());
+    in.Renumber(order);
+  }
+  if ((estimation == vtkCloughTocherSplineFilter::NoEstimation || !order.IsIdentity()) &&
+    !(error = buildTopology()).empty())
+  {
+    return error;
+  }
+  if (!order.IsIdentity())
+  {
+    // Each edge's triangles in the input's order, as the constructions read them: same bits.
+    ctk::OrderEdgeTrianglesByRank(order.Triangles.data(), topology);
+  }
+  const ctk::BuildStatus built =
+    ctk::BuildCloughTocher(in.View(), topology, options, spline, ctsplines::SMPFor);
+  warning = built.Ok ? built.Message : std::string();
+  return built.Ok ? std::string() : built.Message;
+}
+
+// Distributed runs: the triangles that are not ghosts (duplicates of another piece's), in the
+// kernel's numbering (input triangle order[t] for kernel triangle t; empty: the same), or
 // nothing to drop.
-std::vector<ctk::Id> OwnedTriangles(vtkUnsignedCharArray* ghosts, bool& anyGhost)
+std::vector<ctk::Id> OwnedTriangles(
+  vtkUnsignedCharArray* ghosts, const std::vector<ctk::Id>& order, bool& anyGhost)
 {
   std::vector<ctk::Id> owned;
   anyGhost = false;
@@ -541,7 +596,7 @@ std::vector<ctk::Id> OwnedTriangles(vtkUnsignedCharArray* ghosts, bool& anyGhost
   owned.reserve(n);
   for (vtkIdType t = 0; t < n; ++t)
   {
-    if (!(flag[t] & vtkDataSetAttributes::DUPLICATECELL))
+    if (!(flag[order.empty() ? t : order[t]] & vtkDataSetAttributes::DUPLICATECELL))
     {
       owned.push_back(t);
     }
@@ -604,47 +659,32 @@ int vtkCloughTocherSplineFilter::RequestData(
     vtkErrorMacro(<< error);
     return 0;
   }
-  ctk::MeshTopology topology;
-  const ctk::TopologyStatus topo =
-    ctk::BuildMeshTopology(in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology);
-  if (!topo.Ok)
-  {
-    vtkErrorMacro(<< "invalid mesh: " << topo.Message);
-    return 0;
-  }
+  // 2. Topology, derivatives and the kernel (which validates the values: finite, no zero-area or
+  // folded triangle), in the locality order unless the input's is asked for.
   const bool estimated = EstimatesDerivatives(input->GetPointData(), this);
-  if (estimated)
-  {
-    in.Fu.assign(in.F.size(), 0.0);
-    in.Fv.assign(in.F.size(), 0.0);
-    const ctk::BuildStatus est = ctk::EstimateDerivatives(in.View(), topology,
-      static_cast<ctk::DerivativeEstimation>(this->DerivativeEstimation), in.Fu.data(), in.Fv.data(),
-      ctsplines::SMPFor);
-    if (!est.Ok)
-    {
-      vtkErrorMacro(<< est.Message);
-      return 0;
-    }
-  }
-  this->UpdateProgress(0.2);
-  if (this->GetAbortExecute())
-  {
-    return 1;
-  }
-
-  // 2. The kernel (which validates the values: finite, no zero-area or folded triangle).
-  const ctk::SplineData data = in.View();
+  const int estimation = estimated ? this->DerivativeEstimation : NoEstimation;
+  ctk::LocalityRenumbering order;
+  ctk::MeshTopology topology;
   ctk::CloughTocherSpline spline;
-  const ctk::BuildStatus built = ctk::BuildCloughTocher(data, topology, options, spline, ctsplines::SMPFor);
-  if (!built.Ok)
+  std::string warning;
+  const bool renumber = this->OutputOrder == LocalityOrder && !this->ComputeBezierExtraction;
+  error = BuildSpline(in, options, estimation, renumber, order, topology, spline, warning);
+  if (!error.empty() && !order.IsIdentity())
   {
-    vtkErrorMacro(<< built.Message);
+    // Messages name triangles and points: built again in the input's numbering for them.
+    in.Renumber(order, true);
+    error = BuildSpline(in, options, estimation, false, order, topology, spline, warning);
+  }
+  if (!error.empty())
+  {
+    vtkErrorMacro(<< error);
     return 0;
   }
-  if (!built.Message.empty())
+  if (!warning.empty())
   {
-    vtkWarningMacro(<< built.Message); // e.g. the quartic fairing stopped early
+    vtkWarningMacro(<< warning); // e.g. the quartic fairing stopped early
   }
+  const ctk::SplineData data = in.View();
   this->UpdateProgress(0.6);
   if (this->GetAbortExecute())
   {
@@ -653,10 +693,10 @@ int vtkCloughTocherSplineFilter::RequestData(
 
   // 3. Fill the output.
   bool anyGhost = false;
-  const std::vector<ctk::Id> owned = OwnedTriangles(ghosts, anyGhost);
+  const std::vector<ctk::Id> owned = OwnedTriangles(ghosts, order.Triangles, anyGhost);
   ctsplines::FillSplineGrid(spline, topology, in,
     this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output,
-    anyGhost ? &owned : nullptr);
+    anyGhost ? &owned : nullptr, order.IsIdentity() ? nullptr : &order.Triangles);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
@@ -697,6 +737,7 @@ void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ComputeBezierExtraction: " << this->ComputeBezierExtraction << "\n";
   os << indent << "DerivativeEstimation: " << GetDerivativeEstimationName(this->DerivativeEstimation)
      << "\n";
+  os << indent << "OutputOrder: " << (this->OutputOrder == InputOrder ? "Input" : "Locality") << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
   os << indent << "DuArrayName: " << this->DuArrayName << "\n";
   os << indent << "DvArrayName: " << this->DvArrayName << "\n";

@@ -27,6 +27,15 @@
  * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
  * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.
  *
+ * Output order (OutputOrder): by default, a mesh of at least 2^15 triangles is built and output
+ * in a locality order, the Morton order of its triangles' centroids in (u, v): the cells of
+ * triangle t are not cells 3t..3t+2 then, and the first control points (the vertices') are
+ * numbered by first use in that order. `MacroTriangleId` gives every cell's input triangle, and
+ * the values are those of the input's order, bit for bit. On meshes numbered without locality
+ * (a Delaunay triangulation as qhull or CGAL number it) this makes the construction 3-4x faster
+ * (issue #12). InputOrder keeps the input's numbering (cells 3t + k, control point v = input point
+ * v); the Bézier extraction, whose degrees of freedom are numbered by input point, implies it.
+ *
  * Distributed runs: the filter asks upstream for GetRequiredGhostLevels() ghost levels, builds the
  * spline on the piece with its ghost triangles (cell data vtkGhostType, duplicate cells) and
  * outputs the micro-triangles of the piece's own triangles only, so that the pieces together
@@ -125,6 +134,21 @@ public:
   /// Perpendicular or Midpoint boundary the boundary error stalls it and spreads inwards.
   vtkSetClampMacro(Iterations, int, 0, VTK_INT_MAX);
   vtkGetMacro(Iterations, int);
+  ///@}
+
+  /// Numbering of the output's cells and control points (see the class description).
+  enum OutputOrderType
+  {
+    InputOrder = 0,   // cells 3t..3t+2 for input triangle t, control point v for input point v
+    LocalityOrder = 1 // meshes of 2^15 triangles or more: the Morton order of the triangles
+  };
+
+  ///@{
+  /// Numbering of the output (OutputOrderType). Default LocalityOrder.
+  vtkSetClampMacro(OutputOrder, int, InputOrder, LocalityOrder);
+  vtkGetMacro(OutputOrder, int);
+  void SetOutputOrderToInput() { this->SetOutputOrder(InputOrder); }
+  void SetOutputOrderToLocality() { this->SetOutputOrder(LocalityOrder); }
   ///@}
 
   /// How dFdu and dFdv are obtained when the input lacks them (values match
@@ -236,6 +260,7 @@ protected:
   int Iterations = 0;
   bool ComputeBezierExtraction = false;
   int DerivativeEstimation = NoEstimation;
+  int OutputOrder = LocalityOrder;
   std::string UVArrayName = "UV";
   std::string DuArrayName = "dFdu";
   std::string DvArrayName = "dFdv";

@@ -70,7 +70,8 @@ struct SplineOptions
   /// Visit the triangles in a locality order (LocalityOrder.h) on large meshes; the result is
   /// the same either way, bit for bit. Off by default: on CGAL-numbered random Delaunay meshes
   /// (1e6 triangles) it measured 1.5x slower than the input's order, the triangle-indexed arrays
-  /// being then reached at random; a renumbered working copy is the way (issue #12).
+  /// being then reached at random. vtkCloughTocherSplineFilter renumbers the mesh instead
+  /// (MakeLocalityRenumbering, SplineInput::Renumber, OrderEdgeTrianglesByRank; issue #12).
   bool LocalityOrder = false;
 };
 

@@ -88,4 +88,43 @@ std::vector<Id> TriangleLocalityOrder(
     [](std::uint64_t v) { return static_cast<Id>(v & 0xFFFFFFFFu); });
   return order;
 }
+
+LocalityRenumbering MakeLocalityRenumbering(
+  Id numVertices, Id numTriangles, const Id* triangles, const double* uv)
+{
+  LocalityRenumbering r;
+  // Ids out of range are left to the topology's validation, in the input's order.
+  if (!std::all_of(triangles, triangles + 3 * numTriangles,
+        [&](Id v) { return v >= 0 && v < numVertices; }))
+  {
+    return r;
+  }
+  r.Triangles = TriangleLocalityOrder(numVertices, numTriangles, triangles, uv);
+  if (r.Triangles.empty())
+  {
+    return r;
+  }
+  std::vector<char> used(static_cast<std::size_t>(numVertices), 0);
+  r.Vertices.reserve(static_cast<std::size_t>(numVertices));
+  for (const Id t : r.Triangles)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      const Id v = triangles[3 * t + l];
+      if (!used[v])
+      {
+        used[v] = 1;
+        r.Vertices.push_back(v);
+      }
+    }
+  }
+  for (Id v = 0; v < numVertices; ++v)
+  {
+    if (!used[v])
+    {
+      r.Vertices.push_back(v);
+    }
+  }
+  return r;
+}
 } // namespace ctk

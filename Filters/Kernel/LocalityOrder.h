@@ -9,6 +9,8 @@
 
 #include "MeshTopology.h"
 
+#include <algorithm>
+#include <cstddef>
 #include <vector>
 
 namespace ctk
@@ -21,6 +23,38 @@ constexpr Id MinTrianglesForLocalityOrder = Id(1) << 15;
 /// MinTrianglesForLocalityOrder triangles. triangles: #T by 3 vertex ids, uv: #V by 2.
 std::vector<Id> TriangleLocalityOrder(
   Id numVertices, Id numTriangles, const Id* triangles, const double* uv);
+
+/// A renumbering of a mesh into its locality order (issue #12), for building and writing a spline
+/// in that order: renumbered triangle k is input triangle Triangles[k] (TriangleLocalityOrder),
+/// renumbered vertex j is input vertex Vertices[j], by first use in that triangle order
+/// (vertices no triangle uses follow, in the input's order). Both empty: the input's order.
+struct LocalityRenumbering
+{
+  std::vector<Id> Triangles, Vertices;
+  bool IsIdentity() const { return this->Triangles.empty(); }
+};
+
+/// The locality renumbering of a mesh (empty below MinTrianglesForLocalityOrder triangles).
+LocalityRenumbering MakeLocalityRenumbering(
+  Id numVertices, Id numTriangles, const Id* triangles, const double* uv);
+
+/// Rows of `width` values of v (renumbered row k = input row from[k]) put in the renumbered
+/// order, or back in the input's order (back = true).
+template <typename T>
+void PermuteRows(std::vector<T>& v, std::size_t width, const std::vector<Id>& from, bool back)
+{
+  if (v.empty() || from.empty())
+  {
+    return;
+  }
+  std::vector<T> out(v.size());
+  for (std::size_t k = 0; k < from.size(); ++k)
+  {
+    const std::size_t i = static_cast<std::size_t>(from[k]);
+    std::copy_n(&v[width * (back ? k : i)], width, &out[width * (back ? i : k)]);
+  }
+  v.swap(out);
+}
 
 /// Runs body(t) for every triangle t, in the given order (empty: 0 .. n-1), chunked by
 /// parallelFor over the order's positions.

@@ -131,4 +131,16 @@ TopologyStatus BuildMeshTopology(
   return status;
 }
 
+void OrderEdgeTrianglesByRank(const Id* rank, MeshTopology& topology)
+{
+  for (size_t e = 0; e < topology.EdgeTriangles.size(); ++e)
+  {
+    std::array<Id, 2>& t = topology.EdgeTriangles[e];
+    if (t[1] >= 0 && rank[t[1]] < rank[t[0]])
+    {
+      std::swap(t[0], t[1]);
+      std::swap(topology.EdgeLocalIndex[e][0], topology.EdgeLocalIndex[e][1]);
+    }
+  }
+}
 } // namespace ctk

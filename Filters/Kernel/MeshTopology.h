@@ -51,6 +51,11 @@ struct TopologyStatus
 TopologyStatus BuildMeshTopology(
   Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology);
 
+/// Orders the two triangles of every interior edge by rank[t] (for a renumbered mesh: the input's
+/// triangle ids), as BuildMeshTopology orders them by id: the constructions that read an edge's
+/// triangles in that order then give the renumbered mesh the input's bits.
+void OrderEdgeTrianglesByRank(const Id* rank, MeshTopology& topology);
+
 } // namespace ctk
 
 #endif

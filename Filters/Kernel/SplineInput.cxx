@@ -68,4 +68,35 @@ BuildStatus SplineInput::Validate(const MeshTopology& topology) const
   return ValidateSplineData(this->View(), topology);
 }
 
+void SplineInput::Renumber(const LocalityRenumbering& r, bool back)
+{
+  if (r.IsIdentity())
+  {
+    return;
+  }
+  // Vertex ids in the triangles: to the new numbering (newId) or back (r.Vertices).
+  std::vector<Id> newId;
+  if (!back)
+  {
+    newId.resize(r.Vertices.size());
+    for (std::size_t j = 0; j < r.Vertices.size(); ++j)
+    {
+      newId[static_cast<std::size_t>(r.Vertices[j])] = static_cast<Id>(j);
+    }
+  }
+  const std::vector<Id>& map = back ? r.Vertices : newId;
+  for (Id& v : this->Triangles)
+  {
+    v = map[static_cast<std::size_t>(v)];
+  }
+  PermuteRows(this->Triangles, 3, r.Triangles, back);
+  PermuteRows(this->UV, 2, r.Vertices, back);
+  for (std::vector<double>* a : { &this->F, &this->Fu, &this->Fv })
+  {
+    PermuteRows(*a, 3, r.Vertices, back);
+  }
+  PermuteRows(this->EdgeGradients, 18, r.Triangles, back);
+  PermuteRows(this->BoundaryCurvePoints, 18, r.Triangles, back);
+  PermuteRows(this->SplitTau, 1, r.Triangles, back);
+}
 } // namespace ctk

@@ -5,6 +5,7 @@
 #define CTSplines_Kernel_SplineInput_h
 
 #include "CubicCloughTocher.h"
+#include "LocalityOrder.h"
 
 #include <vector>
 
@@ -26,6 +27,9 @@ struct SplineInput
   /// Array sizes consistent with the vertex and triangle counts (naming the array that is not),
   /// then ValidateSplineData: finite values, no zero-area or folded triangle.
   BuildStatus Validate(const MeshTopology& topology) const;
+  /// Puts the mesh and every array in the numbering of r (triangles' vertex order kept), or back
+  /// in the input's numbering (back = true).
+  void Renumber(const LocalityRenumbering& r, bool back = false);
 };
 
 } // namespace ctk

@@ -70,6 +70,7 @@ struct Options
   int IMSteps = 10;
   std::string Mesh = "grid";   // or "delaunay"
   std::string Renumber = "none"; // or "morton"
+  int OutputOrder = vtkCloughTocherSplineFilter::LocalityOrder;
   bool Memory = false;
   std::vector<std::string> Stages{ "source", "spline", "im", "tessellate", "probe" };
   std::vector<std::string> Constructions{ "CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG",
@@ -112,7 +113,7 @@ void Usage(const char* argv0)
               "          [--probe-points 1e6] [--max-tessellated 2e7] [--im-steps 10]\n"
               "          [--stages source,spline,im,tessellate,probe]\n"
               "          [--mesh grid|delaunay] [--renumber none|morton] [--memory 0|1]\n"
-              "          [--clock wall|cpu]\n"
+              "          [--clock wall|cpu] [--output-order locality|input]\n"
               "          [--constructions CTo,CTi,Fa,FO,Ka,MGo,MGi,KaG,Kashyap,Quartic]\n"
               "  --sizes            approximate triangle counts of the grids (comma separated)\n"
               "  --repeat           runs per figure; the best is reported\n"
@@ -127,6 +128,7 @@ void Usage(const char* argv0)
               "                     Delaunay triangulation of size/2 random points, numbered as\n"
               "                     the points and the triangulation come (no locality order)\n"
               "  --renumber         morton: renumber the mesh by Morton keys first\n"
+              "  --output-order     the spline filter's OutputOrder (default locality)\n"
               "  --memory           1: peak resident memory of each spline row (one more run)\n"
               "  --clock            cpu: this process' CPU time instead of wall-clock time (with\n"
               "                     --threads 1 on a machine shared with other jobs)\n",
@@ -216,6 +218,11 @@ bool Parse(int argc, char** argv, Options& o)
     {
       o.Renumber = v;
     }
+    else if (a == "--output-order" && (std::string(v) == "input" || std::string(v) == "locality"))
+    {
+      o.OutputOrder = std::string(v) == "input" ? vtkCloughTocherSplineFilter::InputOrder
+                                                : vtkCloughTocherSplineFilter::LocalityOrder;
+    }
     else if (a == "--memory" && ParseNumber(v, x))
     {
       o.Memory = x != 0;
@@ -279,12 +286,14 @@ void Row(long long triangles, const std::string& stage, double seconds, long lon
 }
 
 /// Best time of the spline filter on `mesh`; keeps the output in `spline` when asked.
-double TimeSpline(vtkPolyData* mesh, int construction, int iterations, int repeat, bool& ok,
+double TimeSpline(vtkPolyData* mesh, int outputOrder, int construction, int iterations,
+  int repeat, bool& ok,
   vtkSmartPointer<vtkUnstructuredGrid>* spline = nullptr)
 {
   vtkNew<vtkCloughTocherSplineFilter> filter;
   filter->SetInputData(mesh);
   filter->SetConstruction(construction);
+  filter->SetOutputOrder(outputOrder);
   filter->SetSplitPointToBary();
   filter->SetBoundaryModeToMidpoint();
   filter->SetIterations(iterations);
@@ -400,10 +409,11 @@ int main(int argc, char** argv)
   }
   vtkSMPTools::Initialize(opt.Threads);
 
-  std::printf("ctsplines_benchmark: %s, %s, best of %d run(s), %s time\n",
+  std::printf("ctsplines_benchmark: %s, %s, output order %s, best of %d run(s), %s time\n",
     opt.Mesh == "grid" ? "Franke on regular grids of [0,1]^2 (vtkSampledSurfaceSource)"
                        : "sin 3x cos 2y on random Delaunay meshes of [0,1]^2 (CGAL)",
-    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered", opt.Repeat,
+    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered",
+    opt.OutputOrder == vtkCloughTocherSplineFilter::InputOrder ? "input" : "locality", opt.Repeat,
     bench::UseProcessCpuClock() ? "process CPU" : "wall-clock");
   std::printf("VTK %s, SMP backend %s, %d thread(s), CTSPLINES_NUM_THREADS %s\n",
     vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend(),
@@ -450,7 +460,7 @@ int main(int argc, char** argv)
       {
         const int c = ConstructionId(name);
         vtkSmartPointer<vtkUnstructuredGrid> out;
-        const double t = TimeSpline(mesh, c, 0, opt.Repeat, ok, &out);
+        const double t = TimeSpline(mesh, opt.OutputOrder, c, 0, opt.Repeat, ok, &out);
         allOk = allOk && ok;
         if (c == vtkCloughTocherSplineFilter::CTo)
         {
@@ -461,7 +471,8 @@ int main(int argc, char** argv)
         if (opt.Memory)
         {
           out = nullptr; // measured alone
-          const double peak = bench::PeakExtraBytes([&] { TimeSpline(mesh, c, 0, 1, ok); });
+          const double peak = bench::PeakExtraBytes(
+            [&] { TimeSpline(mesh, opt.OutputOrder, c, 0, 1, ok); });
           std::snprintf(extra, sizeof(extra), "  peak %.0f MB = %.2f x output %.0f MB", 1e-6 * peak,
             peak / outBytes, 1e-6 * outBytes);
         }
@@ -471,10 +482,11 @@ int main(int argc, char** argv)
     }
     if (opt.Has("im"))
     {
-      const double t0 = TimeSpline(mesh, vtkCloughTocherSplineFilter::CTi, 0, opt.Repeat, ok);
+      const double t0 =
+        TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, 0, opt.Repeat, ok);
       allOk = allOk && ok;
       const double tN =
-        TimeSpline(mesh, vtkCloughTocherSplineFilter::CTi, opt.IMSteps, opt.Repeat, ok);
+        TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, opt.IMSteps, opt.Repeat, ok);
       allOk = allOk && ok;
       // Differences of two noisy minima can be tiny or negative on a loaded machine.
       const double step = std::max(tN - t0, 1e-9) / opt.IMSteps;
@@ -484,7 +496,7 @@ int main(int argc, char** argv)
     vtkSmartPointer<vtkUnstructuredGrid> ctiSpline;
     if (opt.Has("tessellate") || opt.Has("probe"))
     {
-      TimeSpline(mesh, vtkCloughTocherSplineFilter::CTi, 0, 1, ok, &ctiSpline);
+      TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, 0, 1, ok, &ctiSpline);
       allOk = allOk && ok;
     }
 

@@ -254,6 +254,82 @@ TEST(CubicCloughTocher, LocalityOrderGivesTheSameBits)
   }
 }
 
+TEST(CubicCloughTocher, RenumberedMeshGivesEveryTriangleTheSameBits)
+{
+  // The filter's locality output order (issue #12): the input renumbered (triangles by Morton
+  // key, vertices by first use), built, and compared per macro-triangle with the input's order.
+  const int n = 128;
+  const SampledMesh mesh =
+    Shuffled(Sample("jittered", JitteredGrid(n, 0.15, 11u), AnalyticSurface::Franke), 5u);
+  const LocalityRenumbering r = MakeLocalityRenumbering(
+    mesh.NumberOfVertices(), mesh.NumberOfTriangles(), mesh.Triangles.data(), mesh.UV.data());
+  ASSERT_EQ(r.Triangles, TriangleLocalityOrder(mesh.NumberOfVertices(), mesh.NumberOfTriangles(),
+    mesh.Triangles.data(), mesh.UV.data()));
+  ASSERT_EQ(static_cast<Id>(r.Vertices.size()), mesh.NumberOfVertices());
+  SampledMesh renumbered = mesh;
+  renumbered.Renumber(r);
+  // Vertices by first use: the renumbered triangles meet new vertex ids in increasing order.
+  Id next = 0;
+  for (const Id v : renumbered.Triangles)
+  {
+    ASSERT_LE(v, next);
+    next = std::max(next, v + 1);
+  }
+  for (Id k = 0; k < mesh.NumberOfTriangles(); ++k)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      const Id v = renumbered.Triangles[3 * k + l];
+      ASSERT_EQ(r.Vertices[v], mesh.Triangles[3 * r.Triangles[k] + l]);
+      ASSERT_EQ(renumbered.UV[2 * v], mesh.UV[2 * r.Vertices[v]]);
+      ASSERT_EQ(renumbered.Fu[3 * v + 2], mesh.Fu[3 * r.Vertices[v] + 2]);
+    }
+    ASSERT_EQ(renumbered.EdgeGradients[18 * k + 17], mesh.EdgeGradients[18 * r.Triangles[k] + 17]);
+  }
+  ASSERT_TRUE(BuildMeshTopology(renumbered.NumberOfVertices(), renumbered.NumberOfTriangles(),
+    renumbered.Triangles.data(), renumbered.Topology).Ok);
+  // The edges' two triangles in the input's order: Rule A, the fairing and IM read them so.
+  OrderEdgeTrianglesByRank(r.Triangles.data(), renumbered.Topology);
+  SplineInput back = renumbered;
+  back.Renumber(r, true);
+  EXPECT_EQ(back.Triangles, mesh.Triangles);
+  EXPECT_EQ(back.UV, mesh.UV);
+  EXPECT_EQ(back.EdgeGradients, mesh.EdgeGradients);
+
+  for (int c = 0; c < NumberOfConstructions; ++c)
+  {
+    if (Info(static_cast<Construction>(c)).Degree != 3)
+    {
+      continue;
+    }
+    // One IM step or fairing round.
+    SplineOptions o{ static_cast<Construction>(c), SplitPointRule::Inc3, BoundaryMode::Midpoint, 1 };
+    const CubicSpline natural = BuildOrFail(mesh, o);
+    const CubicSpline local = BuildOrFail(renumbered, o);
+    ASSERT_EQ(natural.ControlPoints.size(), local.ControlPoints.size());
+    Id differing = 0;
+    for (Id k = 0; k < mesh.NumberOfTriangles(); ++k)
+    {
+      const Id t = r.Triangles[k];
+      for (int m = 0; m < 3; ++m)
+      {
+        const auto a = MicroTriangleNet(
+          GetMacroElementIds(natural.Layout, mesh.Topology, mesh.Triangles.data(), t), m);
+        const auto b = MicroTriangleNet(GetMacroElementIds(local.Layout, renumbered.Topology,
+                                          renumbered.Triangles.data(), k), m);
+        for (size_t i = 0; i < a.size(); ++i)
+        {
+          differing += std::memcmp(natural.ControlPoints[a[i]].data(),
+                         local.ControlPoints[b[i]].data(), sizeof(Vec3)) != 0 ||
+            std::memcmp(natural.DomainPoints[a[i]].data(), local.DomainPoints[b[i]].data(),
+              sizeof(Vec2)) != 0;
+        }
+      }
+    }
+    EXPECT_EQ(differing, 0) << ToString(o.Method);
+  }
+}
+
 TEST(CubicCloughTocher, ReportsWhatItCannotDo)
 {
   const SampledMesh mesh = Sample("grid", RegularGridMesh(2, GridDiagonal::Forward), AnalyticSurface::Plane);
