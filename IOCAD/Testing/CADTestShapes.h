@@ -143,6 +143,43 @@ inline TopoDS_Shape StallingEdgesPrism()
     gp_Vec(0, 0, 0.3)).Shape();
 }
 
+/// A plane wedge between two cubic B-spline edges from the origin to (1, +-0.2) and the segment
+/// joining those: both edges first run 0.037 past the origin (to x = -0.037, their loops
+/// crossing each other) and come back to it (three poles at the origin), as the windings of
+/// KiCad's Bourns 8100 toroids do, then part. (Not a prism: its side faces, extrusions of the
+/// curves, would hold the loops themselves.)
+inline TopoDS_Shape DoublingBackEdgesWedge()
+{
+  TColStd_Array1OfReal knots(1, 6);
+  TColStd_Array1OfInteger mults(1, 6);
+  for (int k = 1; k <= 6; ++k)
+  {
+    knots(k) = 0.2 * (k - 1);
+    mults(k) = k == 1 || k == 6 ? 4 : 1;
+  }
+  const TopoDS_Vertex origin = BRepBuilderAPI_MakeVertex(gp::Origin());
+  TopoDS_Vertex ends[2];
+  TopoDS_Edge edges[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    const double s = side == 0 ? 1 : -1;
+    TColgp_Array1OfPnt poles(1, 8);
+    poles(1) = poles(4) = poles(5) = poles(6) = gp::Origin();
+    poles(2) = gp_Pnt(-0.04, 0.01 * s, 0);
+    poles(3) = gp_Pnt(-0.04, -0.01 * s, 0);
+    poles(7) = gp_Pnt(0.5, 0.1 * s, 0);
+    poles(8) = gp_Pnt(1, 0.2 * s, 0);
+    ends[side] = BRepBuilderAPI_MakeVertex(poles(8));
+    edges[side] =
+      BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(poles, knots, mults, 3), origin, ends[side]);
+  }
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(edges[0]);
+  wire.Add(BRepBuilderAPI_MakeEdge(ends[0], ends[1]).Edge());
+  wire.Add(TopoDS::Edge(edges[1].Reversed()));
+  return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+}
+
 /// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one
 /// spherical face, longitude 0..90 deg from +x, latitude 0..72 deg (u, v in radians).
 inline TopoDS_Shape HemisphereQuarter(double radius = 10.0)
