@@ -39,6 +39,7 @@
 #include <mutex>
 #include <map>
 #include <numeric>
+#include <tuple>
 #include <typeinfo>
 
 namespace ctcad
@@ -199,6 +200,35 @@ struct EdgeSample
   double T;
   Point3 P, D, Off;
 };
+
+/// The index of the sample at which the edge's curve first comes within `tol` of its end vertex
+/// v (the last sample) when it then runs away from v by more than `tol` and comes back (on
+/// Bourns 8100 toroids, 9 tolerances past the vertex): of the samples within `tol` from there
+/// on, the nearest to v. The last index when the curve does not double back.
+std::size_t DoublingBackStart(const std::vector<EdgeSample>& samples, const Point3& v, double tol)
+{
+  const std::size_t n = samples.size();
+  std::size_t first = 0;
+  while (first + 1 < n && Distance(samples[first].P, v) > tol)
+  {
+    ++first;
+  }
+  bool leaves = false;
+  for (std::size_t k = first + 1; k + 1 < n; ++k)
+  {
+    leaves = leaves || Distance(samples[k].P, v) > tol;
+  }
+  if (!leaves)
+  {
+    return n - 1;
+  }
+  std::size_t best = first;
+  for (std::size_t k = first; k + 1 < n && Distance(samples[k].P, v) <= tol; ++k)
+  {
+    best = Distance(samples[k].P, v) < Distance(samples[best].P, v) ? k : best;
+  }
+  return best;
+}
 } // namespace
 
 struct CADModel::Impl
@@ -257,6 +287,7 @@ struct CADModel::Stages
   static bool CollectEdge(CADModel& m, int e);
   static bool CollapseTinyEdges(CADModel& m, double length);
   static void SampleEdge(CADModel& m, int e, const SamplingOptions& options);
+  static void CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples, double tol);
   static bool WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::vector<Run>& runs, std::vector<double>& spanLengths);
   static bool JoinRuns(CADModel& m, int f, std::vector<Run>& runs, std::vector<double>& spanLengths, double tol,
     FaceLoop& loop);
@@ -551,6 +582,64 @@ bool CADModel::Stages::CollapseTinyEdges(CADModel& m, double length)
   return true;
 }
 
+/// Where edge e's curve runs past an end vertex and comes back (DoublingBackStart, at either
+/// end), its samples end where it first reaches the vertex: the loops of the faces at the edge
+/// would cross themselves there (the edges of both sides of a face double back across each
+/// other), and their triangulations would not match the neighbours'. The new end sample is the
+/// vertex node, its offset from the curve (within `tol`) carried as at any vertex. A curve whose
+/// vertices are within 2 tol of each other comes back to its start by design and is kept.
+void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples, double tol)
+{
+  EdgeSampling& es = m.Internal->Edges[e];
+  const Point3 p0 = samples.front().P, p1 = samples.back().P;
+  if (es.Vertex0 == es.Vertex1 || Distance(p0, p1) <= 2 * tol || samples.size() < 3)
+  {
+    return;
+  }
+  const std::size_t end = DoublingBackStart(samples, p1, tol);
+  std::vector<EdgeSample> reversed(samples.rbegin(), samples.rend());
+  const std::size_t begin = samples.size() - 1 - DoublingBackStart(reversed, p0, tol);
+  if (begin >= end || (begin == 0 && end + 1 == samples.size()))
+  {
+    return;
+  }
+  // Reported once: RestoreG1's re-samplings cut the same part.
+  if (es.T.empty())
+  {
+    for (const auto& [from, to, v] : { std::make_tuple(std::size_t(0), begin, es.Vertex0),
+           std::make_tuple(end, samples.size() - 1, es.Vertex1) })
+    {
+      double length = 0, farthest = 0;
+      const Point3& at = v == es.Vertex0 ? p0 : p1;
+      for (std::size_t k = from; k < to; ++k)
+      {
+        length += Distance(samples[k].P, samples[k + 1].P);
+        farthest = std::max(farthest, Distance(samples[k].P, at));
+      }
+      if (to > from)
+      {
+        m.WarningMessages.push_back(EdgeLabel(m, e) + ": its curve runs " + Number(farthest) +
+          " past vertex " + std::to_string(v) + " and comes back; that part (" + Number(length) +
+          " long, parameters " + Number(samples[from].T) + " to " + Number(samples[to].T) +
+          ") is cut");
+      }
+    }
+  }
+  for (auto [k, p] : { std::make_pair(begin, p0), std::make_pair(end, p1) })
+  {
+    if (k != 0 && k + 1 != samples.size())
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        samples[k].Off[i] = p[i] - samples[k].P[i];
+      }
+      samples[k].P = p;
+    }
+  }
+  samples.erase(samples.begin() + end + 1, samples.end());
+  samples.erase(samples.begin(), samples.begin() + begin);
+}
+
 /// Pass 2 for edge e: adaptive Hermite samples of its mean curve.
 void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& options)
 {
@@ -723,6 +812,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
       samples.insert(at, makeSample(t));
     }
   }
+  CutDoublingBack(m, e, samples, tol);
   // Samples within a hundredth of the tolerance of the sample before or of the edge's end carry
   // nothing its spans cannot; where two edges run together from their vertex (curves that stall
   // there, as on Bourns 8100 toroids) they would give the face two nodes at one point, and a

@@ -184,7 +184,8 @@ public:
   const StageTimes& Times() const { return this->Time; }
   const BoundaryChanges& Changes() const { return this->Changed; }
   const std::string& Error() const { return this->ErrorMessage; }
-  /// What Read could not translate (OCCT skipped entities it failed on: faces may be missing).
+  /// What Read could not translate (OCCT skipped entities it failed on: faces may be missing),
+  /// then what Sample changed beyond the tolerance (edges cut where they double back).
   const std::vector<std::string>& Warnings() const { return this->WarningMessages; }
 
 private:

@@ -82,6 +82,14 @@
 
 namespace ctcad
 {
+
+std::string Number(double v)
+{
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 namespace
 {
 enum class Format
@@ -475,13 +483,6 @@ private:
   int Count = 0;
   std::string Items;
 };
-
-std::string Number(double v)
-{
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
 
 /// Sliver faces (thinner than `tol`: zero-area faces, strips of no width) have an empty
 /// parameter domain or one the face meshing cannot triangulate, and lie within `tol` of their

@@ -51,6 +51,9 @@ bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const Heali
 /// handler would make Ctrl-C no longer stop the program).
 void SetOCCTSignals(OSD_SignalMode mode);
 
+/// v as the warnings print it (six significant digits).
+std::string Number(double v);
+
 /// The oriented edges of wire W of face F in the order they connect, or empty if they do not
 /// (naming the first that does not in `broken`); defined in CADBRepSampling.cxx.
 std::vector<TopoDS_Edge> WireEdges(const TopoDS_Wire& W, const TopoDS_Face& F, TopoDS_Edge& broken);

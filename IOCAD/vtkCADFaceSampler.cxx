@@ -177,7 +177,13 @@ bool vtkCADFaceSampler::ReadModel()
   sampling.MaxSpanLength = this->MaxEdgeLength;
   sampling.RestoreG1 = this->RestoreG1;
   sampling.G1Threshold = this->G1Threshold;
-  if (!model->Sample(sampling))
+  const std::size_t readWarnings = model->Warnings().size();
+  const bool sampled = model->Sample(sampling);
+  for (std::size_t k = readWarnings; k < model->Warnings().size(); ++k)
+  {
+    vtkWarningMacro(<< this->FileName << ": " << model->Warnings()[k]);
+  }
+  if (!sampled)
   {
     vtkErrorMacro(<< this->FileName << ": " << model->Error());
     return false;

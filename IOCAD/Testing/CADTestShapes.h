@@ -109,6 +109,33 @@ inline TopoDS_Shape BoxWithSkewedPCurve()
   return TopoDS_Shape();
 }
 
+/// A plane wedge between two cubic B-spline edges from the first pole (a vertex shared by
+/// both), one with `poles`, the other with their mirror image in y, and the segment joining
+/// their ends.
+inline TopoDS_Face MirroredBSplineWedge(const TColgp_Array1OfPnt& poles,
+  const TColStd_Array1OfReal& knots, const TColStd_Array1OfInteger& mults)
+{
+  const TopoDS_Vertex start = BRepBuilderAPI_MakeVertex(poles(poles.Lower()));
+  TopoDS_Vertex ends[2];
+  TopoDS_Edge edges[2];
+  for (int side = 0; side < 2; ++side)
+  {
+    TColgp_Array1OfPnt mirrored(poles);
+    for (int k = mirrored.Lower(); side == 1 && k <= mirrored.Upper(); ++k)
+    {
+      mirrored(k).SetY(-mirrored(k).Y());
+    }
+    ends[side] = BRepBuilderAPI_MakeVertex(mirrored(mirrored.Upper()));
+    edges[side] =
+      BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(mirrored, knots, mults, 3), start, ends[side]);
+  }
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(edges[0]);
+  wire.Add(BRepBuilderAPI_MakeEdge(ends[0], ends[1]).Edge());
+  wire.Add(TopoDS::Edge(edges[1].Reversed()));
+  return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+}
+
 /// A prism (height 0.3) over a wedge between two cubic B-spline edges from the origin to
 /// (1, +-0.2) and the segment joining those: both edges have the poles (0, 0), (0, 0), (0, 0),
 /// (1e-6, 0) on their first knot span, so for half their parameter range they stall at the origin
@@ -122,25 +149,34 @@ inline TopoDS_Shape StallingEdgesPrism()
     knots(k) = 0.5 * (k - 1);
     mults(k) = k == 2 ? 1 : 4;
   }
-  const TopoDS_Vertex origin = BRepBuilderAPI_MakeVertex(gp::Origin());
-  TopoDS_Vertex ends[2];
-  TopoDS_Edge edges[2];
-  for (int side = 0; side < 2; ++side)
+  TColgp_Array1OfPnt poles(1, 5);
+  poles(1) = poles(2) = poles(3) = gp::Origin();
+  poles(4) = gp_Pnt(1e-6, 0, 0);
+  poles(5) = gp_Pnt(1, 0.2, 0);
+  return BRepPrimAPI_MakePrism(MirroredBSplineWedge(poles, knots, mults), gp_Vec(0, 0, 0.3)).Shape();
+}
+
+/// A plane wedge between two cubic B-spline edges from the origin to (1, +-0.2) and the segment
+/// joining those: both edges first run 0.037 past the origin (to x = -0.037, their loops
+/// crossing each other) and come back to it (three poles at the origin), as the windings of
+/// KiCad's Bourns 8100 toroids do, then part. (Not a prism: its side faces, extrusions of the
+/// curves, would hold the loops themselves.)
+inline TopoDS_Shape DoublingBackEdgesWedge()
+{
+  TColStd_Array1OfReal knots(1, 6);
+  TColStd_Array1OfInteger mults(1, 6);
+  for (int k = 1; k <= 6; ++k)
   {
-    TColgp_Array1OfPnt poles(1, 5);
-    poles(1) = poles(2) = poles(3) = gp::Origin();
-    poles(4) = gp_Pnt(1e-6, 0, 0);
-    poles(5) = gp_Pnt(1, side == 0 ? 0.2 : -0.2, 0);
-    ends[side] = BRepBuilderAPI_MakeVertex(poles(5));
-    edges[side] =
-      BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(poles, knots, mults, 3), origin, ends[side]);
+    knots(k) = 0.2 * (k - 1);
+    mults(k) = k == 1 || k == 6 ? 4 : 1;
   }
-  BRepBuilderAPI_MakeWire wire;
-  wire.Add(edges[0]);
-  wire.Add(BRepBuilderAPI_MakeEdge(ends[0], ends[1]).Edge());
-  wire.Add(TopoDS::Edge(edges[1].Reversed()));
-  return BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face(),
-    gp_Vec(0, 0, 0.3)).Shape();
+  TColgp_Array1OfPnt poles(1, 8);
+  poles(1) = poles(4) = poles(5) = poles(6) = gp::Origin();
+  poles(2) = gp_Pnt(-0.04, 0.01, 0);
+  poles(3) = gp_Pnt(-0.04, -0.01, 0);
+  poles(7) = gp_Pnt(0.5, 0.1, 0);
+  poles(8) = gp_Pnt(1, 0.2, 0);
+  return MirroredBSplineWedge(poles, knots, mults);
 }
 
 /// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one

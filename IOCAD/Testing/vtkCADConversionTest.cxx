@@ -794,6 +794,26 @@ TEST(CADConversion, EdgesRunningTogetherFromAVertex)
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
 }
 
+/// Two edges that run past their common vertex and come back (DoublingBackEdgesWedge): the
+/// sampling ends them where they first reach it, with a warning, instead of keeping the loops
+/// that cross each other in the face (the conversion failed with an error, no face out).
+TEST(CADConversion, EdgesDoublingBackPastAVertex)
+{
+  Conversion c;
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  MessageCapture warnings(c.Sampler, vtkCommand::WarningEvent);
+  c.Run(TempStep("doubling_back", ctsplines_test::DoublingBackEdgesWedge()), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  EXPECT_NE(warnings.Text.find("its curve runs 0.0366"), std::string::npos) << warnings.Text;
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfNonManifoldEdges"), 0);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  double bounds[6];
+  c.Merged->GetBounds(bounds);
+  EXPECT_GT(bounds[0], -1e-3) << "the doubled-back parts are cut";
+}
+
 /// The aspect bound is met by circumcentres where they can go: boundary segments are never
 /// split by the face meshing, so triangles on them, and a few next to them, keep larger ratios,
 /// unless an edge length bound splits the edge spans. It used to refine
