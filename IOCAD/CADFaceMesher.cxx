@@ -66,6 +66,7 @@ void Deviation::Add(const Deviation& o)
   this->SumSquaredAngle += o.SumSquaredAngle;
   this->Count += o.Count;
   this->AngleCount += o.AngleCount;
+  this->CuspNodes += o.CuspNodes;
 }
 
 void DeviationPoints(const ctk::Vec3& splitTau, int level, const std::array<bool, 3>& skipEdge,

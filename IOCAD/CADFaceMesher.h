@@ -71,12 +71,13 @@ struct FaceMesh
 void ForEachFaceInParallel(int n, const std::function<void(int)>& body);
 
 /// Deviation of a spline from its CAD surface: distances (absolute) and the angles between the
-/// normals (degrees; not where either normal is degenerate, at poles).
+/// normals (degrees; not where either normal is degenerate, at poles, nor at the face's cusp
+/// nodes, counted in CuspNodes: see MeasureDeviation).
 struct Deviation
 {
   double MaxDistance = 0, SumSquaredDistance = 0;
   double MaxAngle = 0, SumSquaredAngle = 0;
-  long Count = 0, AngleCount = 0;
+  long Count = 0, AngleCount = 0, CuspNodes = 0;
   void Add(const Deviation& o);
 };
 

@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry> // cross products
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <map>
@@ -100,6 +101,47 @@ void CompareSides(const Side& o, const Side& side, bool tangent, InterfaceMeasur
   ++g1.Count;
 }
 
+/// The face's cusp nodes: two of its boundary macro-edges leave the node within 3 degrees of
+/// each other (their tangents T - V). There the face's boundary curves touch (an arc tangent to
+/// a line, or an inner loop touching the outer one: KiCad's Heatsink_125x35x50mm, WC1602A,
+/// Potentiometer_Bourns_3266Z), the face's corner is 0 and so is every triangle's corner there:
+/// the normal at the node, from two nearly parallel tangents of different data (the edge cubic's,
+/// the curve's, and the face's derivatives along a chord), is 180 degrees off or not as they
+/// happen to fall. Undefined like at a pole.
+std::vector<bool> CuspNodes(const FaceSpline& fs)
+{
+  const ctk::MeshTopology& topo = fs.Topology;
+  const std::vector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
+  std::vector<std::vector<ctk::Vec3>> leaving(fs.Spline.DomainPoints.size());
+  for (ctk::Id e = 0; e < static_cast<ctk::Id>(topo.Edges.size()); ++e)
+  {
+    if (!topo.IsBoundaryEdge(e))
+    {
+      continue;
+    }
+    for (const ctk::Id v : { topo.Edges[e][0], topo.Edges[e][1] })
+    {
+      const ctk::Vec3 d = cp[fs.Spline.Layout.EdgePoint(topo, e, v)] - cp[v];
+      if (d.squaredNorm() > 0)
+      {
+        leaving[v].push_back(d.normalized());
+      }
+    }
+  }
+  std::vector<bool> cusp(leaving.size(), false);
+  for (std::size_t v = 0; v < leaving.size(); ++v)
+  {
+    for (std::size_t i = 0; i < leaving[v].size() && !cusp[v]; ++i)
+    {
+      for (std::size_t j = i + 1; j < leaving[v].size() && !cusp[v]; ++j)
+      {
+        cusp[v] = leaving[v][i].dot(leaving[v][j]) >= std::cos(3 * M_PI / 180);
+      }
+    }
+  }
+  return cusp;
+}
+
 /// The deviation of face f's spline at its lattice points and `samples` pseudo-random points
 /// per macro-triangle (a stream of the face's own, so that faces can be measured in parallel).
 bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const SampledFace& in,
@@ -119,10 +161,25 @@ bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const Samp
       P[0] = std::nan("");
     }
   };
-  std::vector<ctk::Vec3> points;
+  const ctk::Id* triangles = in.Input.Triangles.data();
+  const std::vector<bool> cuspNode = CuspNodes(fs);
+  face.CuspNodes += std::count(cuspNode.begin(), cuspNode.end(), true);
+  std::vector<ctk::Vec3> points, cusps;
   for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
   {
     DeviationPoints(fs.Spline.SplitTau[t], level, { false, false, false }, points);
+    // At cusp nodes positions only (the lattice holds the vertices exactly).
+    cusps.clear();
+    for (int i = 0; i < 3; ++i)
+    {
+      const auto at = std::find_if(
+        points.begin(), points.end(), [i](const ctk::Vec3& tau) { return tau[i] == 1; });
+      if (at != points.end() && cuspNode[triangles[3 * t + i]])
+      {
+        cusps.push_back(*at);
+        points.erase(at);
+      }
+    }
     for (int r = 0; r < samples; ++r)
     {
       double a = uniform(), b = uniform();
@@ -133,8 +190,8 @@ bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const Samp
       }
       points.emplace_back(1 - a - b, a, b);
     }
-    if (!MeasureTriangle(
-          fs.Spline, fs.Topology, in.Input.Triangles.data(), t, points, surface, true, face, error))
+    if (!MeasureTriangle(fs.Spline, fs.Topology, triangles, t, points, surface, true, face, error) ||
+      !MeasureTriangle(fs.Spline, fs.Topology, triangles, t, cusps, surface, false, face, error))
     {
       error = "deviation from the CAD surfaces, face " + std::to_string(f) + ": " +
         (failure.empty() ? error : failure);

@@ -46,7 +46,10 @@ using FaceSurface = std::function<bool(
 /// every point of the `level` lattice of every micro-triangle and `samples` pseudo-random
 /// points per macro-triangle (a stream of the face's own), faces in parallel through forEach
 /// (ForEachFaceInParallel by default; the same figures whatever forEach). perFace[f] is face
-/// f's, all their sum. On failure returns false with the lowest failed face's error.
+/// f's, all their sum. At a face's cusp nodes (two of its boundary macro-edges leave within 3
+/// degrees of each other: its boundary curves touch) only the distance is measured: the normal
+/// there is undefined (Deviation::CuspNodes counts them). On failure returns false with the
+/// lowest failed face's error.
 bool MeasureDeviation(const FaceSurface& surface, int level, int samples,
   const std::vector<SampledFace>& faces, const std::vector<FaceSpline>& splines,
   std::vector<Deviation>& perFace, Deviation& all, std::string& error,

@@ -173,6 +173,7 @@ bool MeasureDeviation(vtkWatertightSplineStitcher* self,
   AddField(fd, "MaxNormalDeviation", all.MaxAngle);
   AddField(fd, "RMSNormalDeviation",
     all.AngleCount ? std::sqrt(all.SumSquaredAngle / all.AngleCount) : 0.0);
+  AddField(fd, "NumberOfCuspNodes", static_cast<double>(all.CuspNodes));
   return true;
 }
 

@@ -37,8 +37,10 @@
  * interfaces where the CAD faces meet tangentially), `StageTimes` (splines, stitch data, merge,
  * deviation in seconds) and, with a SurfaceSource, `MaxDeviation` and `RMSDeviation` (relative to
  * the diagonal) of the stitched splines from the CAD surfaces and `MaxNormalDeviation`,
- * `RMSNormalDeviation` (degrees between their normals, not at poles), measured on a dense lattice
- * of every micro-triangle (DeviationLevel), each face's own maxima in its block.
+ * `RMSNormalDeviation` (degrees between their normals, not at poles nor at the
+ * `NumberOfCuspNodes` nodes where a face's boundary curves touch and the spline's normal is
+ * undefined: ctcad::MeasureDeviation), measured on a dense lattice of every micro-triangle
+ * (DeviationLevel), each face's own maxima in its block.
  */
 #ifndef vtkWatertightSplineStitcher_h
 #define vtkWatertightSplineStitcher_h

@@ -371,6 +371,18 @@ inline TopoDS_Shape BoxWithInscribedDisk(double r, double height)
   return BRepAlgoAPI_Fuse(box, disk).Shape();
 }
 
+/// A plate (2 r x 2 r x height) with a hole of radius r / 2 through it that touches the side
+/// x = -r: the top and bottom faces' inner loop touches their outer one at (-r, 0), where the
+/// face's boundary curves (the circle and the side's line) are tangent: two cusps at one node.
+inline TopoDS_Shape PlateWithTouchingHole(double r, double height)
+{
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(gp_Pnt(-r, -r, 0), 2 * r, 2 * r, height).Shape();
+  const TopoDS_Shape hole =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(-r / 2, 0, -height), gp::DZ()), r / 2, 3 * height)
+      .Shape();
+  return BRepAlgoAPI_Cut(plate, hole).Shape();
+}
+
 /// A hemisphere (radius r, z >= 0) on its disk, the spherical part in two faces of different
 /// parametrisations that meet tangentially along the half circle y = 0: for y >= 0 a sphere
 /// about z, whose pole (0, 0, r) lies inside that edge (the face has no normal there and a

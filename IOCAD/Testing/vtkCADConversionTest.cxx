@@ -1183,6 +1183,28 @@ TEST(CADConversion, CuspCornersDoNotFold)
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
 }
 
+TEST(CADConversion, NormalUndefinedAtTouchingLoops)
+{
+  // Where the hole touches the plate's side, the top and bottom faces' corner is 0: the spline's
+  // normal at that node comes from two nearly parallel tangents (the circle's edge cubic and a
+  // chord through the face's derivatives) and was measured 180 degrees off. It is undefined
+  // there (like at a pole), counted, and the positions are still measured.
+  const TopoDS_Shape shape = ctsplines_test::PlateWithTouchingHole(1.0, 0.25);
+  ASSERT_FALSE(shape.IsNull());
+  Conversion c;
+  c.Run(TempStep("plate_touching_hole", shape), 1e-4);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("plate with a touching hole: %u faces, %g cusp nodes, normal deviation %.3g "
+              "degrees (RMS %.3g), deviation %.3g\n",
+    c.Faces->GetNumberOfBlocks(), Field(fd, "NumberOfCuspNodes"), Field(fd, "MaxNormalDeviation"),
+    Field(fd, "RMSNormalDeviation"), Field(fd, "MaxDeviation"));
+  EXPECT_GE(Field(fd, "NumberOfCuspNodes"), 2); // the top's and the bottom's
+  EXPECT_LE(Field(fd, "NumberOfCuspNodes"), 4);
+  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+}
+
 TEST(CADConversion, SphereSeamIsATangentInterface)
 {
   // The seam is an interface of the face with itself: tangent, not a feature edge, and nearly G1

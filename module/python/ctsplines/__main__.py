@@ -305,6 +305,8 @@ def _convert_cad(args):
     print(f"deviation from the CAD surfaces (relative to the diagonal): max "
           f"{r['max_deviation']:.3e}, RMS {r['rms_deviation']:.3e}; normals: max "
           f"{r['max_normal_deviation']:.3g} degrees, RMS {r['rms_normal_deviation']:.3g}"
+          + (f", undefined at {r['cusp_nodes']} cusp nodes (boundary curves touching)"
+             if r["cusp_nodes"] else "")
           + (f" (angular tolerance {options['angular_tolerance']:g})"
              if options["angular_tolerance"] else ""))
     for f, name, gap in r["gap_faces"]:

@@ -55,7 +55,8 @@ def convert(model, output, options, messages, progress):
     enumerations), g1 (RestoreG1, default True), g1_threshold (degrees), read_timeout (seconds; 0
     reads in this process), sew (default True: sew the faces on reading). Returns the summary as
     a dict: max_deviation, rms_deviation relative to the diagonal, max_normal_deviation,
-    rms_normal_deviation in degrees, gap_faces (the faces whose own edge curves lie farther from
+    rms_normal_deviation in degrees (not at poles nor at the cusp_nodes, where the face's
+    boundary curves touch and the spline's normal is undefined), gap_faces (the faces whose own edge curves lie farther from
     them than half the tolerance: (index, name, relative gap), held to twice the gap), ..."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
@@ -125,6 +126,7 @@ def convert(model, output, options, messages, progress):
         "rms_deviation": _field(merged, "RMSDeviation"),
         "max_normal_deviation": _field(merged, "MaxNormalDeviation"),
         "rms_normal_deviation": _field(merged, "RMSNormalDeviation"),
+        "cusp_nodes": int(_field(merged, "NumberOfCuspNodes")),
         "gap_faces": _gap_faces(faces, options["tolerance"]),
         "edge_gap": _field(faces, "MaxEdgeGap"),
         "sewn_edges": int(_field(faces, "NumberOfSewnEdges")),
