@@ -199,6 +199,9 @@ struct EdgeSample
 {
   double T;
   Point3 P, D, Off;
+  /// The parameter the sample's spans are measured from (their Hermite cubics' parameter
+  /// lengths): T, but at a vertex into which a stalled run was dropped, the run's last one.
+  double H;
 };
 
 /// The index of the sample at which the edge's curve first comes within `tol` of its end vertex
@@ -298,11 +301,13 @@ void AddPassingSample(std::vector<EdgeSample>& samples, const Point3& v, double 
 /// there, as on Bourns 8100 toroids) they would give the face two nodes at one point, and a
 /// parameter triangle of no area: they are dropped (not for a closed edge, which needs them to
 /// be a loop). Such a run at either end is dropped into the vertex, whose end span keeps the
-/// cubic the splits measured from the run's innermost sample (its derivative, scaled to the
-/// span's parameter length): from the curve's end, where the stalled derivative is near 0, the
-/// cubic overshoots (L19.3mm toroid, edge 438: a span 0.0025 long, its inner control point
-/// 0.016 from its end, 0.0068 off the faces). The vertex keeps its parameter: the pcurves of a
-/// face degenerate along the stall put the vertex elsewhere in its plane at the inner sample's.
+/// cubic the splits measured from the run's last sample (its derivative and parameter, H): from
+/// the curve's end, where the stalled derivative is near 0 and the span's parameter length
+/// takes in the stall, the cubic overshoots (L19.3mm toroid, edge 438: a span 0.0025 long, its
+/// inner control point 0.016 from its end, 0.0068 off the faces). The vertex keeps its
+/// parameter T: the pcurves of a face degenerate along the stall put it elsewhere in the face's
+/// plane at the run's last one, off the neighbouring edges' pcurve ends (L39.4mm: a parameter
+/// triangle of no area).
 void DropSamplesAtOnePoint(std::vector<EdgeSample>& samples, double tol)
 {
   const std::size_t n = samples.size();
@@ -315,18 +320,12 @@ void DropSamplesAtOnePoint(std::vector<EdgeSample>& samples, double tol)
   {
     --last;
   }
-  // The end spans' parameter lengths as measured (from the inner samples) and as kept (from the
-  // vertices): the vertices take the inner samples' derivatives, scaled by their ratio.
-  const double t0 = samples[0].T, t1 = samples[n - 1].T;
-  const double measured0 = samples[first + 1].T - samples[first].T;
-  const double measured1 = samples[last].T - samples[last - 1].T;
-  const double kept0 = (first + 1 == last ? t1 : samples[first + 1].T) - t0;
-  const double kept1 = t1 - (last - 1 == first ? t0 : samples[last - 1].T);
-  const Point3 d0 = samples[first].D, d1 = samples[last].D;
-  for (int i = 0; i < 3; ++i)
+  // The vertices take the derivatives and Hermite parameters of the runs' last samples.
+  for (const auto& [inner, end] : { std::make_pair(first, std::size_t(0)),
+         std::make_pair(last, n - 1) })
   {
-    samples[0].D[i] = d0[i] * measured0 / kept0;
-    samples[n - 1].D[i] = d1[i] * measured1 / kept1;
+    samples[end].D = samples[inner].D;
+    samples[end].H = samples[inner].H;
   }
   samples.erase(samples.begin() + last, samples.end() - 1);
   samples.erase(samples.begin() + 1, samples.begin() + first + 1);
@@ -818,7 +817,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     return spread;
   };
   auto makeSample = [&](double t) {
-    EdgeSample s{ t, {}, {}, {} };
+    EdgeSample s{ t, {}, {}, {}, t };
     m.EdgeGap = std::max(m.EdgeGap, pointAt(t, s.P, s.D));
     return s;
   };
@@ -961,7 +960,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
   es.Inner.resize(n - 1);
   for (std::size_t k = 0; k + 1 < n; ++k)
   {
-    const double h = es.T[k + 1] - es.T[k];
+    const double h = samples[k + 1].H - samples[k].H;
     for (int i = 0; i < 3; ++i)
     {
       es.Inner[k][0][i] = samples[k].P[i] + h * es.D[k][i] / 3;

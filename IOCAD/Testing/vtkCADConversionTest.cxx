@@ -792,12 +792,10 @@ TEST(CADHealing, PCurveOffItsEdgeIsReprojected)
 
 /// Two edges that stall at their common vertex and run together there (StallingEdgesPrism): their
 /// samples within a hundredth of the tolerance of the vertex are dropped, else the wedge's faces
-/// get two nodes at one point and a parameter triangle of no area (the spline fails). The first
-/// span keeps the cubic measured from the last one dropped: from the curve's end, with its
-/// derivative 0, it overshot, 1.8e-3 off. (The 4.1e-4 left is the side faces' parameter plane:
-/// over the strip where the stalled curve makes F_u = 0, the surface stays at one point while
-/// the spline moves on; the vertex keeps its parameter, where the neighbouring edges' pcurves
-/// meet it.)
+/// get two nodes at one point and a parameter triangle of no area (the spline fails). The end
+/// span keeps the cubic measured from the last one dropped: with the vertex's derivative (0, the
+/// curve stalls) and the span's parameter length taking in the stall (0.52 instead of 0.016),
+/// its cubic overshot, 1.8e-3 off.
 TEST(CADConversion, EdgesRunningTogetherFromAVertex)
 {
   Conversion c;
@@ -809,7 +807,7 @@ TEST(CADConversion, EdgesRunningTogetherFromAVertex)
   vtkFieldData* fd = c.Merged->GetFieldData();
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
-  EXPECT_LT(Field(fd, "MaxDeviation"), 5e-4);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
 }
 
 /// Converts DoublingBackEdgesWedge(passing) without an error, with the cut's warning holding
