@@ -199,6 +199,9 @@ struct EdgeSample
 {
   double T;
   Point3 P, D, Off;
+  /// The parameter the sample's spans are measured from (their Hermite cubics' parameter
+  /// lengths): T, but at a vertex into which a stalled run was dropped, the run's last one.
+  double H;
 };
 
 /// The index of the sample at which the edge's curve first comes within `tol` of its end vertex
@@ -228,6 +231,115 @@ std::size_t DoublingBackStart(const std::vector<EdgeSample>& samples, const Poin
     best = Distance(samples[k].P, v) < Distance(samples[best].P, v) ? k : best;
   }
   return best;
+}
+
+/// Where the edge's curve, walked from the first sample towards the last (its end vertex v),
+/// first comes within `tol` of v inside a span whose two samples are farther (it passes the
+/// vertex between them), and then runs farther than `tol` from v again before it ends there: a
+/// sample is added at that nearest point (`sampleAt`, found on the span's Hermite cubic), so
+/// that DoublingBackStart cuts there and not only where a later sample happens to lie near v.
+void AddPassingSample(std::vector<EdgeSample>& samples, const Point3& v, double tol,
+  const std::function<EdgeSample(double)>& sampleAt)
+{
+  for (std::size_t k = 0; k + 2 < samples.size() && Distance(samples[k].P, v) > tol; ++k)
+  {
+    const EdgeSample& a = samples[k];
+    const EdgeSample& b = samples[k + 1];
+    if (Distance(b.P, v) <= tol)
+    {
+      return;
+    }
+    const double h = b.T - a.T;
+    Point3 ca, cb;
+    for (int i = 0; i < 3; ++i)
+    {
+      ca[i] = a.P[i] + h * a.D[i] / 3;
+      cb[i] = b.P[i] - h * b.D[i] / 3;
+    }
+    // The cubic is no longer than its control polygon: a span that far stays away from v.
+    if (Distance(a.P, v) > tol + Distance(a.P, ca) + Distance(ca, cb) + Distance(cb, b.P))
+    {
+      continue;
+    }
+    // The nearest of 64 points, then a golden-section search around it.
+    auto distance = [&](double t) { return Distance(Bezier3(a.P, ca, cb, b.P, t), v); };
+    constexpr int steps = 64;
+    int nearest = 0;
+    for (int j = 1; j <= steps; ++j)
+    {
+      nearest = distance(double(j) / steps) < distance(double(nearest) / steps) ? j : nearest;
+    }
+    if (nearest == 0 || nearest == steps)
+    {
+      continue;
+    }
+    double lo = double(nearest - 1) / steps, hi = double(nearest + 1) / steps;
+    const double g = 0.5 * (std::sqrt(5.0) - 1);
+    for (int it = 0; it < 40; ++it)
+    {
+      const double s1 = hi - g * (hi - lo), s2 = lo + g * (hi - lo);
+      if (distance(s1) < distance(s2))
+      {
+        hi = s2;
+      }
+      else
+      {
+        lo = s1;
+      }
+    }
+    // b is farther than tol again: the curve leaves v after passing it, and comes back.
+    const EdgeSample passing = sampleAt(a.T + 0.5 * (lo + hi) * h);
+    if (Distance(passing.P, v) <= tol)
+    {
+      samples.insert(samples.begin() + k + 1, passing);
+      return;
+    }
+  }
+}
+/// Samples within a hundredth of the tolerance of the sample before or of the edge's end carry
+/// nothing its spans cannot; where two edges run together from their vertex (curves that stall
+/// there, as on Bourns 8100 toroids) they would give the face two nodes at one point, and a
+/// parameter triangle of no area: they are dropped (not for a closed edge, which needs them to
+/// be a loop). Such a run at either end is dropped into the vertex, whose end span keeps the
+/// cubic the splits measured from the run's last sample (its derivative and parameter, H): from
+/// the curve's end, where the stalled derivative is near 0 and the span's parameter length
+/// takes in the stall, the cubic overshoots (L19.3mm toroid, edge 438: a span 0.0025 long, its
+/// inner control point 0.016 from its end, 0.0068 off the faces). The vertex keeps its
+/// parameter T: the pcurves of a face degenerate along the stall put it elsewhere in the face's
+/// plane at the run's last one, off the neighbouring edges' pcurve ends (L39.4mm: a parameter
+/// triangle of no area).
+void DropSamplesAtOnePoint(std::vector<EdgeSample>& samples, double tol)
+{
+  const std::size_t n = samples.size();
+  std::size_t first = 0, last = n - 1;
+  while (first + 1 < last && Distance(samples[first + 1].P, samples[0].P) < 1e-2 * tol)
+  {
+    ++first;
+  }
+  while (last > first + 1 && Distance(samples[last - 1].P, samples[n - 1].P) < 1e-2 * tol)
+  {
+    --last;
+  }
+  // The vertices take the derivatives and Hermite parameters of the runs' last samples.
+  for (const auto& [inner, end] : { std::make_pair(first, std::size_t(0)),
+         std::make_pair(last, n - 1) })
+  {
+    samples[end].D = samples[inner].D;
+    samples[end].H = samples[inner].H;
+  }
+  samples.erase(samples.begin() + last, samples.end() - 1);
+  samples.erase(samples.begin() + 1, samples.begin() + first + 1);
+  std::vector<EdgeSample> kept{ samples.front() };
+  for (std::size_t k = 1; k + 1 < samples.size(); ++k)
+  {
+    if (Distance(samples[k].P, kept.back().P) >= 1e-2 * tol &&
+      Distance(samples[k].P, samples.back().P) >= 1e-2 * tol)
+    {
+      kept.push_back(samples[k]);
+    }
+  }
+  kept.push_back(samples.back());
+  samples.swap(kept);
 }
 } // namespace
 
@@ -287,7 +399,8 @@ struct CADModel::Stages
   static bool CollectEdge(CADModel& m, int e);
   static bool CollapseTinyEdges(CADModel& m, double length);
   static void SampleEdge(CADModel& m, int e, const SamplingOptions& options);
-  static void CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples, double tol);
+  static void CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples, double tol,
+    const std::function<EdgeSample(double)>& sampleAt);
   static bool WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::vector<Run>& runs, std::vector<double>& spanLengths);
   static bool JoinRuns(CADModel& m, int f, std::vector<Run>& runs, std::vector<double>& spanLengths, double tol,
     FaceLoop& loop);
@@ -586,9 +699,12 @@ bool CADModel::Stages::CollapseTinyEdges(CADModel& m, double length)
 /// end), its samples end where it first reaches the vertex: the loops of the faces at the edge
 /// would cross themselves there (the edges of both sides of a face double back across each
 /// other), and their triangulations would not match the neighbours'. The new end sample is the
-/// vertex node, its offset from the curve (within `tol`) carried as at any vertex. A curve whose
-/// vertices are within 2 tol of each other comes back to its start by design and is kept.
-void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples, double tol)
+/// vertex node, its offset from the curve (within `tol`) carried as at any vertex. Where the
+/// curve first passes the vertex between two samples, a sample is added there first
+/// (AddPassingSample): the samples alone can miss that pass and leave the run out uncut. A curve
+/// whose vertices are within 2 tol of each other comes back to its start by design and is kept.
+void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples,
+  double tol, const std::function<EdgeSample(double)>& sampleAt)
 {
   EdgeSampling& es = m.Internal->Edges[e];
   const Point3 p0 = samples.front().P, p1 = samples.back().P;
@@ -596,9 +712,12 @@ void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSampl
   {
     return;
   }
+  AddPassingSample(samples, p1, tol, sampleAt);
+  std::reverse(samples.begin(), samples.end());
+  AddPassingSample(samples, p0, tol, sampleAt);
+  const std::size_t begin = samples.size() - 1 - DoublingBackStart(samples, p0, tol);
+  std::reverse(samples.begin(), samples.end());
   const std::size_t end = DoublingBackStart(samples, p1, tol);
-  std::vector<EdgeSample> reversed(samples.rbegin(), samples.rend());
-  const std::size_t begin = samples.size() - 1 - DoublingBackStart(reversed, p0, tol);
   if (begin >= end || (begin == 0 && end + 1 == samples.size()))
   {
     return;
@@ -698,7 +817,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     return spread;
   };
   auto makeSample = [&](double t) {
-    EdgeSample s{ t, {}, {}, {} };
+    EdgeSample s{ t, {}, {}, {}, t };
     m.EdgeGap = std::max(m.EdgeGap, pointAt(t, s.P, s.D));
     return s;
   };
@@ -812,24 +931,10 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
       samples.insert(at, makeSample(t));
     }
   }
-  CutDoublingBack(m, e, samples, tol);
-  // Samples within a hundredth of the tolerance of the sample before or of the edge's end carry
-  // nothing its spans cannot; where two edges run together from their vertex (curves that stall
-  // there, as on Bourns 8100 toroids) they would give the face two nodes at one point, and a
-  // parameter triangle of no area. A closed edge keeps its samples (it needs them to be a loop).
+  CutDoublingBack(m, e, samples, tol, makeSample);
   if (es.Vertex0 != es.Vertex1)
   {
-    std::vector<EdgeSample> kept{ samples.front() };
-    for (std::size_t k = 1; k + 1 < samples.size(); ++k)
-    {
-      if (Distance(samples[k].P, kept.back().P) >= 1e-2 * tol &&
-        Distance(samples[k].P, samples.back().P) >= 1e-2 * tol)
-      {
-        kept.push_back(samples[k]);
-      }
-    }
-    kept.push_back(samples.back());
-    samples.swap(kept);
+    DropSamplesAtOnePoint(samples, tol);
   }
   // A sample of an earlier sampling of this edge keeps its node (RestoreG1's splits re-sample).
   std::map<double, Id> earlier;
@@ -855,7 +960,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
   es.Inner.resize(n - 1);
   for (std::size_t k = 0; k + 1 < n; ++k)
   {
-    const double h = es.T[k + 1] - es.T[k];
+    const double h = samples[k + 1].H - samples[k].H;
     for (int i = 0; i < 3; ++i)
     {
       es.Inner[k][0][i] = samples[k].P[i] + h * es.D[k][i] / 3;

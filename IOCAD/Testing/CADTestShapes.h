@@ -17,6 +17,7 @@
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Shell.hxx>
 #include <TopoDS_Vertex.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Pln.hxx>
@@ -111,12 +112,14 @@ inline TopoDS_Shape BoxWithSkewedPCurve()
 
 /// A plane wedge between two cubic B-spline edges from the first pole (a vertex shared by
 /// both), one with `poles`, the other with their mirror image in y, and the segment joining
-/// their ends.
-inline TopoDS_Face MirroredBSplineWedge(const TColgp_Array1OfPnt& poles,
-  const TColStd_Array1OfReal& knots, const TColStd_Array1OfInteger& mults)
+/// their ends. With `sides`, a shell: also the face beyond each B-spline edge, up to the
+/// segment from the first pole to the edge's end with y doubled (every face sharing its
+/// B-spline edge with the wedge, the first pole with both others).
+inline TopoDS_Shape MirroredBSplineWedge(const TColgp_Array1OfPnt& poles,
+  const TColStd_Array1OfReal& knots, const TColStd_Array1OfInteger& mults, bool sides = false)
 {
   const TopoDS_Vertex start = BRepBuilderAPI_MakeVertex(poles(poles.Lower()));
-  TopoDS_Vertex ends[2];
+  TopoDS_Vertex ends[2], outer[2];
   TopoDS_Edge edges[2];
   for (int side = 0; side < 2; ++side)
   {
@@ -125,7 +128,9 @@ inline TopoDS_Face MirroredBSplineWedge(const TColgp_Array1OfPnt& poles,
     {
       mirrored(k).SetY(-mirrored(k).Y());
     }
-    ends[side] = BRepBuilderAPI_MakeVertex(mirrored(mirrored.Upper()));
+    const gp_Pnt end = mirrored(mirrored.Upper());
+    ends[side] = BRepBuilderAPI_MakeVertex(end);
+    outer[side] = BRepBuilderAPI_MakeVertex(gp_Pnt(end.X(), 2 * end.Y(), end.Z()));
     edges[side] =
       BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(mirrored, knots, mults, 3), start, ends[side]);
   }
@@ -133,7 +138,28 @@ inline TopoDS_Face MirroredBSplineWedge(const TColgp_Array1OfPnt& poles,
   wire.Add(edges[0]);
   wire.Add(BRepBuilderAPI_MakeEdge(ends[0], ends[1]).Edge());
   wire.Add(TopoDS::Edge(edges[1].Reversed()));
-  return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+  const TopoDS_Face wedge = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+  if (!sides)
+  {
+    return wedge;
+  }
+  TopoDS_Shell shell;
+  BRep_Builder builder;
+  builder.MakeShell(shell);
+  builder.Add(shell, wedge);
+  const TopoDS_Edge rays[2] = { BRepBuilderAPI_MakeEdge(start, outer[0]).Edge(),
+    BRepBuilderAPI_MakeEdge(start, outer[1]).Edge() };
+  // Each side runs the other way round along its B-spline edge than the wedge does.
+  BRepBuilderAPI_MakeWire upper, lower;
+  upper.Add(rays[0]);
+  upper.Add(BRepBuilderAPI_MakeEdge(outer[0], ends[0]).Edge());
+  upper.Add(TopoDS::Edge(edges[0].Reversed()));
+  lower.Add(edges[1]);
+  lower.Add(BRepBuilderAPI_MakeEdge(ends[1], outer[1]).Edge());
+  lower.Add(TopoDS::Edge(rays[1].Reversed()));
+  builder.Add(shell, BRepBuilderAPI_MakeFace(upper.Wire(), Standard_True).Face());
+  builder.Add(shell, BRepBuilderAPI_MakeFace(lower.Wire(), Standard_True).Face());
+  return shell;
 }
 
 /// A prism (height 0.3) over a wedge between two cubic B-spline edges from the origin to
@@ -160,8 +186,12 @@ inline TopoDS_Shape StallingEdgesPrism()
 /// joining those: both edges first run 0.037 past the origin (to x = -0.037, their loops
 /// crossing each other) and come back to it (three poles at the origin), as the windings of
 /// KiCad's Bourns 8100 toroids do, then part. (Not a prism: its side faces, extrusions of the
-/// curves, would hold the loops themselves.)
-inline TopoDS_Shape DoublingBackEdgesWedge()
+/// curves, would hold the loops themselves.) With `passing`, they come back at speed (poles
+/// (-0.01, -0.002), (0, 0), (0.01, 0.002) around the knot 0.6), not stalling at the origin: no
+/// sample of theirs need lie within the tolerance of it there, as on KiCad's L19.3mm toroid,
+/// whose winding edge 321 passes vertex 206 between two samples 0.011 and 0.012 from it; and
+/// the faces beyond the edges (up to (1, +-0.4)) make a shell of three.
+inline TopoDS_Shape DoublingBackEdgesWedge(bool passing = false)
 {
   TColStd_Array1OfReal knots(1, 6);
   TColStd_Array1OfInteger mults(1, 6);
@@ -176,7 +206,12 @@ inline TopoDS_Shape DoublingBackEdgesWedge()
   poles(3) = gp_Pnt(-0.04, -0.01, 0);
   poles(7) = gp_Pnt(0.5, 0.1, 0);
   poles(8) = gp_Pnt(1, 0.2, 0);
-  return MirroredBSplineWedge(poles, knots, mults);
+  if (passing)
+  {
+    poles(4) = gp_Pnt(-0.01, -0.002, 0);
+    poles(6) = gp_Pnt(0.01, 0.002, 0);
+  }
+  return MirroredBSplineWedge(poles, knots, mults, passing);
 }
 
 /// The quarter of the pinched hemisphere (radius 10, 18 deg hole at the pole about +z): one
