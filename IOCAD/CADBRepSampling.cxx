@@ -204,6 +204,34 @@ struct EdgeSample
   double H;
 };
 
+/// An end span whose curve comes to its vertex turning back, its derivative there pointing
+/// against the span's chord (a curve crawling to its vertex, as at the winding ends of Bourns 8100
+/// toroids, curls within a fraction of the tolerance to reach it), gets straight inner points, the
+/// chord's thirds: its Hermite cubic runs past the vertex and comes back, and the face's corner
+/// there folds (normals flipped). Only spans shorter than half the tolerance: the straight cubic
+/// stays within that of the curve.
+void StraightenHookedEnds(
+  const std::vector<EdgeSample>& samples, std::vector<std::array<Point3, 2>>& inner, double tol)
+{
+  const std::size_t n = samples.size();
+  for (const auto& [span, end] : { std::make_pair(std::size_t(0), std::size_t(0)),
+         std::make_pair(n - 2, n - 1) })
+  {
+    const Point3& a = samples[span].P;
+    const Point3& b = samples[span + 1].P;
+    const Point3& d = samples[end].D;
+    const double along = (b[0] - a[0]) * d[0] + (b[1] - a[1]) * d[1] + (b[2] - a[2]) * d[2];
+    if (along < 0 && Distance(a, b) < 0.5 * tol)
+    {
+      for (int i = 0; i < 3; ++i)
+      {
+        inner[span][0][i] = (2 * a[i] + b[i]) / 3;
+        inner[span][1][i] = (a[i] + 2 * b[i]) / 3;
+      }
+    }
+  }
+}
+
 /// The index of the sample at which the edge's curve first comes within `tol` of its end vertex
 /// v (the last sample) when it then runs away from v by more than `tol` and comes back (on
 /// Bourns 8100 toroids, 9 tolerances past the vertex): of the samples within `tol` from there
@@ -967,6 +995,7 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
       es.Inner[k][1][i] = samples[k + 1].P[i] - h * es.D[k + 1][i] / 3;
     }
   }
+  StraightenHookedEnds(samples, es.Inner, tol);
   m.EdgeSamples += static_cast<Id>(n);
 }
 

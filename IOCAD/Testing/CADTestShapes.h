@@ -519,6 +519,34 @@ inline TopoDS_Shape TubeWithDomedEnd(double degrees)
   const TopoDS_Face profile = BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
   return BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp::Origin(), gp::DX()), 2 * M_PI).Shape();
 }
+/// The unit square in z = 0 whose side along x = 0 ends at the origin in a cubic B-spline edge
+/// from (0, 0.5) with the poles (0, 1e-3) and (1e-5, -1e-5): the edge crawls to the origin
+/// (speed 1.5 at its start, 4e-5 at its end) and comes to it turning back, its derivative there
+/// pointing against its approach, as the windings of KiCad's Bourns 8100 toroids come to their
+/// vertices.
+inline TopoDS_Shape HookedEdgeSquare()
+{
+  const gp_Pnt start(0, 0.5, 0), corners[3] = { gp_Pnt(1, 0, 0), gp_Pnt(1, 1, 0), gp_Pnt(0, 1, 0) };
+  TColgp_Array1OfPnt poles(1, 4);
+  poles(1) = start;
+  poles(2) = gp_Pnt(0, 1e-3, 0);
+  poles(3) = gp_Pnt(1e-5, -1e-5, 0);
+  poles(4) = gp::Origin();
+  TColStd_Array1OfReal knots(1, 2);
+  TColStd_Array1OfInteger mults(1, 2);
+  knots(1) = 0;
+  knots(2) = 1;
+  mults(1) = mults(2) = 4;
+  const TopoDS_Vertex origin = BRepBuilderAPI_MakeVertex(gp::Origin());
+  const TopoDS_Vertex top = BRepBuilderAPI_MakeVertex(start);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(BRepBuilderAPI_MakeEdge(new Geom_BSplineCurve(poles, knots, mults, 3), top, origin).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(origin, BRepBuilderAPI_MakeVertex(corners[0])).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(corners[0], corners[1]).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(corners[1], corners[2]).Edge());
+  wire.Add(BRepBuilderAPI_MakeEdge(corners[2], start).Edge());
+  return BRepBuilderAPI_MakeFace(wire.Wire(), Standard_True).Face();
+}
 } // namespace ctsplines_test
 
 #endif

@@ -1691,3 +1691,19 @@ TEST(CADConversion, CylinderHeldToAnAngularTolerance)
   EXPECT_LE(normals[1], bound);
   EXPECT_GT(triangles[1], triangles[0]);
 }
+
+/// An edge that crawls to its end vertex and turns back to reach it (HookedEdgeSquare): the
+/// Hermite cubic of its last span (1.7e-5 long, an eighth of the tolerance), from the curve's
+/// derivative there, runs past the vertex and comes back, and the face's corner folded (normals
+/// 180 degrees off); that span is straight now.
+TEST(CADConversion, EdgeTurningBackToItsVertexDoesNotFoldTheCorner)
+{
+  Conversion c;
+  MessageCapture errors(c.Sampler, vtkCommand::ErrorEvent);
+  c.Run(TempStep("hooked_edge", ctsplines_test::HookedEdgeSquare()), 1e-4);
+  EXPECT_EQ(errors.Text, "");
+  ASSERT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
+  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 1.0) << "the corner at the origin folds";
+}
