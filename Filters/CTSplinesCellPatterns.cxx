@@ -201,22 +201,28 @@ void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) 
   }
 }
 
-void CellPatterns::WriteTriangles(vtkIdType c, const vtkIdType* ids, vtkIdType* offsets,
-  vtkIdType* connectivity, vtkIdType* sourceCell) const
+template <typename Id>
+void CellPatterns::WriteTriangles(
+  vtkIdType c, const vtkIdType* ids, Id* offsets, Id* connectivity, vtkIdType* sourceCell) const
 {
   const std::vector<int>& triangles = this->Of[c]->Triangles;
   const vtkIdType first = this->TriangleStart[c];
   const vtkIdType count = static_cast<vtkIdType>(triangles.size() / 3);
-  vtkIdType* to = connectivity + 3 * first;
+  Id* to = connectivity + 3 * first;
   for (size_t k = 0; k < triangles.size(); ++k)
   {
-    to[k] = ids[triangles[k]];
+    to[k] = static_cast<Id>(ids[triangles[k]]);
   }
   for (vtkIdType m = first; m < first + count; ++m)
   {
-    offsets[m] = 3 * m;
+    offsets[m] = static_cast<Id>(3 * m);
     sourceCell[m] = c;
   }
 }
+
+template void CellPatterns::WriteTriangles(
+  vtkIdType, const vtkIdType*, vtkIdType*, vtkIdType*, vtkIdType*) const;
+template void CellPatterns::WriteTriangles(
+  vtkIdType, const vtkIdType*, vtkTypeInt32*, vtkTypeInt32*, vtkIdType*) const;
 
 } // namespace ctsplines

@@ -53,9 +53,10 @@ public:
   /// whether c evaluates each (it is the owner).
   void OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) const;
   /// Writes cell c's triangles from its OutputIds: offsets, connectivity and the source cell id
-  /// of each.
-  void WriteTriangles(vtkIdType c, const vtkIdType* ids, vtkIdType* offsets,
-    vtkIdType* connectivity, vtkIdType* sourceCell) const;
+  /// of each. Id: vtkIdType, or vtkTypeInt32 for a cell array of 32-bit storage.
+  template <typename Id>
+  void WriteTriangles(vtkIdType c, const vtkIdType* ids, Id* offsets, Id* connectivity,
+    vtkIdType* sourceCell) const;
 
 private:
   // Sets the pattern and basis of cell c from key (level, segments of its 3 edges, degree).

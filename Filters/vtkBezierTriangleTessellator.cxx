@@ -20,6 +20,7 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSMPTools.h"
+#include "vtkSmartPointer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -83,9 +84,24 @@ struct Tessellation
   ctsplines::PointDataInterpolator& Data;
   vtkDoubleArray* Coordinates;
   vtkDoubleArray* Normals;
-  vtkIdType* Offsets;
-  vtkIdType* Connectivity;
+  void* Offsets;      // vtkTypeInt32 when Narrow, else vtkIdType
+  void* Connectivity; // same
+  bool Narrow;
   vtkIdType* Source;
+
+  // Calls f(offsets, connectivity) with the pointers of their storage type.
+  template <typename F>
+  void WithCellArrays(F&& f) const
+  {
+    if (this->Narrow)
+    {
+      f(static_cast<vtkTypeInt32*>(this->Offsets), static_cast<vtkTypeInt32*>(this->Connectivity));
+    }
+    else
+    {
+      f(static_cast<vtkIdType*>(this->Offsets), static_cast<vtkIdType*>(this->Connectivity));
+    }
+  }
 
   // Loads cell c's output ids, owners and net into s; returns its basis table.
   const ctk::BezierBasisTable& Load(vtkIdType c, CellScratch& s) const;
@@ -128,7 +144,9 @@ void Tessellation::Cell(vtkIdType c, CellScratch& s) const
     }
     this->Data.Write(basis, s.Ordinates.data(), begin, end, W, ids);
   });
-  this->Patterns.WriteTriangles(c, s.Ids.data(), this->Offsets, this->Connectivity, this->Source);
+  this->WithCellArrays([&](auto* offsets, auto* connectivity) {
+    this->Patterns.WriteTriangles(c, s.Ids.data(), offsets, connectivity, this->Source);
+  });
 }
 
 vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
@@ -226,12 +244,14 @@ vtkIdType Tessellation::SplitSharpPoints(double featureAngle)
     {
       byPoint[uses[u].Point] = uses[u].NewId;
     }
-    vtkIdType* connectivity = this->Connectivity + 3 * this->Patterns.FirstTriangle(c);
-    for (size_t k = 0; k < pattern.Triangles.size(); ++k)
-    {
-      const vtkIdType id = byPoint[pattern.Triangles[k]];
-      connectivity[k] = id >= 0 ? id : connectivity[k];
-    }
+    this->WithCellArrays([&](auto*, auto* cellConnectivity) {
+      auto* connectivity = cellConnectivity + 3 * this->Patterns.FirstTriangle(c);
+      for (size_t k = 0; k < pattern.Triangles.size(); ++k)
+      {
+        const vtkIdType id = byPoint[pattern.Triangles[k]];
+        connectivity[k] = id >= 0 ? static_cast<decltype(+connectivity[k])>(id) : connectivity[k];
+      }
+    });
   }
   return copies;
 }
@@ -377,13 +397,22 @@ int vtkBezierTriangleTessellator::RequestData(
     a->SetNumberOfComponents(3);
     ctsplines::AllocateTuples(a, nOutPoints);
   }
-  vtkNew<vtkIdTypeArray> offsets, connectivity, bezierCellId;
+  // 32-bit cell storage whenever the ids fit (split copies included: each is a triangle
+  // corner): offsets and connectivity are 40 % of the output bytes, all faulted in fresh.
+  const bool narrow = nOutPoints + 3 * nOutCells <= std::numeric_limits<vtkTypeInt32>::max();
+  vtkSmartPointer<vtkDataArray> offsets, connectivity;
+  for (vtkSmartPointer<vtkDataArray>* a : { &offsets, &connectivity })
+  {
+    *a = narrow ? vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType32>::New())
+                : vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType64>::New());
+  }
   ctsplines::AllocateTuples(offsets, nOutCells + 1);
   ctsplines::AllocateTuples(connectivity, 3 * nOutCells);
+  vtkNew<vtkIdTypeArray> bezierCellId;
   bezierCellId->SetName("BezierCellId");
   ctsplines::AllocateTuples(bezierCellId, nOutCells);
-  Tessellation tessellation{ cells, patterns, data, coords, normals, offsets->GetPointer(0),
-    connectivity->GetPointer(0), bezierCellId->GetPointer(0) };
+  Tessellation tessellation{ cells, patterns, data, coords, normals, offsets->GetVoidPointer(0),
+    connectivity->GetVoidPointer(0), narrow, bezierCellId->GetPointer(0) };
   const auto tessellate = [&](vtkIdType begin, vtkIdType end) {
     CellScratch s;
     for (vtkIdType c = begin; c < end; ++c)
@@ -397,7 +426,7 @@ int vtkBezierTriangleTessellator::RequestData(
     output->Initialize();
     return 1;
   }
-  offsets->SetValue(nOutCells, 3 * nOutCells);
+  offsets->SetComponent(nOutCells, 0, static_cast<double>(3 * nOutCells));
   if (this->SplitSharpEdges)
   {
     tessellation.SplitSharpPoints(this->FeatureAngle);

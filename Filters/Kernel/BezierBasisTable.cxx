@@ -61,40 +61,46 @@ namespace
 {
 // Sum with K ordinate arrays, four points at a time held in registers over all control points
 // (no store and reload per term). Every point's sum runs over i in order from zero: the same
-// doubles as a pointwise sum.
+// doubles as a pointwise sum. The points are explicit vectors (GCC and Clang vector extensions):
+// left to itself GCC vectorised over i instead and spilled the accumulators.
 template <int K>
 void SumPoints(const double* table, size_t stride, int count, const double* f, int m,
   BezierBasisTable::BlockArray* out)
 {
   constexpr int lanes = 4;
   int q = 0;
+#if defined(__GNUC__)
+  // Pairs: SSE2's width (GCC keeps wider generic vectors in memory when AVX is off); loaded and
+  // stored unaligned in place (copies into arrays kept the accumulators in memory).
+  typedef double Pair __attribute__((vector_size(2 * sizeof(double)), aligned(8), may_alias));
   for (; q + lanes <= m; q += lanes)
   {
-    double acc[K][lanes];
+    Pair acc[K][2];
+    const Pair* b = reinterpret_cast<const Pair*>(table + q);
     for (int k = 0; k < K; ++k)
     {
-      for (int l = 0; l < lanes; ++l)
-      {
-        acc[k][l] = 0.0 + table[q + l] * f[k * MaxBezierPoints];
-      }
+      acc[k][0] = 0.0 + b[0] * f[k * MaxBezierPoints];
+      acc[k][1] = 0.0 + b[1] * f[k * MaxBezierPoints];
     }
     for (int i = 1; i < count; ++i)
     {
-      const double* b = table + i * stride + q;
+      b = reinterpret_cast<const Pair*>(table + i * stride + q);
+      const Pair b0 = b[0], b1 = b[1];
       for (int k = 0; k < K; ++k)
       {
         const double fi = f[k * MaxBezierPoints + i];
-        for (int l = 0; l < lanes; ++l)
-        {
-          acc[k][l] += b[l] * fi;
-        }
+        acc[k][0] += b0 * fi;
+        acc[k][1] += b1 * fi;
       }
     }
     for (int k = 0; k < K; ++k)
     {
-      std::copy_n(acc[k], lanes, out[k] + q);
+      Pair* to = reinterpret_cast<Pair*>(out[k] + q);
+      to[0] = acc[k][0];
+      to[1] = acc[k][1];
     }
   }
+#endif
   for (; q < m; ++q)
   {
     for (int k = 0; k < K; ++k)

