@@ -125,6 +125,10 @@ private:
   }
 
   void SplitPointsAndStep1();
+  // Eq. (12) and the domain points of the triangle-owned control points of triangle t.
+  void InnerRing1(Id t, const MacroElementIds& ids);
+  // Step 2 on the edges of t whose rule reads t alone.
+  void OneSidedCentres(Id t, const MacroElementIds& ids);
   void Step2();
   void Step3();
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
@@ -158,8 +162,24 @@ private:
 void Builder::Run()
 {
   this->SplitPointsAndStep1();
-  this->Step2();
-  this->Step3();
+  if (Info(this->Options.Method).EdgeBased)
+  {
+    this->ForTriangles([&](Id t) { this->InnerRing1(t, this->Ids(t)); });
+    this->Step2();
+    this->Step3();
+  }
+  else
+  {
+    // Every step reads the triangle's own points (and its neighbours' split points): one pass,
+    // the triangle's points still in cache.
+    Vec3* P = this->Spline.ControlPoints.data();
+    this->ForTriangles([&](Id t) {
+      const MacroElementIds ids = this->Ids(t);
+      this->InnerRing1(t, ids);
+      this->OneSidedCentres(t, ids);
+      ComputeInnerRing2AndSplitPoint(ids, this->Spline.SplitTau[t], P);
+    });
+  }
   if (this->Options.Method == Construction::Kashyap)
   {
     Vec3* P = this->Spline.ControlPoints.data();
@@ -264,19 +284,20 @@ void Builder::SplitPointsAndStep1()
     }
   });
 
-  // Eq. (12), and the domain points of the triangle-owned control points.
-  this->ForTriangles([&](Id t) {
-    const MacroElementIds ids = this->Ids(t);
-    ComputeInnerRing1(ids, this->Spline.SplitTau[t], P);
-    const Vec2& Z = this->SplitPoints[t];
-    for (int i = 0; i < 3; ++i)
-    {
-      D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
-      D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
-      D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
-    }
-    D[ids.S] = Z;
-  });
+}
+
+void Builder::InnerRing1(Id t, const MacroElementIds& ids)
+{
+  Vec2* D = this->Spline.DomainPoints.data();
+  ComputeInnerRing1(ids, this->Spline.SplitTau[t], this->Spline.ControlPoints.data());
+  const Vec2& Z = this->SplitPoints[t];
+  for (int i = 0; i < 3; ++i)
+  {
+    D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
+    D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
+    D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
+  }
+  D[ids.S] = Z;
 }
 
 Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const
@@ -348,22 +369,24 @@ void Builder::ForInteriorEdges(Body&& body)
 void Builder::Step2()
 {
   // Rules that read one side only (every edge of the local constructions, boundary edges).
-  const bool edgeBased = Info(this->Options.Method).EdgeBased;
-  this->ForTriangles([&](Id t) {
-    const MacroElementIds ids = this->Ids(t);
-    for (int l = 0; l < 3; ++l)
-    {
-      if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
-      {
-        this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
-      }
-    }
-  });
-  if (edgeBased)
+  this->ForTriangles([&](Id t) { this->OneSidedCentres(t, this->Ids(t)); });
+  if (Info(this->Options.Method).EdgeBased)
   {
     this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
       this->InitialEdgeCentres(t0, l0, t1, l1);
     });
+  }
+}
+
+void Builder::OneSidedCentres(Id t, const MacroElementIds& ids)
+{
+  const bool edgeBased = Info(this->Options.Method).EdgeBased;
+  for (int l = 0; l < 3; ++l)
+  {
+    if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
+    {
+      this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
+    }
   }
 }
 
