@@ -488,13 +488,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
     for (vtkIdType i = b; i < e; ++i)
     {
       const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
+      const std::array<std::array<ctk::Id, 15>, 3> nets =
+        spline.MicroNets(topology, in.Triangles.data(), t);
       for (int k = 0; k < 3; ++k)
       {
-        const std::array<ctk::Id, 15> net = spline.MicroNet(topology, in.Triangles.data(), t, k);
         const vtkIdType c = 3 * i + k;
         for (vtkIdType a = 0; a < perCell; ++a)
         {
-          conn[perCell * c + a] = net[vtkOrder[a]];
+          conn[perCell * c + a] = nets[k][vtkOrder[a]];
         }
         off[c] = perCell * c;
         typeOf[c] = VTK_BEZIER_TRIANGLE;
