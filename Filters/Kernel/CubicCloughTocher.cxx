@@ -77,6 +77,19 @@ inline Vec3 Row3(const double* a, Id v)
   return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]);
 }
 
+// Whether the 19 control points of a macro-element are finite.
+bool AllFinite(const MacroElementIds& ids, const Vec3* P)
+{
+  bool finite = P[ids.S].allFinite();
+  for (int i = 0; i < 3; ++i)
+  {
+    finite = finite && P[ids.V[i]].allFinite() && P[ids.I1[i]].allFinite() &&
+      P[ids.I2[i]].allFinite() && P[ids.C[i]].allFinite() &&
+      P[ids.T[i][(i + 1) % 3]].allFinite() && P[ids.T[(i + 1) % 3][i]].allFinite();
+  }
+  return finite;
+}
+
 // Shared state of one construction run and the per-edge and per-triangle steps.
 class Builder
 {
@@ -93,7 +106,9 @@ public:
   {
   }
 
-  void Run();
+  /// Runs the construction; true when every control point was seen finite on the way (then
+  /// CheckFiniteControlPoints, a read of them all, is not needed).
+  bool Run();
 
 private:
   MacroElementIds Ids(Id t) const
@@ -159,26 +174,37 @@ private:
   std::vector<Vec3> EdgeGradients; // f_u, f_v per edge
 };
 
-void Builder::Run()
+bool Builder::Run()
 {
   this->SplitPointsAndStep1();
-  if (Info(this->Options.Method).EdgeBased)
-  {
-    this->ForTriangles([&](Id t) { this->InnerRing1(t, this->Ids(t)); });
-    this->Step2();
-    this->Step3();
-  }
-  else
+  const bool fused = !Info(this->Options.Method).EdgeBased;
+  if (fused)
   {
     // Every step reads the triangle's own points (and its neighbours' split points): one pass,
-    // the triangle's points still in cache.
+    // the triangle's points still in cache, and checked there. Every control point belongs to
+    // a triangle, but unused vertices', which are the positions (checked finite).
     Vec3* P = this->Spline.ControlPoints.data();
+    std::atomic<bool> nonFinite{ false };
     this->ForTriangles([&](Id t) {
       const MacroElementIds ids = this->Ids(t);
       this->InnerRing1(t, ids);
       this->OneSidedCentres(t, ids);
       ComputeInnerRing2AndSplitPoint(ids, this->Spline.SplitTau[t], P);
+      if (!AllFinite(ids, P))
+      {
+        nonFinite.store(true, std::memory_order_relaxed);
+      }
     });
+    if (this->Options.Iterations == 0)
+    {
+      return !nonFinite.load();
+    }
+  }
+  else
+  {
+    this->ForTriangles([&](Id t) { this->InnerRing1(t, this->Ids(t)); });
+    this->Step2();
+    this->Step3();
   }
   if (this->Options.Method == Construction::Kashyap)
   {
@@ -194,13 +220,14 @@ void Builder::Run()
     }
     this->RestoreC1AcrossMacroEdges(); // C1 smoothing
     this->Step3();
-    return;
+    return false;
   }
   for (int step = 0; step < this->Options.Iterations; ++step)
   {
     this->MinimiseC2AcrossMacroEdges(); // IM: Step 2 by Fa's rule on the current points
     this->Step3();
   }
+  return false;
 }
 
 void Builder::SplitPointsAndStep1()
@@ -491,7 +518,10 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
   {
     return status;
   }
-  Builder(data, topo, options, spline, parallelFor, order).Run();
+  if (Builder(data, topo, options, spline, parallelFor, order).Run())
+  {
+    return BuildStatus();
+  }
   return CheckFiniteControlPoints(spline.ControlPoints, topo, data.Triangles,
     data.NumberOfVertices, 2, CubicSplineLayout::PointsPerTriangle);
 }
