@@ -488,13 +488,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
     for (vtkIdType i = b; i < e; ++i)
     {
       const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
+      const std::array<std::array<ctk::Id, 15>, 3> nets =
+        spline.MicroNets(topology, in.Triangles.data(), t);
       for (int k = 0; k < 3; ++k)
       {
-        const std::array<ctk::Id, 15> net = spline.MicroNet(topology, in.Triangles.data(), t, k);
         const vtkIdType c = 3 * i + k;
         for (vtkIdType a = 0; a < perCell; ++a)
         {
-          conn[perCell * c + a] = net[vtkOrder[a]];
+          conn[perCell * c + a] = nets[k][vtkOrder[a]];
         }
         off[c] = perCell * c;
         typeOf[c] = VTK_BEZIER_TRIANGLE;
@@ -605,6 +606,25 @@ std::vector<ctk::Id> OwnedTriangles(
   return owned;
 }
 
+// Frees what only the construction reads before the output's cells are allocated (peak memory:
+// the input's values and, for cubic splines, whose micro-nets read TriangleEdges alone, the
+// topology's per-edge arrays). The cells still need the triangles.
+void ReleaseBuildOnlyData(int degree, ctk::SplineInput& in, ctk::MeshTopology& topology)
+{
+  for (std::vector<double>* a : { &in.UV, &in.F, &in.Fu, &in.Fv, &in.EdgeGradients,
+         &in.BoundaryCurvePoints })
+  {
+    std::vector<double>().swap(*a);
+  }
+  std::vector<ctk::Vec3>().swap(in.SplitTau);
+  if (degree == 3)
+  {
+    std::vector<std::array<ctk::Id, 2>>().swap(topology.Edges);
+    std::vector<std::array<ctk::Id, 2>>().swap(topology.EdgeTriangles);
+    std::vector<std::array<signed char, 2>>().swap(topology.EdgeLocalIndex);
+  }
+}
+
 // Distributed runs: the global id of every cell's macro-triangle.
 void AddMacroGlobalIds(vtkUnstructuredGrid* output, const std::vector<vtkIdType>& globalIds)
 {
@@ -684,11 +704,14 @@ int vtkCloughTocherSplineFilter::RequestData(
   {
     vtkWarningMacro(<< warning); // e.g. the quartic fairing stopped early
   }
-  const ctk::SplineData data = in.View();
   this->UpdateProgress(0.6);
   if (this->GetAbortExecute())
   {
     return 1;
+  }
+  if (!this->ComputeBezierExtraction)
+  {
+    ReleaseBuildOnlyData(spline.Degree, in, topology);
   }
 
   // 3. Fill the output.
@@ -709,6 +732,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   fd->AddArray(iterations);
   if (this->ComputeBezierExtraction)
   {
+    const ctk::SplineData data = in.View();
     ctk::BezierExtraction extraction;
     const ctk::BuildStatus ex =
       ctk::BuildBezierExtraction(data, topology, options, extraction, ctsplines::SMPFor);

@@ -32,6 +32,10 @@ struct CloughTocherSpline
   /// Control point ids of micro-triangle k of macro-triangle t (the one opposite U_k, over
   /// (U_{k+1}, U_{k+2}, Z)) in canonical order; the first BezierPointCount(Degree) are used.
   std::array<Id, 15> MicroNet(const MeshTopology& topology, const Id* triangles, Id t, int k) const;
+  /// The three micro-nets of macro-triangle t, MicroNet(..., k) for k = 0, 1, 2 (a cubic
+  /// macro-element's ids gathered once).
+  std::array<std::array<Id, 15>, 3> MicroNets(
+    const MeshTopology& topology, const Id* triangles, Id t) const;
 };
 
 /// Builds the spline of options.Method, cubic or quartic (options.Iterations: IM steps or

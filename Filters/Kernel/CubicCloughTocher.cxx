@@ -77,6 +77,19 @@ inline Vec3 Row3(const double* a, Id v)
   return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]);
 }
 
+// Whether the 19 control points of a macro-element are finite.
+bool AllFinite(const MacroElementIds& ids, const Vec3* P)
+{
+  bool finite = P[ids.S].allFinite();
+  for (int i = 0; i < 3; ++i)
+  {
+    finite = finite && P[ids.V[i]].allFinite() && P[ids.I1[i]].allFinite() &&
+      P[ids.I2[i]].allFinite() && P[ids.C[i]].allFinite() &&
+      P[ids.T[i][(i + 1) % 3]].allFinite() && P[ids.T[(i + 1) % 3][i]].allFinite();
+  }
+  return finite;
+}
+
 // Shared state of one construction run and the per-edge and per-triangle steps.
 class Builder
 {
@@ -93,7 +106,9 @@ public:
   {
   }
 
-  void Run();
+  /// Runs the construction; true when every control point was seen finite on the way (then
+  /// CheckFiniteControlPoints, a read of them all, is not needed).
+  bool Run();
 
 private:
   MacroElementIds Ids(Id t) const
@@ -125,6 +140,10 @@ private:
   }
 
   void SplitPointsAndStep1();
+  // Eq. (12) and the domain points of the triangle-owned control points of triangle t.
+  void InnerRing1(Id t, const MacroElementIds& ids);
+  // Step 2 on the edges of t whose rule reads t alone.
+  void OneSidedCentres(Id t, const MacroElementIds& ids);
   void Step2();
   void Step3();
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
@@ -155,11 +174,38 @@ private:
   std::vector<Vec3> EdgeGradients; // f_u, f_v per edge
 };
 
-void Builder::Run()
+bool Builder::Run()
 {
   this->SplitPointsAndStep1();
-  this->Step2();
-  this->Step3();
+  const bool fused = !Info(this->Options.Method).EdgeBased;
+  if (fused)
+  {
+    // Every step reads the triangle's own points (and its neighbours' split points): one pass,
+    // the triangle's points still in cache, and checked there. Every control point belongs to
+    // a triangle, but unused vertices', which are the positions (checked finite).
+    Vec3* P = this->Spline.ControlPoints.data();
+    std::atomic<bool> nonFinite{ false };
+    this->ForTriangles([&](Id t) {
+      const MacroElementIds ids = this->Ids(t);
+      this->InnerRing1(t, ids);
+      this->OneSidedCentres(t, ids);
+      ComputeInnerRing2AndSplitPoint(ids, this->Spline.SplitTau[t], P);
+      if (!AllFinite(ids, P))
+      {
+        nonFinite.store(true, std::memory_order_relaxed);
+      }
+    });
+    if (this->Options.Iterations == 0)
+    {
+      return !nonFinite.load();
+    }
+  }
+  else
+  {
+    this->ForTriangles([&](Id t) { this->InnerRing1(t, this->Ids(t)); });
+    this->Step2();
+    this->Step3();
+  }
   if (this->Options.Method == Construction::Kashyap)
   {
     Vec3* P = this->Spline.ControlPoints.data();
@@ -174,13 +220,14 @@ void Builder::Run()
     }
     this->RestoreC1AcrossMacroEdges(); // C1 smoothing
     this->Step3();
-    return;
+    return false;
   }
   for (int step = 0; step < this->Options.Iterations; ++step)
   {
     this->MinimiseC2AcrossMacroEdges(); // IM: Step 2 by Fa's rule on the current points
     this->Step3();
   }
+  return false;
 }
 
 void Builder::SplitPointsAndStep1()
@@ -264,19 +311,20 @@ void Builder::SplitPointsAndStep1()
     }
   });
 
-  // Eq. (12), and the domain points of the triangle-owned control points.
-  this->ForTriangles([&](Id t) {
-    const MacroElementIds ids = this->Ids(t);
-    ComputeInnerRing1(ids, this->Spline.SplitTau[t], P);
-    const Vec2& Z = this->SplitPoints[t];
-    for (int i = 0; i < 3; ++i)
-    {
-      D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
-      D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
-      D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
-    }
-    D[ids.S] = Z;
-  });
+}
+
+void Builder::InnerRing1(Id t, const MacroElementIds& ids)
+{
+  Vec2* D = this->Spline.DomainPoints.data();
+  ComputeInnerRing1(ids, this->Spline.SplitTau[t], this->Spline.ControlPoints.data());
+  const Vec2& Z = this->SplitPoints[t];
+  for (int i = 0; i < 3; ++i)
+  {
+    D[ids.I1[i]] = (2.0 * this->U(t, i) + Z) / 3.0;
+    D[ids.I2[i]] = (this->U(t, i) + 2.0 * Z) / 3.0;
+    D[ids.C[i]] = (this->U(t, (i + 1) % 3) + this->U(t, (i + 2) % 3) + Z) / 3.0;
+  }
+  D[ids.S] = Z;
 }
 
 Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const
@@ -348,22 +396,24 @@ void Builder::ForInteriorEdges(Body&& body)
 void Builder::Step2()
 {
   // Rules that read one side only (every edge of the local constructions, boundary edges).
-  const bool edgeBased = Info(this->Options.Method).EdgeBased;
-  this->ForTriangles([&](Id t) {
-    const MacroElementIds ids = this->Ids(t);
-    for (int l = 0; l < 3; ++l)
-    {
-      if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
-      {
-        this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
-      }
-    }
-  });
-  if (edgeBased)
+  this->ForTriangles([&](Id t) { this->OneSidedCentres(t, this->Ids(t)); });
+  if (Info(this->Options.Method).EdgeBased)
   {
     this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
       this->InitialEdgeCentres(t0, l0, t1, l1);
     });
+  }
+}
+
+void Builder::OneSidedCentres(Id t, const MacroElementIds& ids)
+{
+  const bool edgeBased = Info(this->Options.Method).EdgeBased;
+  for (int l = 0; l < 3; ++l)
+  {
+    if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
+    {
+      this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
+    }
   }
 }
 
@@ -468,7 +518,10 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
   {
     return status;
   }
-  Builder(data, topo, options, spline, parallelFor, order).Run();
+  if (Builder(data, topo, options, spline, parallelFor, order).Run())
+  {
+    return BuildStatus();
+  }
   return CheckFiniteControlPoints(spline.ControlPoints, topo, data.Triangles,
     data.NumberOfVertices, 2, CubicSplineLayout::PointsPerTriangle);
 }

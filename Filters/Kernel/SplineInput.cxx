@@ -85,9 +85,14 @@ void SplineInput::Renumber(const LocalityRenumbering& r, bool back)
     }
   }
   const std::vector<Id>& map = back ? r.Vertices : newId;
-  for (Id& v : this->Triangles)
+  const std::size_t n = this->Triangles.size();
+  for (std::size_t h = 0; h < n; ++h)
   {
-    v = map[static_cast<std::size_t>(v)];
+    if (h + PrefetchDistance < n)
+    {
+      PrefetchRead(&map[static_cast<std::size_t>(this->Triangles[h + PrefetchDistance])]);
+    }
+    this->Triangles[h] = map[static_cast<std::size_t>(this->Triangles[h])];
   }
   PermuteRows(this->Triangles, 3, r.Triangles, back);
   PermuteRows(this->UV, 2, r.Vertices, back);
