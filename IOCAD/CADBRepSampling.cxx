@@ -640,6 +640,9 @@ void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSampl
   samples.erase(samples.begin(), samples.begin() + begin);
 }
 
+/// Largest tilt (radians) of a forced split's cubic off the mean curve by a vertex's offset.
+constexpr double MaxOffsetTilt = 0.5 * M_PI / 180;
+
 /// Pass 2 for edge e: adaptive Hermite samples of its mean curve.
 void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& options)
 {
@@ -803,35 +806,41 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     }
     samples.swap(next);
   }
-  // RestoreG1's splits (Forced) inside an end span keep the cubic that span had: the vertex
-  // node's offset from the mean curve's end goes on fading over the whole end span (its Hermite
-  // basis function), not over the first piece of it. Carried by the piece next to the vertex,
-  // the offset would tilt the cubic by about 1.5 offset / length there, doubled by every split,
-  // and the shared normal at the span's midpoint (perpendicular to the cubic) with it:
-  // linkrods.step, faces 1e-4 apart at a vertex, spans halved to 5e-4 by the chord-mismatch
-  // rule, normals 8 degrees off the surfaces' and 0.4 degrees off G1.
-  const EdgeSample headA = samples.front(), headB = samples[1];
-  const EdgeSample tailA = samples[samples.size() - 2], tailB = samples.back();
+  // RestoreG1's splits (Forced) next to a vertex whose node is off the mean curve's end: the
+  // end span's cubic carries that offset, fading by its Hermite basis function, and so would
+  // the piece next to the vertex alone, tilted out of the faces' planes by about 1.5 offset /
+  // length, more with every split, and the normal shared at its midpoint (perpendicular to the
+  // cubic) with it: linkrods.step, faces 1e-4 apart at a vertex, spans halved to 5e-4 by the
+  // chord-mismatch rule, normals 8 degrees off the surfaces and 0.4 off G1. The forced samples
+  // keep the offset fading over a length that tilts the cubic by at most MaxOffsetTilt (or over
+  // the whole end span). Not over more: boundary nodes off the surface tilt the faces' small
+  // triangles next to them.
+  const EdgeSample ends[2][2] = { { samples[0], samples[1] },
+    { samples[samples.size() - 1], samples[samples.size() - 2] } };
   auto forcedSample = [&](double t) {
     EdgeSample s = makeSample(t);
-    for (const bool head : { true, false })
+    for (const auto& end : ends)
     {
-      const EdgeSample& a = head ? headA : tailA;
-      const EdgeSample& b = head ? headB : tailB;
-      const double h = b.T - a.T, r = (t - a.T) / h;
+      const EdgeSample &v = end[0], &next = end[1]; // the vertex and the end span's other sample
+      const double offset = std::hypot(v.Off[0], v.Off[1], v.Off[2]);
+      const double length = Distance(v.P, next.P);
+      if (offset == 0 || length == 0)
+      {
+        continue;
+      }
+      const double fade = std::min(1.0, 1.5 * offset / (std::tan(MaxOffsetTilt) * length));
+      const double h = fade * (next.T - v.T), r = (t - v.T) / h;
       if (r <= 0 || r >= 1)
       {
         continue;
       }
-      // h0 = (1 - r)^2 (1 + 2 r) from the head's vertex, h1 = r^2 (3 - 2 r) to the tail's.
-      const double w = head ? (1 - r) * (1 - r) * (1 + 2 * r) : r * r * (3 - 2 * r);
-      const double dw = (head ? -6 : 6) * r * (1 - r) / h;
-      const Point3& off = head ? a.Off : b.Off;
+      // The Hermite basis function (1 - r)^2 (1 + 2 r) from the vertex, and its derivative.
+      const double w = (1 - r) * (1 - r) * (1 + 2 * r), dw = -6 * r * (1 - r) / h;
       for (int i = 0; i < 3; ++i)
       {
-        s.Off[i] += w * off[i];
-        s.P[i] += w * off[i];
-        s.D[i] += dw * off[i];
+        s.Off[i] += w * v.Off[i];
+        s.P[i] += w * v.Off[i];
+        s.D[i] += dw * v.Off[i];
       }
     }
     return s;
