@@ -787,6 +787,9 @@ void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSampl
   samples.erase(samples.begin(), samples.begin() + begin);
 }
 
+/// Largest tilt (radians) of a forced split's cubic off the mean curve by a vertex's offset.
+constexpr double MaxOffsetTilt = 0.5 * M_PI / 180;
+
 /// Pass 2 for edge e: adaptive Hermite samples of its mean curve.
 void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& options)
 {
@@ -950,13 +953,52 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     }
     samples.swap(next);
   }
+  // RestoreG1's splits (Forced) next to a vertex whose node is off the mean curve's end: the
+  // end span's cubic carries that offset, fading by its Hermite basis function, and so would
+  // the piece next to the vertex alone, tilted out of the faces' planes by about 1.5 offset /
+  // length, more with every split, and the normal shared at its midpoint (perpendicular to the
+  // cubic) with it: linkrods.step, faces 1e-4 apart at a vertex, spans halved to 5e-4 by the
+  // chord-mismatch rule, normals 8 degrees off the surfaces and 0.4 off G1. The forced samples
+  // keep the offset fading over a length that tilts the cubic by at most MaxOffsetTilt (or over
+  // the whole end span). Not over more: boundary nodes off the surface tilt the faces' small
+  // triangles next to them.
+  const EdgeSample ends[2][2] = { { samples[0], samples[1] },
+    { samples[samples.size() - 1], samples[samples.size() - 2] } };
+  auto forcedSample = [&](double t) {
+    EdgeSample s = makeSample(t);
+    for (const auto& end : ends)
+    {
+      const EdgeSample &v = end[0], &next = end[1]; // the vertex and the end span's other sample
+      const double offset = std::hypot(v.Off[0], v.Off[1], v.Off[2]);
+      const double length = Distance(v.P, next.P);
+      if (offset == 0 || length == 0)
+      {
+        continue;
+      }
+      const double fade = std::min(1.0, 1.5 * offset / (std::tan(MaxOffsetTilt) * length));
+      const double h = fade * (next.T - v.T), r = (t - v.T) / h;
+      if (r <= 0 || r >= 1)
+      {
+        continue;
+      }
+      // The Hermite basis function (1 - r)^2 (1 + 2 r) from the vertex, and its derivative.
+      const double w = (1 - r) * (1 - r) * (1 + 2 * r), dw = -6 * r * (1 - r) / h;
+      for (int i = 0; i < 3; ++i)
+      {
+        s.Off[i] += w * v.Off[i];
+        s.P[i] += w * v.Off[i];
+        s.D[i] += dw * v.Off[i];
+      }
+    }
+    return s;
+  };
   for (const double t : es.Forced)
   {
     const auto at = std::lower_bound(samples.begin(), samples.end(), t,
       [&](const EdgeSample& a, double b) { return (a.T - b) * (t1 - t0) < 0; });
     if (at != samples.begin() && at != samples.end() && at->T != t)
     {
-      samples.insert(at, makeSample(t));
+      samples.insert(at, forcedSample(t));
     }
   }
   CutDoublingBack(m, e, samples, tol, makeSample);

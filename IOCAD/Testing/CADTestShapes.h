@@ -343,6 +343,41 @@ inline TopoDS_Shape FilletedBox(double radius, bool allEdges)
   fillet.Build();
   return fillet.IsDone() ? fillet.Shape() : TopoDS_Shape();
 }
+/// A prism 0.5 high over the outline (0, 0), (1, 0), (2, tan(kink) ), (2, 1), (0, 1), taken
+/// apart into its faces, the side face from (1, 0) moved out along its normal by `gap`: its two
+/// front faces meet at the vertical edge at x = 1 at `kink` degrees (a tangent interface within
+/// RestoreG1's threshold, not exactly tangent), and the nodes at that edge's ends (the mean of
+/// the faces there) lie off the edge's mean curve (a model whose faces miss each other).
+inline TopoDS_Shape KinkedPrismWithLooseSide(double kink, double gap)
+{
+  BRepBuilderAPI_MakePolygon outline;
+  const double rise = std::tan(kink * M_PI / 180);
+  for (const gp_Pnt& p : { gp_Pnt(0, 0, 0), gp_Pnt(1, 0, 0), gp_Pnt(2, rise, 0), gp_Pnt(2, 1, 0),
+         gp_Pnt(0, 1, 0) })
+  {
+    outline.Add(p);
+  }
+  outline.Close();
+  const TopoDS_Face base = BRepBuilderAPI_MakeFace(outline.Wire(), Standard_True).Face();
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(base, gp_Vec(0, 0, 0.5)).Shape();
+  BRep_Builder builder;
+  TopoDS_Compound faces;
+  builder.MakeCompound(faces);
+  const gp_Vec normal(rise, -1, 0); // outward from the side face from (1, 0) to (2, rise)
+  for (TopExp_Explorer fx(prism, TopAbs_FACE); fx.More(); fx.Next())
+  {
+    const TopoDS_Face face = TopoDS::Face(BRepBuilderAPI_Copy(fx.Current()).Shape());
+    double u0, u1, v0, v1;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    const gp_Pnt centre = BRepAdaptor_Surface(face).Value(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    const bool loose = centre.X() > 1.1 && centre.Y() < 0.5 * rise + 1e-6 && std::abs(centre.Z() - 0.25) < 1e-6;
+    gp_Trsf move;
+    move.SetTranslation(loose ? gap * normal.Normalized() : gp_Vec(0, 0, 0));
+    builder.Add(faces, BRepBuilderAPI_Transform(face, move, Standard_True).Shape());
+  }
+  return faces;
+}
+
 /// A square face on the offset (by 0.1) of a planar biquadratic B-spline patch whose middle
 /// third collapses to one point: there the offset surface has no normal, and OpenCASCADE throws
 /// (Geom_UndefinedValue) when it evaluates it, e.g. for the bounding box when the file is read.
