@@ -20,13 +20,16 @@ std::uint64_t Spread16(std::uint64_t x)
   x = (x | (x << 2)) & 0x33333333u;
   return (x | (x << 1)) & 0x55555555u;
 }
+} // namespace
 
-// Sorts values by their upper 32 bits (the key; the lower 32 hold the triangle), stable: LSD
-// radix sort, one byte per pass.
+std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y)
+{
+  return static_cast<std::uint32_t>(Spread16(x & 0xFFFFu) | (Spread16(y & 0xFFFFu) << 1));
+}
+
 void SortByUpperHalf(std::vector<std::uint64_t>& values)
 {
   std::vector<std::uint64_t> other;
-  ResizeForOverwrite(other, values.size());
   for (int shift = 32; shift < 64; shift += 8)
   {
     std::array<std::size_t, 257> start{};
@@ -34,10 +37,15 @@ void SortByUpperHalf(std::vector<std::uint64_t>& values)
     {
       ++start[((v >> shift) & 0xFF) + 1];
     }
+    if (std::any_of(start.begin() + 1, start.end(), [&](std::size_t n) { return n == values.size(); }))
+    {
+      continue; // one byte value for all: this pass would not move anything
+    }
     for (int b = 0; b < 256; ++b)
     {
       start[b + 1] += start[b];
     }
+    ResizeForOverwrite(other, values.size());
     for (const std::uint64_t v : values)
     {
       other[start[(v >> shift) & 0xFF]++] = v;
@@ -45,7 +53,6 @@ void SortByUpperHalf(std::vector<std::uint64_t>& values)
     values.swap(other);
   }
 }
-} // namespace
 
 std::vector<Id> TriangleLocalityOrder(
   Id numVertices, Id numTriangles, const Id* triangles, const double* uv)
@@ -80,7 +87,8 @@ std::vector<Id> TriangleLocalityOrder(
       const double s = (x - lo[c]) * scale[c];
       cell[c] = s > 0 ? static_cast<std::uint64_t>(std::min(s, 65535.0)) : 0;
     }
-    keyed[t] = ((Spread16(cell[0]) | (Spread16(cell[1]) << 1)) << 32) | std::uint64_t(t);
+    keyed[t] = (std::uint64_t(MortonKey16(static_cast<std::uint32_t>(cell[0]),
+                   static_cast<std::uint32_t>(cell[1]))) << 32) | std::uint64_t(t);
   }
   SortByUpperHalf(keyed);
   ResizeForOverwrite(order, keyed.size());
