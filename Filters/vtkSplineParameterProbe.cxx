@@ -209,12 +209,14 @@ struct SplineArrays
       A[a] = ctk::Vec2(uv[0], uv[1]);
     }
   }
-  /// The net of cell c in canonical order (see ctsplines::GatherNet) and its degree.
-  const double* Net(vtkIdType c, int& degree, ctk::Vec3* P, double* w) const
+  /// The net of cell c in canonical order (see ctsplines::GatherNet) and its degree; shapes:
+  /// Shapes().
+  const double* Net(
+    vtkIdType c, const BezierShapes& shapes, int& degree, ctk::Vec3* P, double* w) const
   {
-    degree = Shapes().Degree(this->Size(c));
+    degree = shapes.Degree(this->Size(c));
     return ctsplines::GatherNet(
-      Shapes().Orders[degree], this->Ids + this->Offsets[c], this->XYZ, this->Weights, P, w);
+      shapes.Orders[degree], this->Ids + this->Offsets[c], this->XYZ, this->Weights, P, w);
   }
   vtkIdType MacroId(vtkIdType c) const { return this->MacroIds ? this->MacroIds[c] : c; }
 };
@@ -674,6 +676,7 @@ int vtkSplineParameterProbe::RequestData(
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
     auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
+    const BezierShapes& shapes = Shapes();
     for (vtkIdType k = begin; k < end; ++k)
     {
       const vtkIdType i =
@@ -688,7 +691,7 @@ int vtkSplineParameterProbe::RequestData(
       }
       const vtkIdType c = hit.Triangle;
       int degree;
-      const double* wp = arrays.Net(c, degree, P, w);
+      const double* wp = arrays.Net(c, shapes, degree, P, w);
       ctk::Vec2 A[3];
       arrays.Corners(c, A);
       out.Set(i, ctk::EvaluateOverDomain(degree, P, wp, A[0], A[1], A[2], hit.Barycentric, order),
