@@ -35,19 +35,9 @@ namespace ctsplines
 {
 const double* BezierCells::Net(vtkIdType c, ctk::Vec3* P, double* w) const
 {
-  const int n = this->Degree[c];
-  const std::vector<int>& order = this->Orders[n];
-  const vtkIdType* ids = this->CellIds(c);
-  const bool rational = !this->Weights.empty();
-  for (int p = 0; p < ctk::BezierPointCount(n); ++p)
-  {
-    P[order[p]] = this->Points[ids[p]];
-    if (rational)
-    {
-      w[order[p]] = this->Weights[ids[p]];
-    }
-  }
-  return rational ? w : nullptr;
+  return GatherNet(this->Orders[this->Degree[c]], this->CellIds(c),
+    reinterpret_cast<const double*>(this->Points.data()),
+    this->Weights.empty() ? nullptr : this->Weights.data(), P, w);
 }
 
 void BezierCells::UVNet(vtkIdType c, ctk::Vec3* Q) const

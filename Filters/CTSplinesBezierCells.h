@@ -30,6 +30,25 @@ class vtkDataSetAttributes;
 
 namespace ctsplines
 {
+/// Copies the net of a cell (point ids `ids` in VTK order; order = VtkBezierTriangleOrder of its
+/// degree) from points xyz (3 per point) and weights (1 per point, or nullptr) into canonical
+/// order (P, and w when rational); returns the weights to pass to the kernel (w or nullptr).
+template <typename IdT>
+const double* GatherNet(const std::vector<int>& order, const IdT* ids, const double* xyz,
+  const double* weights, ctk::Vec3* P, double* w)
+{
+  for (size_t p = 0; p < order.size(); ++p)
+  {
+    const double* x = xyz + 3 * static_cast<vtkIdType>(ids[p]);
+    P[order[p]] = ctk::Vec3(x[0], x[1], x[2]);
+    if (weights)
+    {
+      w[order[p]] = weights[ids[p]];
+    }
+  }
+  return weights ? w : nullptr;
+}
+
 /// The Bézier triangles of a data set: connectivity, degree, points and rational weights.
 struct BezierCells
 {

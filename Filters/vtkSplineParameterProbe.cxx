@@ -38,12 +38,16 @@
 #include "vtkWeakPointer.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
+#include <limits>
 #include <numeric>
 #include <sstream>
 #include <type_traits>
 #include <utility>
+#include <variant>
 #include <vector>
 
 vtkStandardNewMacro(vtkSplineParameterProbe);
@@ -145,192 +149,183 @@ int vtkSplineParameterProbe::RequestUpdateExtent(
 
 namespace
 {
-// The source spline flattened into plain arrays, read concurrently by the queries.
-struct Spline
-{
-  ctsplines::BezierCells Cells;
-  std::vector<ctk::Vec2> Corners; // parameter triangle of each cell
-  std::vector<vtkIdType> MacroIds;
-};
+static_assert(std::is_same<vtkIdType, vtkTypeInt64>::value ||
+    std::is_same<vtkIdType, vtkTypeInt32>::value,
+  "vtkIdType is one of the cell array storage types");
 
-// Read access to a valid spline's cells and arrays: the source's own arrays (RawSource) or a
-// gathered copy of them (ReadSpline), whichever the build reads.
+// VTK's point order of a Bézier triangle of every degree, and the degree of every point count.
+struct BezierShapes
+{
+  std::array<std::vector<int>, ctk::MaxDegree + 1> Orders;
+  std::array<signed char, ctk::MaxBezierPoints + 1> DegreeOfCount{};
+
+  BezierShapes()
+  {
+    for (int n = 1; n <= ctk::MaxDegree; ++n)
+    {
+      this->Orders[n] = ctk::VtkBezierTriangleOrder(n);
+      this->DegreeOfCount[ctk::BezierPointCount(n)] = static_cast<signed char>(n);
+    }
+  }
+  /// The degree (1..MaxDegree) of a Bézier triangle of npts points, or 0 when none has as many.
+  int Degree(vtkIdType npts) const
+  {
+    return npts >= 0 && npts <= ctk::MaxBezierPoints ? this->DegreeOfCount[npts] : 0;
+  }
+};
+const BezierShapes& Shapes()
+{
+  static const BezierShapes shapes;
+  return shapes;
+}
+
+// A valid spline's arrays, read where they are (the source's own arrays, or ReadSpline's checked
+// copy): nothing is renumbered or gathered per cell beforehand, so a build touches no memory
+// the size of the spline. The construction writes its splines in a locality order, which
+// queries processed in the same order (LocalityOrder below) then read nearly in memory order.
 template <typename OffsetT, typename IdT>
 struct SplineArrays
 {
   const OffsetT* Offsets; // NCells + 1, Offsets[0] == 0
   const IdT* Ids;
-  const double* XYZ;     // 3 per point
-  const double* Weights; // 1 per point, or nullptr (polynomial)
-  const double* UV;      // 2 per point
+  const double* XYZ;         // 3 per point
+  const double* Weights;     // 1 per point, or nullptr (polynomial)
+  const double* UV;          // 2 per point
+  const vtkIdType* MacroIds; // 1 per cell, or nullptr (the cell id)
   vtkIdType NPoints, NCells;
 
   vtkIdType Id(vtkIdType c, int a) const { return static_cast<vtkIdType>(this->Ids[this->Offsets[c] + a]); }
-};
-
-// Builds the spline the queries read, in ONE pass over the arrays: the cells (with their
-// parameter triangles and macro-triangle ids) in the locality order of their parameter
-// triangles (ctk::TriangleLocalityOrder; small splines keep their order), the control points
-// renumbered by first use in that order (points no cell uses are dropped), and the locator over
-// the triangles. The cells and points that neighbouring queries read are then neighbours in
-// memory: on 1e6 Delaunay triangles in qhull's order, gathering control points was half of a
-// probe's time. The locator breaks ties by source cell id, so every query gets the cell it
-// would get in the source's order. macroIds: per source cell, or empty (the source cell id).
-template <typename OffsetT, typename IdT>
-void BuildSpline(const SplineArrays<OffsetT, IdT>& in, const std::vector<vtkIdType>& macroIds,
-  Spline& out, ctk::ParameterLocator& locator)
-{
-  const vtkIdType nCells = in.NCells;
-  std::vector<ctk::Id> order;
+  vtkIdType Size(vtkIdType c) const
   {
-    std::vector<ctk::Id> cornerIds;
-    ctk::ResizeForOverwrite(cornerIds, static_cast<size_t>(3 * nCells));
-    for (vtkIdType c = 0; c < nCells; ++c)
-    {
-      for (int a = 0; a < 3; ++a)
-      {
-        cornerIds[3 * c + a] = in.Id(c, a);
-      }
-    }
-    order = ctk::TriangleLocalityOrder(in.NPoints, nCells, cornerIds.data(), in.UV);
+    return static_cast<vtkIdType>(this->Offsets[c + 1] - this->Offsets[c]);
   }
-  const bool reordered = !order.empty();
-  auto source = [&](vtkIdType k) { return reordered ? order[k] : k; };
-  out.Cells = ctsplines::BezierCells();
-  ctk::ResizeForOverwrite(out.Cells.Degree, nCells);
-  ctk::ResizeForOverwrite(out.Cells.Offsets, nCells + 1);
-  std::vector<ctk::Vec2> corners;
-  ctk::ResizeForOverwrite(corners, 3 * nCells);
-  ctk::ResizeForOverwrite(out.MacroIds, nCells);
-  out.Cells.Offsets[0] = 0;
-  for (vtkIdType k = 0; k < nCells; ++k)
+  /// The parameter triangle of cell c: the (u, v) of its corner control points.
+  void Corners(vtkIdType c, ctk::Vec2* A) const
   {
-    const vtkIdType c = source(k);
-    const vtkIdType npts = static_cast<vtkIdType>(in.Offsets[c + 1] - in.Offsets[c]);
-    int n = 1;
-    while (ctk::BezierPointCount(n) < npts)
-    {
-      ++n; // valid cells only: npts is (n + 1)(n + 2) / 2 for some n <= MaxDegree
-    }
-    out.Cells.Degree[k] = static_cast<signed char>(n);
-    if (out.Cells.Orders[n].empty())
-    {
-      out.Cells.Orders[n] = ctk::VtkBezierTriangleOrder(n);
-    }
-    out.Cells.Offsets[k + 1] = out.Cells.Offsets[k] + npts;
+    const IdT* ids = this->Ids + this->Offsets[c];
     for (int a = 0; a < 3; ++a)
     {
-      const vtkIdType p = in.Id(c, a);
-      corners[3 * k + a] = ctk::Vec2(in.UV[2 * p], in.UV[2 * p + 1]);
+      const double* uv = this->UV + 2 * static_cast<vtkIdType>(ids[a]);
+      A[a] = ctk::Vec2(uv[0], uv[1]);
     }
-    out.MacroIds[k] = macroIds.empty() ? c : macroIds[c];
   }
-  // Points by first use.
-  std::vector<vtkIdType> newId;
-  ctk::AssignLarge(newId, static_cast<size_t>(in.NPoints), vtkIdType(-1));
-  ctk::ResizeForOverwrite(out.Cells.Ids, static_cast<size_t>(out.Cells.Offsets[nCells]));
-  ctk::ResizeForOverwrite(out.Cells.Points, static_cast<size_t>(in.NPoints));
-  ctk::ResizeForOverwrite(out.Cells.Weights, in.Weights ? static_cast<size_t>(in.NPoints) : 0);
-  vtkIdType next = 0;
-  for (vtkIdType k = 0; k < nCells; ++k)
+  /// The net of cell c in canonical order (see ctsplines::GatherNet) and its degree; shapes:
+  /// Shapes().
+  const double* Net(
+    vtkIdType c, const BezierShapes& shapes, int& degree, ctk::Vec3* P, double* w) const
   {
-    const vtkIdType c = source(k);
-    vtkIdType* newIds = &out.Cells.Ids[out.Cells.Offsets[k]];
-    for (vtkIdType i = 0; i < out.Cells.Offsets[k + 1] - out.Cells.Offsets[k]; ++i)
-    {
-      const vtkIdType q = in.Id(c, static_cast<int>(i));
-      vtkIdType& p = newId[q];
-      if (p < 0)
-      {
-        p = next++;
-        out.Cells.Points[p] = ctk::Vec3(in.XYZ[3 * q], in.XYZ[3 * q + 1], in.XYZ[3 * q + 2]);
-        if (in.Weights)
-        {
-          out.Cells.Weights[p] = in.Weights[q];
-        }
-      }
-      newIds[i] = p;
-    }
+    degree = shapes.Degree(this->Size(c));
+    return ctsplines::GatherNet(
+      shapes.Orders[degree], this->Ids + this->Offsets[c], this->XYZ, this->Weights, P, w);
   }
-  out.Cells.Points.resize(next);
-  out.Cells.Weights.resize(in.Weights ? next : 0);
-  out.Corners.clear();
-  locator.Build(std::move(corners), std::move(order));
+  vtkIdType MacroId(vtkIdType c) const { return this->MacroIds ? this->MacroIds[c] : c; }
+};
+
+// The spline the queries read and its locator, a grid of cell ids over the parameter
+// triangles: the arrays are the source's own (held here) or a copy (Copy*).
+struct ProbeSpline
+{
+  std::variant<SplineArrays<vtkTypeInt64, vtkTypeInt64>, SplineArrays<vtkTypeInt32, vtkTypeInt32>>
+    Arrays;
+  std::vector<vtkSmartPointer<vtkAbstractArray>> Held;
+  ctsplines::BezierCells Copy;
+  std::vector<double> CopyUV;
+  std::vector<vtkIdType> CopyMacroIds;
+  ctk::TriangleBucketGrid Grid;
+
+  /// Reads the valid spline `arrays`, whose parameter triangles span [lo, hi]: builds the grid
+  /// over them.
+  template <typename OffsetT, typename IdT>
+  std::string Adopt(const SplineArrays<OffsetT, IdT>& arrays, const ctk::Vec2& lo, const ctk::Vec2& hi)
+  {
+    this->Arrays = arrays;
+    auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
+    if (!(arrays.NCells > 0 ? this->Grid.Build(arrays.NCells, corners, lo, hi)
+                            : this->Grid.Build(0, corners)))
+    {
+      return "the source spline has too many cells for the probe's locator (at most 2^32 - 1 "
+             "cells and bucket entries)";
+    }
+    return {};
+  }
+};
+
+// Whether all n values are usable (finite, below MaxInputMagnitude): one flat, vectorised loop.
+bool AllUsable(const double* values, vtkIdType n)
+{
+  bool usable = true;
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    usable &= ctk::IsUsableValue(values[i]);
+  }
+  return usable;
 }
 
 // Whether the source's own arrays pass every check of ReadSpline (cell types and sizes, point
-// ids, usable coordinates, (u, v) and weights, parameter triangles of nonzero area).
+// ids, usable coordinates, (u, v) and weights, macro-triangle ids, parameter triangles of
+// nonzero area), in one pass over the cells; [lo, hi] is then the box of the parameter
+// triangles. nIds: the length of the connectivity array.
 template <typename OffsetT, typename IdT>
-bool IsValidInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in)
+bool IsValidInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in,
+  vtkIdType nIds, ctk::Vec2& lo, ctk::Vec2& hi)
 {
-  if (in.NCells > 0 && in.Offsets[0] != 0)
+  if (!AllUsable(in.XYZ, 3 * in.NPoints) || !AllUsable(in.UV, 2 * in.NPoints))
   {
     return false;
   }
-  for (vtkIdType c = 0; c < in.NCells; ++c)
+  if (in.Weights)
   {
-    const vtkIdType npts = static_cast<vtkIdType>(in.Offsets[c + 1] - in.Offsets[c]);
-    bool sized = false;
-    for (int n = 1; n <= ctk::MaxDegree; ++n)
+    bool positive = AllUsable(in.Weights, in.NPoints);
+    for (vtkIdType p = 0; p < in.NPoints; ++p)
     {
-      sized = sized || ctk::BezierPointCount(n) == npts;
+      positive &= in.Weights[p] > 0;
     }
-    if (types[c] != VTK_BEZIER_TRIANGLE || !sized)
-    {
-      return false;
-    }
-    for (vtkIdType i = in.Offsets[c]; i < static_cast<vtkIdType>(in.Offsets[c + 1]); ++i)
-    {
-      if (in.Ids[i] < 0 || static_cast<vtkIdType>(in.Ids[i]) >= in.NPoints)
-      {
-        return false;
-      }
-    }
-  }
-  for (vtkIdType p = 0; p < in.NPoints; ++p)
-  {
-    if (!ctk::IsUsablePoint(ctk::Vec3(in.XYZ[3 * p], in.XYZ[3 * p + 1], in.XYZ[3 * p + 2])) ||
-      !ctk::IsUsableValue(in.UV[2 * p]) || !ctk::IsUsableValue(in.UV[2 * p + 1]) ||
-      (in.Weights && !(ctk::IsUsableValue(in.Weights[p]) && in.Weights[p] > 0)))
+    if (!positive)
     {
       return false;
     }
   }
-  if (in.NCells == 0)
+  if (in.NCells > 0 ? in.Offsets[0] != 0 || static_cast<vtkIdType>(in.Offsets[in.NCells]) != nIds
+                    : nIds != 0)
   {
-    return true;
+    return false;
   }
-  auto corner = [&](vtkIdType c, int a) {
-    const vtkIdType p = in.Id(c, a);
-    return ctk::Vec2(in.UV[2 * p], in.UV[2 * p + 1]);
-  };
-  ctk::Vec2 lo = corner(0, 0), hi = lo;
+  bool idsInRange = true;
+  for (vtkIdType i = 0; i < nIds; ++i)
+  {
+    idsInRange &= static_cast<std::make_unsigned_t<IdT>>(in.Ids[i]) <
+      static_cast<std::make_unsigned_t<vtkIdType>>(in.NPoints);
+  }
+  if (!idsInRange)
+  {
+    return false;
+  }
+  // Cells, their box and their smallest area: every area must exceed the bound relative to the
+  // box (the spline filter's test), which is the smallest exceeding it.
+  lo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  double minArea = std::numeric_limits<double>::infinity();
+  ctk::Vec2 A[3];
   for (vtkIdType c = 0; c < in.NCells; ++c)
   {
-    for (int a = 0; a < 3; ++a)
+    if (types[c] != VTK_BEZIER_TRIANGLE || Shapes().Degree(in.Size(c)) == 0 ||
+      (in.MacroIds && !(in.MacroIds[c] >= 0 && in.MacroIds[c] < vtkIdType(9e15))))
     {
-      lo = lo.cwiseMin(corner(c, a));
-      hi = hi.cwiseMax(corner(c, a));
+      return false; // 9e15: CopyIdArray's range
     }
+    in.Corners(c, A);
+    lo = lo.cwiseMin(A[0]).cwiseMin(A[1]).cwiseMin(A[2]);
+    hi = hi.cwiseMax(A[0]).cwiseMax(A[1]).cwiseMax(A[2]);
+    minArea = std::min(minArea, std::abs(ctk::SignedArea2(A[0], A[1], A[2])));
   }
-  const double diag2 = (hi - lo).squaredNorm();
-  for (vtkIdType c = 0; c < in.NCells; ++c)
-  {
-    if (!(std::abs(ctk::SignedArea2(corner(c, 0), corner(c, 1), corner(c, 2))) > 1e-13 * diag2))
-    {
-      return false;
-    }
-  }
-  return true;
+  return in.NCells == 0 || minArea > 1e-13 * (hi - lo).squaredNorm();
 }
 
-// The usual source (an unstructured grid with double points, (u, v) and weights) read in place:
-// the probe's spline is built from the source's own arrays, without first copying them (on
-// 1e6 triangles the copy touched about 1 GB of fresh memory). False, with nothing built, when
-// the source is of another kind or fails a check: ReadSpline then reads it (and names the
-// offender).
-bool ReadSplineInPlace(
-  vtkDataSet* source, const std::string& uvName, Spline& out, ctk::ParameterLocator& locator)
+// The usual source (an unstructured grid with double points, (u, v) and weights, and vtkIdType
+// macro-triangle ids) read in place: the probe reads the source's own arrays (on 1e6 triangles
+// a copy touched about 1 GB of fresh memory). False, with nothing built, when the source is of
+// another kind or fails a check: ReadSpline then reads it (and names the offender).
+bool ReadSplineInPlace(vtkDataSet* source, const std::string& uvName, ProbeSpline& out)
 {
   vtkUnstructuredGrid* ug = vtkUnstructuredGrid::SafeDownCast(source);
   vtkCellArray* cells = ug ? ug->GetCells() : nullptr;
@@ -339,50 +334,58 @@ bool ReadSplineInPlace(
   vtkPointData* pd = source->GetPointData();
   vtkDataArray* w = pd->GetRationalWeights();
   w = w ? w : ctsplines::FindArray(pd, "RationalWeights");
+  vtkDataArray* xyzArray = ug && ug->GetPoints() ? ug->GetPoints()->GetData() : nullptr;
+  vtkDataArray* uvArray = ctsplines::FindArray(pd, uvName);
+  vtkDataArray* macroArray = source->GetCellData()->GetArray("MacroTriangleId");
   auto doubles = [](vtkDataArray* a, int components, vtkIdType tuples) {
     vtkDoubleArray* d = vtkDoubleArray::FastDownCast(a);
     return d && d->GetNumberOfComponents() == components && d->GetNumberOfTuples() == tuples
       ? d->GetPointer(0)
       : nullptr;
   };
-  const double* xyz = ug && ug->GetPoints() ? doubles(ug->GetPoints()->GetData(), 3, nPoints) : nullptr;
-  const double* uv = doubles(ctsplines::FindArray(pd, uvName), 2, nPoints);
+  const double* xyz = doubles(xyzArray, 3, nPoints);
+  const double* uv = doubles(uvArray, 2, nPoints);
   const double* weights = w ? doubles(w, 1, nPoints) : nullptr;
+  vtkIdTypeArray* macroIds = vtkIdTypeArray::FastDownCast(macroArray);
   if (!cells || !types || types->GetNumberOfTuples() != nCells ||
-    cells->GetNumberOfCells() != nCells || nPoints == 0 || !xyz || !uv || (w && !weights))
+    cells->GetNumberOfCells() != nCells || nPoints == 0 || !xyz || !uv || (w && !weights) ||
+    (macroArray &&
+      (!macroIds || macroIds->GetNumberOfComponents() != 1 ||
+        macroIds->GetNumberOfTuples() != nCells)))
   {
     return false;
   }
-  std::vector<vtkIdType> macroIds;
-  if (vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId"))
-  {
-    if (!ctsplines::CopyIdArray(macro, "", nCells, "cell", -1, macroIds).empty())
-    {
-      return false;
-    }
-  }
-  auto build = [&](const auto* offsets, const auto* ids) {
+  auto build = [&](vtkDataArray* offsetArray, vtkDataArray* idArray, const auto* offsets,
+                 const auto* ids) {
     using OffsetT = std::remove_cv_t<std::remove_pointer_t<decltype(offsets)>>;
     using IdT = std::remove_cv_t<std::remove_pointer_t<decltype(ids)>>;
-    const SplineArrays<OffsetT, IdT> arrays{ offsets, ids, xyz, weights, uv, nPoints, nCells };
-    if (!IsValidInPlace(types->GetPointer(0), arrays))
+    const SplineArrays<OffsetT, IdT> arrays{ offsets, ids, xyz, weights, uv,
+      macroIds ? macroIds->GetPointer(0) : nullptr, nPoints, nCells };
+    ctk::Vec2 lo, hi;
+    if (!IsValidInPlace(types->GetPointer(0), arrays, idArray->GetNumberOfValues(), lo, hi) ||
+      !out.Adopt(arrays, lo, hi).empty())
     {
       return false;
     }
-    BuildSpline(arrays, macroIds, out, locator);
+    out.Held = { offsetArray, idArray, xyzArray, uvArray, w, macroArray };
+    out.Copy = ctsplines::BezierCells();
+    std::vector<double>().swap(out.CopyUV);
+    std::vector<vtkIdType>().swap(out.CopyMacroIds);
     return true;
   };
   return cells->IsStorage64Bit()
-    ? build(cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0))
-    : build(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
+    ? build(cells->GetOffsetsArray64(), cells->GetConnectivityArray64(),
+        cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0))
+    : build(cells->GetOffsetsArray32(), cells->GetConnectivityArray32(),
+        cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
 }
 
 // The reference reading: copies and checks the source's arrays (any array types, any data
-// set), naming the first offender, then builds the probe's spline from the copy.
-std::string ReadSpline(
-  vtkDataSet* source, const std::string& uvName, Spline& out, ctk::ParameterLocator& locator)
+// set), naming the first offender; the probe then reads the copy.
+std::string ReadSpline(vtkDataSet* source, const std::string& uvName, ProbeSpline& out)
 {
-  Spline s;
+  ctsplines::BezierCells& cells = out.Copy;
+  std::vector<double>& uv = out.CopyUV;
   std::ostringstream os;
   vtkPointData* pd = source->GetPointData();
   vtkDataArray* uvArray = ctsplines::FindArray(pd, uvName);
@@ -392,48 +395,61 @@ std::string ReadSpline(
        << "' (the domain point (u, v) of each control point)";
     return os.str();
   }
-  std::vector<double> uv;
   std::string error = ctsplines::CopyArray(uvArray,
     "the source's point data array '" + uvName + "'", 2, source->GetNumberOfPoints(), "point", uv);
   if (error.empty())
   {
-    error = ctsplines::GatherBezierCells(source, s.Cells, "source cell", "the source's ");
+    error = ctsplines::GatherBezierCells(source, cells, "source cell", "the source's ");
   }
   if (!error.empty())
   {
     return error;
   }
-  const vtkIdType nCells = s.Cells.NumberOfCells();
-  ctk::ResizeForOverwrite(s.Corners, static_cast<size_t>(3 * nCells));
-  ctsplines::ParallelFor(0, nCells, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType c = b; c < e; ++c)
+  const vtkIdType nCells = cells.NumberOfCells();
+  vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId");
+  out.CopyMacroIds.clear();
+  if (macro)
+  {
+    error = ctsplines::CopyIdArray(macro, "the source's cell data array 'MacroTriangleId'",
+      nCells, "cell", -1, out.CopyMacroIds);
+    if (!error.empty())
     {
-      for (int a = 0; a < 3; ++a)
-      {
-        const vtkIdType p = s.Cells.CellIds(c)[a];
-        s.Corners[3 * c + a] = ctk::Vec2(uv[2 * p], uv[2 * p + 1]);
-      }
+      return error;
     }
-  });
+  }
+  const SplineArrays<vtkIdType, vtkIdType> arrays{ cells.Offsets.data(), cells.Ids.data(),
+    reinterpret_cast<const double*>(cells.Points.data()),
+    cells.Weights.empty() ? nullptr : cells.Weights.data(), uv.data(),
+    macro ? out.CopyMacroIds.data() : nullptr, static_cast<vtkIdType>(cells.Points.size()),
+    nCells };
 
   // Zero-area parameter triangles have no barycentric coordinates (same test as the spline
   // filter: relative to the extent of the parameter domain). In parallel; the lowest
   // offending cell is reported whatever the thread count.
+  ctk::Vec2 lo, hi;
   if (nCells > 0)
   {
-    ctk::Vec2 lo = s.Corners[0], hi = s.Corners[0];
-    for (const ctk::Vec2& p : s.Corners)
+    ctk::Vec2 A[3];
+    arrays.Corners(0, A);
+    lo = A[0];
+    hi = A[0];
+    for (vtkIdType c = 0; c < nCells; ++c)
     {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
+      arrays.Corners(c, A);
+      for (int a = 0; a < 3; ++a)
+      {
+        lo = lo.cwiseMin(A[a]);
+        hi = hi.cwiseMax(A[a]);
+      }
     }
     const double diag2 = (hi - lo).squaredNorm();
     ctk::LowestId firstBad;
     ctsplines::ParallelFor(0, nCells, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+      ctk::Vec2 B[3];
       for (vtkIdType c = b; c < e; ++c)
       {
-        const ctk::Vec2* A = &s.Corners[3 * c];
-        if (!(std::abs(ctk::SignedArea2(A[0], A[1], A[2])) > 1e-13 * diag2))
+        arrays.Corners(c, B);
+        if (!(std::abs(ctk::SignedArea2(B[0], B[1], B[2])) > 1e-13 * diag2))
         {
           firstBad.Report(c);
           break;
@@ -444,32 +460,13 @@ std::string ReadSpline(
     {
       const vtkIdType c = firstBad.Get();
       os << "degenerate parameter triangle: source cell " << c << " (corner points "
-         << s.Cells.CellIds(c)[0] << ", " << s.Cells.CellIds(c)[1] << ", "
-         << s.Cells.CellIds(c)[2] << ") has zero area in (u, v)";
+         << arrays.Id(c, 0) << ", " << arrays.Id(c, 1) << ", " << arrays.Id(c, 2)
+         << ") has zero area in (u, v)";
       return os.str();
     }
   }
-
-  if (vtkDataArray* macro = source->GetCellData()->GetArray("MacroTriangleId"))
-  {
-    error = ctsplines::CopyIdArray(
-      macro, "the source's cell data array 'MacroTriangleId'", nCells, "cell", -1, s.MacroIds);
-    if (!error.empty())
-    {
-      return error;
-    }
-  }
-  else
-  {
-    s.MacroIds.clear();
-  }
-  std::vector<ctk::Vec2>().swap(s.Corners);
-  const SplineArrays<vtkIdType, vtkIdType> arrays{ s.Cells.Offsets.data(), s.Cells.Ids.data(),
-    s.Cells.Points.empty() ? nullptr : s.Cells.Points.data()->data(),
-    s.Cells.Weights.empty() ? nullptr : s.Cells.Weights.data(), uv.data(),
-    static_cast<vtkIdType>(s.Cells.Points.size()), nCells };
-  BuildSpline(arrays, s.MacroIds, out, locator);
-  return {};
+  out.Held.clear();
+  return out.Adopt(arrays, lo, hi);
 }
 } // namespace
 
@@ -509,37 +506,41 @@ struct QueryPoints
   }
 };
 
-// Queries in bucket order within windows of consecutive queries: neighbouring queries then
-// read the same triangles and control points, which matters once the spline outgrows the cache
-// (random queries on 1e6 triangles were ~10x slower per query than on 1e4), while the output
-// writes stay within a window. Each query is computed independently, so the order does not
-// change any result.
-std::vector<vtkIdType> LocalityOrder(const QueryPoints& queries, vtkIdType nPoints,
-  const ctk::ParameterLocator& locator)
+// The queries in the Morton order of their buckets, as (key << 32 | query) values (empty: the
+// input's order, beyond 2^32 queries). Neighbouring queries then read neighbouring cells, and
+// a spline written in a locality order nearly in memory order, whatever the order of the
+// queries (random queries on 1e6 triangles were ~10x slower per query than on 1e4 without
+// this); the results are scattered back. Each query is computed independently, so the order
+// changes no result.
+std::vector<std::uint64_t> LocalityOrder(
+  const QueryPoints& queries, vtkIdType nPoints, const ctk::TriangleBucketGrid& grid)
 {
-  constexpr vtkIdType window = vtkIdType(1) << 15;
-  std::vector<vtkIdType> order;
-  ctk::ResizeForOverwrite(order, nPoints);
-  ctsplines::ParallelFor(0, (nPoints + window - 1) / window, 1, [&](vtkIdType wb, vtkIdType we) {
-    std::vector<std::pair<ctk::Id, vtkIdType>> keyed;
-    for (vtkIdType w = wb; w < we; ++w)
+  std::vector<std::uint64_t> keyed;
+  if (nPoints > vtkIdType(UINT32_MAX))
+  {
+    return keyed;
+  }
+  // Columns and rows beyond 2^16 share keys (the order is only coarser).
+  int shift = 0;
+  while (std::max(grid.GetNumberOfColumns(), grid.GetNumberOfRows()) - 1 >> shift >= 65536)
+  {
+    ++shift;
+  }
+  ctk::ResizeForOverwrite(keyed, static_cast<size_t>(nPoints));
+  ctsplines::ParallelFor(0, nPoints, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
     {
-      const vtkIdType begin = w * window, end = std::min(nPoints, begin + window);
-      keyed.clear();
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        double x[3];
-        queries.Get(i, x);
-        keyed.emplace_back(locator.Bucket(x[0], x[1]), i);
-      }
-      std::sort(keyed.begin(), keyed.end());
-      for (vtkIdType i = begin; i < end; ++i)
-      {
-        order[i] = keyed[i - begin].second;
-      }
+      double x[3];
+      queries.Get(i, x);
+      ctk::Id ix, iy;
+      const std::uint32_t key = grid.BucketCell(x[0], x[1], ix, iy)
+        ? ctk::MortonKey16(static_cast<std::uint32_t>(ix >> shift), static_cast<std::uint32_t>(iy >> shift))
+        : 0;
+      keyed[i] = (std::uint64_t(key) << 32) | std::uint64_t(i);
     }
   });
-  return order;
+  ctk::SortByUpperHalf(keyed);
+  return keyed;
 }
 
 } // namespace
@@ -551,8 +552,7 @@ struct vtkSplineParameterProbe::SplineCache
   vtkWeakPointer<vtkDataSet> Source;
   vtkMTimeType SourceTime = 0;
   std::string UVName;
-  Spline Data;
-  ctk::ParameterLocator Locator;
+  ProbeSpline Data;
 
   bool Holds(vtkDataSet* source, const std::string& uvName) const
   {
@@ -650,10 +650,9 @@ int vtkSplineParameterProbe::RequestData(
   if (!this->Cache->Holds(source, this->UVArrayName))
   {
     this->Cache->Source = nullptr; // invalid until rebuilt
-    if (!ReadSplineInPlace(source, this->UVArrayName, this->Cache->Data, this->Cache->Locator))
+    if (!ReadSplineInPlace(source, this->UVArrayName, this->Cache->Data))
     {
-      const std::string error =
-        ReadSpline(source, this->UVArrayName, this->Cache->Data, this->Cache->Locator);
+      const std::string error = ReadSpline(source, this->UVArrayName, this->Cache->Data);
       if (!error.empty())
       {
         vtkErrorMacro(<< error);
@@ -665,39 +664,48 @@ int vtkSplineParameterProbe::RequestData(
     this->Cache->UVName = this->UVArrayName;
     ++this->NumberOfSplineBuilds;
   }
-  const Spline& spline = this->Cache->Data;
-  const ctk::ParameterLocator& locator = this->Cache->Locator;
+  const ProbeSpline& spline = this->Cache->Data;
   this->UpdateProgress(0.1);
 
   const vtkIdType nPoints = input->GetNumberOfPoints();
   ProbeArrays out(nPoints, this->ComputeDerivatives);
   const int order = this->ComputeDerivatives ? 1 : 0;
   const QueryPoints queries(input);
-  const std::vector<vtkIdType> queryOrder = LocalityOrder(queries, nPoints, locator);
-  auto probe = [&](vtkIdType begin, vtkIdType end) {
+  const std::vector<std::uint64_t> queryOrder = LocalityOrder(queries, nPoints, spline.Grid);
+  auto probe = [&](const auto& arrays, vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
+    auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
+    const BezierShapes& shapes = Shapes();
     for (vtkIdType k = begin; k < end; ++k)
     {
-      const vtkIdType i = queryOrder[k];
+      const vtkIdType i =
+        queryOrder.empty() ? k : static_cast<vtkIdType>(queryOrder[k] & 0xFFFFFFFFu);
       double x[3];
       queries.Get(i, x);
-      const ctk::ParameterLocator::Hit hit = locator.Locate(x[0], x[1]);
+      const ctk::LocatorHit hit = spline.Grid.Locate(x[0], x[1], corners);
       if (!hit.Found())
       {
         out.SetOutside(i, x);
         continue;
       }
       const vtkIdType c = hit.Triangle;
-      const double* wp = spline.Cells.Net(c, P, w);
-      const ctk::Vec2* A = locator.TriangleCorners(c);
-      out.Set(i,
-        ctk::EvaluateOverDomain(spline.Cells.Degree[c], P, wp, A[0], A[1], A[2], hit.Barycentric, order),
-        spline.MacroIds[c]);
+      int degree;
+      const double* wp = arrays.Net(c, shapes, degree, P, w);
+      ctk::Vec2 A[3];
+      arrays.Corners(c, A);
+      out.Set(i, ctk::EvaluateOverDomain(degree, P, wp, A[0], A[1], A[2], hit.Barycentric, order),
+        arrays.MacroId(c));
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.
-  if (!ctsplines::ForInBlocks(this, nPoints, 20, 0.1, 0.95, probe))
+  const bool completed = std::visit(
+    [&](const auto& arrays) {
+      return ctsplines::ForInBlocks(this, nPoints, 20, 0.1, 0.95,
+        [&](vtkIdType begin, vtkIdType end) { probe(arrays, begin, end); });
+    },
+    spline.Arrays);
+  if (!completed)
   {
     output->Initialize();
     return 1;

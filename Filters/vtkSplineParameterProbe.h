@@ -22,13 +22,15 @@
  * MacroTriangleId is -1.
  *
  * Points are located with a bucket grid over the parameter triangles (constant expected time per
- * query), built once per source and reused while the source is unchanged, and evaluated exactly
- * with the kernel, in the locator's bucket order (results scattered back); the loop over points
- * runs with vtkSMPTools. The spline is built once, in one pass over the source's arrays (read in
- * place for an unstructured grid with double points, UV and weights; copied otherwise): its
- * cells and control points in the Morton order of the parameter triangles (large splines only),
- * so that nearby queries read nearby memory; every result keeps its bits (ties between cells
- * still go to the lowest source cell id). ComputeDerivatives off outputs positions only.
+ * query) holding only cell ids, built once per source and reused while the source is unchanged.
+ * The spline is read where it is: the source's own arrays for an unstructured grid with double
+ * points, UV and weights (checked, not copied), a checked copy otherwise; nothing is renumbered.
+ * Queries are processed in the Morton order of their buckets and the results scattered back:
+ * neighbouring queries read neighbouring cells, in memory order for a spline written in a
+ * locality order (as vtkCloughTocherSplineFilter writes them). Points are evaluated exactly with
+ * the kernel; the loop over points runs with vtkSMPTools. Ties between cells go to the lowest
+ * source cell id, and no result depends on the order or the thread count. ComputeDerivatives
+ * off outputs positions only.
  * A missing source, a missing or non-2-component UV array, source cells that are not Bézier
  * triangles, and zero-area parameter triangles are reported with vtkErrorMacro and RequestData
  * returns 0.

@@ -59,7 +59,7 @@ constexpr MultinomialTable Multinomials;
 
 // Sum over degree-m multi-indices of B^m_i(t) H[i + shift], the shift adding d0 and d1 to the
 // first two exponents (the third follows from the degree n).
-Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d* H, int d0, int d1)
+inline Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d* H, int d0, int d1)
 {
   Eigen::Vector4d s = Eigen::Vector4d::Zero();
   int idx = 0;
@@ -74,9 +74,8 @@ Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d*
   }
   return s;
 }
-} // namespace
 
-void Bernstein(int m, const Vec3& t, double* out)
+inline void BernsteinImpl(int m, const Vec3& t, double* out)
 {
   double p0[MaxDegree + 1], p1[MaxDegree + 1], p2[MaxDegree + 1];
   p0[0] = p1[0] = p2[0] = 1.0;
@@ -98,7 +97,7 @@ void Bernstein(int m, const Vec3& t, double* out)
   }
 }
 
-void HomogeneousNet(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
+inline void HomogeneousNetImpl(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
 {
   const int count = BezierPointCount(n);
   for (int a = 0; a < count; ++a)
@@ -107,6 +106,85 @@ void HomogeneousNet(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
     H[a] << wa * P[a], wa;
   }
 }
+
+// The degree is N when N >= 0 (known at compile time: the loops unroll, with the same operations
+// in the same order, so the same bits), else n.
+template <int N>
+BezierJet EvaluateImpl(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
+{
+  if (N >= 0)
+  {
+    n = N;
+  }
+  assert(n >= 0 && n <= MaxDegree);
+  Eigen::Vector4d H[MaxBezierPoints];
+  HomogeneousNetImpl(n, P, weights, H);
+  double B[MaxBezierPoints];
+
+  BezierJet jet;
+  BernsteinImpl(n, t, B);
+  const Eigen::Vector4d h = ShiftedSum(n, n, B, H, 0, 0);
+  const double W = h[3];
+  jet.Value = h.head<3>() / W;
+  if (order < 1 || n == 0)
+  {
+    return jet;
+  }
+
+  BernsteinImpl(n - 1, t, B);
+  Eigen::Vector4d hd[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    hd[a] = n * ShiftedSum(n, n - 1, B, H, a == 0, a == 1);
+    jet.DT[a] = (hd[a].head<3>() - jet.Value * hd[a][3]) / W;
+  }
+  if (order < 2)
+  {
+    return jet;
+  }
+
+  // Homogeneous second derivatives vanish for n = 1, but a rational patch still curves.
+  if (n >= 2)
+  {
+    BernsteinImpl(n - 2, t, B);
+  }
+  int ab = 0;
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = a; b < 3; ++b, ++ab)
+    {
+      const Eigen::Vector4d hdd = n < 2 ? Eigen::Vector4d::Zero()
+                                        : Eigen::Vector4d(n * (n - 1) *
+                                            ShiftedSum(n, n - 2, B, H, (a == 0) + (b == 0),
+                                              (a == 1) + (b == 1)));
+      // Quotient rule, second order: p_ab = (h_ab - p_a W_b - p_b W_a - p W_ab) / W.
+      jet.DTT[ab] = (hdd.head<3>() - jet.DT[a] * hd[b][3] - jet.DT[b] * hd[a][3] -
+                      jet.Value * hdd[3]) /
+        W;
+    }
+  }
+  return jet;
+}
+
+} // namespace
+
+void Bernstein(int m, const Vec3& t, double* out)
+{
+  BernsteinImpl(m, t, out);
+}
+
+void HomogeneousNet(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
+{
+  HomogeneousNetImpl(n, P, w, H);
+}
+
+BezierJet EvaluateBezierTriangle(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
+{
+  // Cubic nets (every Clough-Tocher spline) with their degree known at compile time.
+  return n == 3 ? EvaluateImpl<3>(n, P, weights, t, order)
+                : EvaluateImpl<-1>(n, P, weights, t, order);
+}
+
 
 std::vector<std::array<int, 3>> BezierExponents(int n)
 {
@@ -159,58 +237,6 @@ std::vector<int> VtkBezierTriangleOrder(int n)
     ++offset;
   }
   return order;
-}
-
-BezierJet EvaluateBezierTriangle(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
-{
-  assert(n >= 0 && n <= MaxDegree);
-  Eigen::Vector4d H[MaxBezierPoints];
-  HomogeneousNet(n, P, weights, H);
-  double B[MaxBezierPoints];
-
-  BezierJet jet;
-  Bernstein(n, t, B);
-  const Eigen::Vector4d h = ShiftedSum(n, n, B, H, 0, 0);
-  const double W = h[3];
-  jet.Value = h.head<3>() / W;
-  if (order < 1 || n == 0)
-  {
-    return jet;
-  }
-
-  Bernstein(n - 1, t, B);
-  Eigen::Vector4d hd[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    hd[a] = n * ShiftedSum(n, n - 1, B, H, a == 0, a == 1);
-    jet.DT[a] = (hd[a].head<3>() - jet.Value * hd[a][3]) / W;
-  }
-  if (order < 2)
-  {
-    return jet;
-  }
-
-  // Homogeneous second derivatives vanish for n = 1, but a rational patch still curves.
-  if (n >= 2)
-  {
-    Bernstein(n - 2, t, B);
-  }
-  int ab = 0;
-  for (int a = 0; a < 3; ++a)
-  {
-    for (int b = a; b < 3; ++b, ++ab)
-    {
-      const Eigen::Vector4d hdd = n < 2 ? Eigen::Vector4d::Zero()
-                                        : Eigen::Vector4d(n * (n - 1) *
-                                            ShiftedSum(n, n - 2, B, H, (a == 0) + (b == 0),
-                                              (a == 1) + (b == 1)));
-      // Quotient rule, second order: p_ab = (h_ab - p_a W_b - p_b W_a - p W_ab) / W.
-      jet.DTT[ab] = (hdd.head<3>() - jet.DT[a] * hd[b][3] - jet.DT[b] * hd[a][3] -
-                      jet.Value * hdd[3]) /
-        W;
-    }
-  }
-  return jet;
 }
 
 namespace
@@ -313,14 +339,6 @@ void ElevateDegree(int n, const Vec3* P, Vec3* out)
   }
 }
 
-Vec3 Barycentric(const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X)
-{
-  const double area = SignedArea2(A0, A1, A2);
-  const double t1 = SignedArea2(A0, X, A2) / area;
-  const double t2 = SignedArea2(A0, A1, X) / area;
-  return Vec3(1.0 - t1 - t2, t1, t2);
-}
-
 Eigen::Matrix<double, 3, 2> BarycentricGradient(const Vec2& A0, const Vec2& A1, const Vec2& A2)
 {
   const double area = SignedArea2(A0, A1, A2);
@@ -338,7 +356,8 @@ Eigen::Matrix<double, 3, 2> BarycentricGradient(const Vec2& A0, const Vec2& A1, 
 ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, const Vec2& A0,
   const Vec2& A1, const Vec2& A2, const Vec3& t, int order)
 {
-  const BezierJet jet = EvaluateBezierTriangle(n, P, weights, t, order);
+  const BezierJet jet = n == 3 ? EvaluateImpl<3>(n, P, weights, t, order)
+                               : EvaluateImpl<-1>(n, P, weights, t, order);
   const Eigen::Matrix<double, 3, 2> G = BarycentricGradient(A0, A1, A2);
   ParametricJet out;
   out.Value = jet.Value;

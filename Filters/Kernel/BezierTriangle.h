@@ -89,14 +89,21 @@ void SubTriangle(int n, const Vec3* P, const Vec3& c0, const Vec3& c1, const Vec
 /// Degree elevation n -> n+1 of a polynomial net. out holds BezierPointCount(n+1) points.
 void ElevateDegree(int n, const Vec3* P, Vec3* out);
 
-/// Barycentric coordinates of X with respect to the planar triangle (A0, A1, A2) from signed
-/// areas (coordinates may be negative outside). The triangle must be non-degenerate.
-Vec3 Barycentric(const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X);
-
 /// Twice the signed area of (A0, A1, A2), positive when counter-clockwise.
 inline double SignedArea2(const Vec2& A0, const Vec2& A1, const Vec2& A2)
 {
   return (A1.x() - A0.x()) * (A2.y() - A0.y()) - (A1.y() - A0.y()) * (A2.x() - A0.x());
+}
+
+/// Barycentric coordinates of X with respect to the planar triangle (A0, A1, A2) from signed
+/// areas (coordinates may be negative outside). The triangle must be non-degenerate. Inline:
+/// point location calls it for every candidate triangle.
+inline Vec3 Barycentric(const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X)
+{
+  const double area = SignedArea2(A0, A1, A2);
+  const double t1 = SignedArea2(A0, X, A2) / area;
+  const double t2 = SignedArea2(A0, A1, X) / area;
+  return Vec3(1.0 - t1 - t2, t1, t2);
 }
 
 /// Planar cross product a x b.

@@ -20,6 +20,12 @@ std::uint64_t Spread16(std::uint64_t x)
   x = (x | (x << 2)) & 0x33333333u;
   return (x | (x << 1)) & 0x55555555u;
 }
+} // namespace
+
+std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y)
+{
+  return static_cast<std::uint32_t>(Spread16(x & 0xFFFFu) | (Spread16(y & 0xFFFFu) << 1));
+}
 
 // Sorts values by their upper 32 bits (the key; the lower 32 hold the triangle), stable: LSD
 // radix sort, 11 + 11 + 10 bits, the three histograms counted in one read.
@@ -62,7 +68,6 @@ void SortByUpperHalf(std::vector<std::uint64_t>& values)
     values.swap(other);
   }
 }
-} // namespace
 
 std::vector<Id> TriangleLocalityOrder(
   Id numVertices, Id numTriangles, const Id* triangles, const double* uv)
@@ -104,7 +109,8 @@ std::vector<Id> TriangleLocalityOrder(
       const double s = (x - lo[c]) * scale[c];
       cell[c] = s > 0 ? static_cast<std::uint64_t>(std::min(s, 65535.0)) : 0;
     }
-    keyed[t] = ((Spread16(cell[0]) | (Spread16(cell[1]) << 1)) << 32) | std::uint64_t(t);
+    keyed[t] = (std::uint64_t(MortonKey16(static_cast<std::uint32_t>(cell[0]),
+                   static_cast<std::uint32_t>(cell[1]))) << 32) | std::uint64_t(t);
   }
   SortByUpperHalf(keyed);
   ResizeForOverwrite(order, keyed.size());

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace ctk
@@ -36,6 +37,14 @@ constexpr Id MinTrianglesForLocalityOrder = Id(1) << 15;
 /// MinTrianglesForLocalityOrder triangles. triangles: #T by 3 vertex ids, uv: #V by 2.
 std::vector<Id> TriangleLocalityOrder(
   Id numVertices, Id numTriangles, const Id* triangles, const double* uv);
+
+/// The Morton key of cell (x, y) of a 2^16 by 2^16 grid: the bits of x at the even positions,
+/// those of y at the odd ones.
+std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y);
+
+/// Sorts values by their upper 32 bits (a key; the lower 32 typically hold an index), stable:
+/// LSD radix sort, one byte per pass (bytes that all values share are skipped).
+void SortByUpperHalf(std::vector<std::uint64_t>& values);
 
 /// A renumbering of a mesh into its locality order (issue #12), for building and writing a spline
 /// in that order: renumbered triangle k is input triangle Triangles[k] (TriangleLocalityOrder),

@@ -24,12 +24,14 @@ bool IsUsable(const Vec2* c)
   return SignedArea2(c[0], c[1], c[2]) != 0.0;
 }
 
-// Cell of x along one axis, clamped to [0, n) in double, so that neither huge values nor a NaN
-// from an overflowing or underflowing box (inf * 0) reach the integer cast.
+// Cell of x along one axis: floor((x - origin) * inverseSpacing) clamped to [0, n), in double,
+// so that neither huge values nor a NaN from an overflowing or underflowing box (inf * 0) reach
+// the integer cast. The cast truncates, which is floor for the values >= 1 it gets (std::floor is
+// a library call on baseline x86-64, and this runs for every query and bucket range).
 Id Cell(double x, double origin, double inverseSpacing, Id n)
 {
-  const double f = std::floor((x - origin) * inverseSpacing);
-  if (!(f > 0.0))
+  const double f = (x - origin) * inverseSpacing;
+  if (!(f >= 1.0))
   {
     return 0;
   }
@@ -37,9 +39,8 @@ Id Cell(double x, double origin, double inverseSpacing, Id n)
 }
 } // namespace
 
-bool ParameterLocator::BucketRange(Id t, Id range[4]) const
+bool TriangleBucketGrid::BucketRange(const Vec2* c, Id range[4]) const
 {
-  const Vec2* c = &this->Corners[3 * t];
   if (!IsUsable(c))
   {
     return false;
@@ -58,38 +59,29 @@ bool ParameterLocator::BucketRange(Id t, Id range[4]) const
   return true;
 }
 
-void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
+bool TriangleBucketGrid::BuildFrom(
+  Id numTriangles, CornerFunction corners, const void* context, const Vec2* box)
 {
-  ResizeForOverwrite(this->Corners, static_cast<size_t>(3 * numTriangles));
-  std::copy_n(corners, 3 * numTriangles, this->Corners.data());
-  this->TieRank.clear();
-  this->BuildBuckets();
-}
-
-void ParameterLocator::Build(std::vector<Vec2>&& corners, std::vector<Id>&& tieRank)
-{
-  this->Corners = std::move(corners);
-  this->TieRank = std::move(tieRank);
-  if (!this->TieRank.empty() && this->TieRank.size() != this->Corners.size() / 3)
-  {
-    this->TieRank.clear(); // not one per triangle: ignored (ids break ties)
-  }
-  this->BuildBuckets();
-}
-
-void ParameterLocator::BuildBuckets()
-{
-  const Id numTriangles = this->GetNumberOfTriangles();
   this->Offsets.clear();
   this->Items.clear();
   this->NX = this->NY = 0;
+  if (numTriangles > MaxTriangles)
+  {
+    return false;
+  }
 
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
   Vec2 hi = -lo;
-  Id usable = 0;
-  for (Id t = 0; t < numTriangles; ++t)
+  Id usable = box ? numTriangles : 0;
+  if (box)
   {
-    const Vec2* c = &this->Corners[3 * t];
+    lo = box[0];
+    hi = box[1];
+  }
+  Vec2 c[3];
+  for (Id t = 0; !box && t < numTriangles; ++t)
+  {
+    corners(context, t, c);
     if (IsUsable(c))
     {
       ++usable;
@@ -102,7 +94,7 @@ void ParameterLocator::BuildBuckets()
   }
   if (usable == 0)
   {
-    return;
+    return true;
   }
   // A usable triangle has positive area, so both extents are positive. Aim for square buckets,
   // about one per triangle.
@@ -127,13 +119,15 @@ void ParameterLocator::BuildBuckets()
     }
   }
 
-  // Pass 1: bucket sizes; prefix sums give the row starts.
+  // Pass 1: bucket sizes (counted from index 1); prefix sums give the row starts.
   const Id nBuckets = this->NX * this->NY;
-  AssignLarge(this->Offsets, static_cast<size_t>(nBuckets + 1), Id(0));
+  AssignLarge(this->Offsets, static_cast<size_t>(nBuckets + 1), std::uint32_t(0));
   Id range[4];
+  std::uint64_t total = 0;
   for (Id t = 0; t < numTriangles; ++t)
   {
-    if (this->BucketRange(t, range))
+    corners(context, t, c);
+    if (this->BucketRange(c, range))
     {
       for (Id iy = range[2]; iy <= range[3]; ++iy)
       {
@@ -142,80 +136,90 @@ void ParameterLocator::BuildBuckets()
           ++this->Offsets[iy * this->NX + ix + 1];
         }
       }
+      total += static_cast<std::uint64_t>(range[1] - range[0] + 1) * (range[3] - range[2] + 1);
     }
+  }
+  if (total > UINT32_MAX)
+  {
+    *this = TriangleBucketGrid();
+    return false;
   }
   for (Id b = 0; b < nBuckets; ++b)
   {
     this->Offsets[b + 1] += this->Offsets[b];
   }
-  // Pass 2: fill in triangle order, so every row is sorted by triangle id.
-  ResizeForOverwrite(this->Items, static_cast<size_t>(this->Offsets[nBuckets]));
-  std::vector<Id> next(this->Offsets.begin(), this->Offsets.end() - 1);
+  // Pass 2: fill in triangle order, so every row is sorted by triangle id. Offsets[b] serves as
+  // the fill position of row b (ending at the start of row b + 1), then is shifted back.
+  ResizeForOverwrite(this->Items, static_cast<size_t>(total));
   for (Id t = 0; t < numTriangles; ++t)
   {
-    if (this->BucketRange(t, range))
+    corners(context, t, c);
+    if (this->BucketRange(c, range))
     {
       for (Id iy = range[2]; iy <= range[3]; ++iy)
       {
         for (Id ix = range[0]; ix <= range[1]; ++ix)
         {
-          this->Items[next[iy * this->NX + ix]++] = t;
+          this->Items[this->Offsets[iy * this->NX + ix]++] = static_cast<std::uint32_t>(t);
         }
       }
     }
   }
+  for (Id b = nBuckets; b > 0; --b)
+  {
+    this->Offsets[b] = this->Offsets[b - 1];
+  }
+  this->Offsets[0] = 0;
+  return true;
+}
+
+bool TriangleBucketGrid::BucketCell(double u, double v, Id& ix, Id& iy) const
+{
+  if (this->NX == 0 || !std::isfinite(u) || !std::isfinite(v))
+  {
+    return false;
+  }
+  ix = Cell(u, this->Origin[0], this->InverseSpacing[0], this->NX);
+  iy = Cell(v, this->Origin[1], this->InverseSpacing[1], this->NY);
+  return true;
+}
+
+Id TriangleBucketGrid::Bucket(double u, double v) const
+{
+  Id ix, iy;
+  return this->BucketCell(u, v, ix, iy) ? iy * this->NX + ix : -1;
+}
+
+void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
+{
+  ResizeForOverwrite(this->Corners, static_cast<size_t>(3 * numTriangles));
+  std::copy_n(corners, 3 * numTriangles, this->Corners.data());
+  this->BuildGrid();
 }
 
 void ParameterLocator::Build(const std::vector<Vec2>& uv, Id numTriangles, const Id* triangles)
 {
-  std::vector<Vec2> corners(3 * numTriangles);
+  ResizeForOverwrite(this->Corners, static_cast<size_t>(3 * numTriangles));
   for (Id i = 0; i < 3 * numTriangles; ++i)
   {
-    corners[i] = uv[triangles[i]];
+    this->Corners[i] = uv[triangles[i]];
   }
-  this->Build(numTriangles, corners.data());
+  this->BuildGrid();
 }
 
-Id ParameterLocator::Bucket(double u, double v) const
+void ParameterLocator::BuildGrid()
 {
-  if (this->NX == 0 || !std::isfinite(u) || !std::isfinite(v))
+  if (!this->Grid.Build(this->GetNumberOfTriangles(),
+        [this](Id t, Vec2* c) { std::copy_n(this->TriangleCorners(t), 3, c); }))
   {
-    return -1;
+    this->Corners.clear(); // too many triangles for the grid: nothing is found
   }
-  const Id ix = Cell(u, this->Origin[0], this->InverseSpacing[0], this->NX);
-  const Id iy = Cell(v, this->Origin[1], this->InverseSpacing[1], this->NY);
-  return iy * this->NX + ix;
 }
 
 ParameterLocator::Hit ParameterLocator::Locate(double u, double v) const
 {
-  Hit hit;
-  const Id b = this->Bucket(u, v);
-  if (b < 0)
-  {
-    return hit;
-  }
-  const Vec2 X(u, v);
-  double bestMin = -Tolerance;
-  for (Id i = this->Offsets[b]; i < this->Offsets[b + 1]; ++i)
-  {
-    const Id t = this->Items[i];
-    const Vec2* c = &this->Corners[3 * t];
-    const Vec3 bary = Barycentric(c[0], c[1], c[2], X);
-    const double m = bary.minCoeff();
-    // Rows are sorted by id, so a strict comparison keeps the lowest id among ties; tie ranks
-    // are compared only at exact ties (rare: no row sorting by rank).
-    if (m > bestMin ||
-      (m == bestMin &&
-        (hit.Triangle < 0 ||
-          (!this->TieRank.empty() && this->TieRank[t] < this->TieRank[hit.Triangle]))))
-    {
-      bestMin = m;
-      hit.Triangle = t;
-      hit.Barycentric = bary;
-    }
-  }
-  return hit;
+  return this->Grid.Locate(
+    u, v, [this](Id t, Vec2* c) { std::copy_n(this->TriangleCorners(t), 3, c); });
 }
 
 } // namespace ctk

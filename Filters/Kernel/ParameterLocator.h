@@ -4,82 +4,153 @@
 //
 // A uniform bucket grid over the bounding box of all triangles, about one bucket per triangle;
 // each triangle is listed in every bucket its (slightly enlarged) bounding box touches, stored in
-// compressed rows built in two passes (count, then fill): O(n) build for meshes without extreme
-// slivers, O(1) expected query. Queries only read the structure, so any number of threads may
-// query one built locator concurrently.
+// compressed rows of 32-bit triangle ids built in two passes (count, then fill): O(n) build for
+// meshes without extreme slivers, O(1) expected query. The grid holds triangle ids only: the
+// corners come from the caller (TriangleBucketGrid, which reads them where they already are) or
+// from a copy (ParameterLocator). Queries only read the structure, so any number of threads may
+// query one built grid concurrently.
 #ifndef CTSplines_Kernel_ParameterLocator_h
 #define CTSplines_Kernel_ParameterLocator_h
 
 #include "BezierTriangle.h"
 #include "MeshTopology.h" // for Id
 
+#include <cstdint>
 #include <vector>
 
 namespace ctk
 {
-class ParameterLocator
+/// Result of a query: Triangle is -1 when no triangle contains the point.
+struct LocatorHit
+{
+  Id Triangle = -1;
+  /// Barycentric coordinates w.r.t. the triangle's corners (may be negative by at most the
+  /// tolerance on edges and vertices).
+  Vec3 Barycentric = Vec3::Zero();
+  bool Found() const { return this->Triangle >= 0; }
+};
+
+/// The bucket grid over triangles whose corners a callable gives: corners(t, c) writes corner a
+/// of triangle t to c[a] (it may read them from a mesh's own arrays: nothing is copied).
+class TriangleBucketGrid
 {
 public:
-  /// Result of a query: Triangle is -1 when no triangle contains the point.
-  struct Hit
-  {
-    Id Triangle = -1;
-    /// Barycentric coordinates w.r.t. the triangle's corners (may be negative by at most the
-    /// tolerance on edges and vertices).
-    Vec3 Barycentric = Vec3::Zero();
-    bool Found() const { return this->Triangle >= 0; }
-  };
-
   /// A point belongs to a triangle when none of its barycentric coordinates is below
   /// -Tolerance; this catches points on shared edges and vertices despite round-off.
   static constexpr double Tolerance = 1e-12;
+  /// Largest number of triangles (ids are stored in 32 bits).
+  static constexpr Id MaxTriangles = Id(UINT32_MAX);
+
+  /// Builds over numTriangles triangles; triangles of zero area or with non-finite corners are
+  /// never reported (they have no barycentric coordinates). False, with an empty grid (nothing
+  /// found), beyond MaxTriangles triangles or bucket entries.
+  template <typename Corners>
+  bool Build(Id numTriangles, const Corners& corners)
+  {
+    return this->BuildFrom(numTriangles, &CallCorners<Corners>, &corners, nullptr);
+  }
+  /// The same for a caller that has checked every triangle (finite corners, nonzero area) and
+  /// knows the box [lo, hi] of all corners: one pass fewer.
+  template <typename Corners>
+  bool Build(Id numTriangles, const Corners& corners, const Vec2& lo, const Vec2& hi)
+  {
+    const Vec2 box[2] = { lo, hi };
+    return this->BuildFrom(numTriangles, &CallCorners<Corners>, &corners, box);
+  }
+
+  /// The triangle containing (u, v). Among several candidates (shared edges and vertices), the
+  /// one whose smallest barycentric coordinate is largest, then the lowest id: deterministic.
+  /// `corners` as given to Build.
+  template <typename Corners>
+  LocatorHit Locate(double u, double v, const Corners& corners) const;
+
+  /// The bucket Locate(u, v) searches (-1 for non-finite input or an empty grid).
+  Id Bucket(double u, double v) const;
+  /// Its column and row (false, for -1). Callers with many queries may process them in an
+  /// order of these (a Morton order): neighbouring queries then share triangles in cache.
+  bool BucketCell(double u, double v, Id& ix, Id& iy) const;
+  Id GetNumberOfBuckets() const { return this->NX * this->NY; }
+  Id GetNumberOfColumns() const { return this->NX; }
+  Id GetNumberOfRows() const { return this->NY; }
+
+private:
+  using CornerFunction = void (*)(const void* context, Id t, Vec2* c);
+  template <typename Corners>
+  static void CallCorners(const void* corners, Id t, Vec2* c)
+  {
+    (*static_cast<const Corners*>(corners))(t, c);
+  }
+  bool BuildFrom(Id numTriangles, CornerFunction corners, const void* context, const Vec2* box);
+  bool BucketRange(const Vec2* c, Id range[4]) const;
+
+  double Origin[2] = { 0.0, 0.0 };
+  double InverseSpacing[2] = { 1.0, 1.0 };
+  Id NX = 0, NY = 0;
+  /// Compressed rows: triangles of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
+  /// id.
+  std::vector<std::uint32_t> Offsets;
+  std::vector<std::uint32_t> Items;
+};
+
+/// A TriangleBucketGrid over its own copy of the corners.
+class ParameterLocator
+{
+public:
+  using Hit = LocatorHit;
+  static constexpr double Tolerance = TriangleBucketGrid::Tolerance;
 
   /// Builds over numTriangles triangles given by their corners: corners[3 t + a] is corner a of
   /// triangle t. The corners are copied. Triangles of zero area or with non-finite corners
   /// are never reported (they have no barycentric coordinates).
   void Build(Id numTriangles, const Vec2* corners);
-
-  /// The same, taking over the corners (3 per triangle) instead of copying them. With tieRank
-  /// (one value per triangle, taken over), Locate breaks ties by the lowest tieRank instead of
-  /// the lowest id: a caller that stores its triangles in another order (a locality order) then
-  /// gets the triangle it would get in its original numbering, tieRank being the original ids.
-  void Build(std::vector<Vec2>&& corners, std::vector<Id>&& tieRank = {});
-  /// The tie ranks given to Build (empty: the ids).
-  const std::vector<Id>& GetTieRank() const { return this->TieRank; }
+  /// Builds over an indexed mesh: uv holds the points, triangles[3 t + a] their indices.
+  void Build(const std::vector<Vec2>& uv, Id numTriangles, const Id* triangles);
 
   /// Corner a of triangle t is TriangleCorners(t)[a].
   const Vec2* TriangleCorners(Id t) const { return &this->Corners[3 * t]; }
 
-  /// Builds over an indexed mesh: uv holds the points, triangles[3 t + a] their indices.
-  void Build(const std::vector<Vec2>& uv, Id numTriangles, const Id* triangles);
-
-  /// The triangle containing (u, v). Among several candidates (shared edges and vertices), the
-  /// one whose smallest barycentric coordinate is largest, then the lowest id (or tieRank):
-  /// deterministic.
+  /// TriangleBucketGrid::Locate over the copied corners.
   Hit Locate(double u, double v) const;
-
-  /// The bucket Locate(u, v) searches (-1 for non-finite input or an empty locator). Callers
-  /// with many queries may process them in bucket order: neighbouring queries then share
-  /// triangles and control points in cache.
-  Id Bucket(double u, double v) const;
+  Id Bucket(double u, double v) const { return this->Grid.Bucket(u, v); }
 
   Id GetNumberOfTriangles() const { return static_cast<Id>(this->Corners.size() / 3); }
-  Id GetNumberOfBuckets() const { return static_cast<Id>(this->NX) * this->NY; }
+  Id GetNumberOfBuckets() const { return this->Grid.GetNumberOfBuckets(); }
 
 private:
-  bool BucketRange(Id t, Id range[4]) const;
-  void BuildBuckets();
+  void BuildGrid();
 
   std::vector<Vec2> Corners;
-  double Origin[2] = { 0.0, 0.0 };
-  double InverseSpacing[2] = { 1.0, 1.0 };
-  Id NX = 0, NY = 0;
-  std::vector<Id> TieRank;
-  /// Compressed rows: triangles of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
-  /// id.
-  std::vector<Id> Offsets;
-  std::vector<Id> Items;
+  TriangleBucketGrid Grid;
 };
+
+template <typename Corners>
+LocatorHit TriangleBucketGrid::Locate(double u, double v, const Corners& corners) const
+{
+  LocatorHit hit;
+  const Id b = this->Bucket(u, v);
+  if (b < 0)
+  {
+    return hit;
+  }
+  const Vec2 X(u, v);
+  double bestMin = -Tolerance;
+  for (std::uint32_t i = this->Offsets[b]; i < this->Offsets[b + 1]; ++i)
+  {
+    const Id t = this->Items[i];
+    Vec2 c[3];
+    corners(t, c);
+    const Vec3 bary = Barycentric(c[0], c[1], c[2], X);
+    const double m = bary.minCoeff();
+    // Rows are sorted by id, so a strict comparison keeps the lowest id among ties.
+    if (m > bestMin || (m == bestMin && hit.Triangle < 0))
+    {
+      bestMin = m;
+      hit.Triangle = t;
+      hit.Barycentric = bary;
+    }
+  }
+  return hit;
+}
 
 } // namespace ctk
 

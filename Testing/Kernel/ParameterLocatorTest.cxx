@@ -256,17 +256,38 @@ TEST(ParameterLocator, ConcurrentQueriesAgree)
   EXPECT_EQ(b, serial);
 }
 
-// Ties (a point on the shared edge of two triangles) go to the lowest tieRank when given.
-TEST(ParameterLocator, TiesFollowTheTieRank)
+// The grid over corners read in place (through the mesh's indices, as the probe reads a spline's
+// arrays) locates exactly as the copying locator and the brute-force rule; ties go to the lowest
+// id.
+TEST(TriangleBucketGrid, CornersReadInPlace)
 {
-  const Vec2 a(0, 0), b(1, 0), c(1, 1), d(0, 1);
-  const std::vector<Vec2> corners = { a, b, c, a, c, d };
-  const Vec2 onEdge(0.5, 0.5), inside(0.8, 0.2);
-  ParameterLocator byId;
-  byId.Build(std::vector<Vec2>(corners));
-  EXPECT_EQ(byId.Locate(onEdge.x(), onEdge.y()).Triangle, 0);
-  ParameterLocator byRank;
-  byRank.Build(std::vector<Vec2>(corners), std::vector<Id>{ 1, 0 });
-  EXPECT_EQ(byRank.Locate(onEdge.x(), onEdge.y()).Triangle, 1);
-  EXPECT_EQ(byRank.Locate(inside.x(), inside.y()).Triangle, 0);
+  std::mt19937 rng(11);
+  const ParameterMesh m = RandomMesh(rng, 15, GridDiagonal::Alternating);
+  auto corners = [&m](Id t, Vec2* c) {
+    for (int a = 0; a < 3; ++a)
+    {
+      c[a] = m.UV[m.Triangles[3 * t + a]];
+    }
+  };
+  TriangleBucketGrid grid;
+  ASSERT_TRUE(grid.Build(m.NumberOfTriangles(), corners));
+  ParameterLocator locator;
+  locator.Build(m.UV, m.NumberOfTriangles(), m.Triangles.data());
+  EXPECT_EQ(grid.GetNumberOfBuckets(), locator.GetNumberOfBuckets());
+  const std::vector<Vec2> all = Corners(m);
+  for (const Vec2& X : QueryPoints(m, rng, 300))
+  {
+    const LocatorHit hit = grid.Locate(X.x(), X.y(), corners);
+    EXPECT_EQ(hit.Triangle, BruteForce(all, X).Triangle);
+    EXPECT_EQ(hit.Triangle, locator.Locate(X.x(), X.y()).Triangle);
+    EXPECT_EQ(grid.Bucket(X.x(), X.y()), locator.Bucket(X.x(), X.y()));
+  }
+
+  const std::vector<Vec2> square = { Vec2(0, 0), Vec2(1, 0), Vec2(1, 1), Vec2(0, 0), Vec2(1, 1),
+    Vec2(0, 1) };
+  auto squareCorners = [&square](Id t, Vec2* c) { std::copy_n(&square[3 * t], 3, c); };
+  ASSERT_TRUE(grid.Build(2, squareCorners));
+  EXPECT_EQ(grid.Locate(0.5, 0.5, squareCorners).Triangle, 0);
+  EXPECT_EQ(grid.Locate(0.2, 0.8, squareCorners).Triangle, 1);
+  EXPECT_FALSE(grid.Locate(1.5, 0.5, squareCorners).Found());
 }
