@@ -490,6 +490,37 @@ namespace
 {
 /// Two faces on the edge (0,0,0)-(1,0,0) (B-rep edge 0, one span), the plane z = 0 (s, t) and
 /// the plane turned by `degrees` about the edge, each closed by a triangle's other two edges.
+/// Face f, a triangle of the given nodes (global ids, uv on the pcurves) with one span per B-rep
+/// edge of its segments, straight cubics; its loop node at global node 0 is `shift` off its
+/// pcurves in t.
+ctcad::CADFace TriangleFace(int f, const std::vector<ctcad::Point3>& nodes,
+  const ctcad::Id globals[3], const double uv[3][2], const ctcad::Id edges[3], double shift)
+{
+  ctcad::CADFace face;
+  face.Index = f;
+  ctcad::FaceLoop loop;
+  for (int k = 0; k < 3; ++k)
+  {
+    loop.Nodes.push_back({ { uv[k][0], uv[k][1] + (globals[k] == 0 ? shift : 0) }, globals[k] });
+    const int n = (k + 1) % 3;
+    ctcad::LoopSegment seg;
+    seg.Edge = edges[k];
+    seg.Span = 0;
+    const ctcad::Point3& a = nodes[globals[k]];
+    const ctcad::Point3& b = nodes[globals[n]];
+    for (int i = 0; i < 3; ++i)
+    {
+      seg.Near0[i] = (2 * a[i] + b[i]) / 3;
+      seg.Near1[i] = (a[i] + 2 * b[i]) / 3;
+    }
+    seg.PCurveChord[0] = uv[n][0] - uv[k][0];
+    seg.PCurveChord[1] = uv[n][1] - uv[k][1];
+    loop.Segments.push_back(seg);
+  }
+  face.Loops.push_back(loop);
+  return face;
+}
+
 /// Face 0's loop node at (0,0,0) is `offset` off its pcurves in t (their ends merged at a
 /// vertex, JoinRuns). Returns the spans SetInterfaceTangentPlanes reports for splitting.
 std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(double degrees, double offset)
@@ -505,28 +536,7 @@ std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(double deg
   const ctcad::Id edges[2][3] = { { 0, 1, 2 }, { 0, 3, 4 } };
   for (int f = 0; f < 2; ++f)
   {
-    faces[f].Index = f;
-    ctcad::FaceLoop loop;
-    for (int k = 0; k < 3; ++k)
-    {
-      const double shift = f == 0 && globals[f][k] == 0 ? offset : 0;
-      loop.Nodes.push_back({ { uv[f][k][0], uv[f][k][1] + shift }, globals[f][k] });
-      const int n = (k + 1) % 3;
-      ctcad::LoopSegment seg;
-      seg.Edge = edges[f][k];
-      seg.Span = 0;
-      const ctcad::Point3& a = nodes[globals[f][k]];
-      const ctcad::Point3& b = nodes[globals[f][n]];
-      for (int i = 0; i < 3; ++i)
-      {
-        seg.Near0[i] = (2 * a[i] + b[i]) / 3;
-        seg.Near1[i] = (a[i] + 2 * b[i]) / 3;
-      }
-      seg.PCurveChord[0] = uv[f][n][0] - uv[f][k][0];
-      seg.PCurveChord[1] = uv[f][n][1] - uv[f][k][1];
-      loop.Segments.push_back(seg);
-    }
-    faces[f].Loops.push_back(loop);
+    faces[f] = TriangleFace(f, nodes, globals[f], uv[f], edges[f], f == 0 ? offset : 0);
   }
   const ctcad::FaceDerivatives evaluate = [c, s](int f, double u, double v, double P[3],
                                             double Ds[3], double Dt[3]) {
@@ -619,6 +629,65 @@ TEST(CADStages, SplitsAtAVertexOffTheEdgeCurvesKeepTheCubicsInThePlanes)
     // planes by up to the offset tilt the small triangles next to them (8.6 degrees).
     EXPECT_LE(all.MaxAngle, 4.0) << gap;
     EXPECT_LE(m.G1[1].Max, 0.01) << gap;
+  }
+}
+
+namespace
+{
+/// Three triangles at the origin: face 0 (0,0,0), (1,0,0), (0,1,0) in z = 0, normal +z; face 1
+/// across its edge 0 on the x axis, turned about it by `degrees` (a tangent span); face 2 across
+/// its edge 2 on the y axis, in z = 0 with the normal -z (oriented against face 0). The report
+/// of SetInterfaceTangentPlanes (RestoreG1, MaxMove 1e-3).
+ctcad::TangentPlaneReport TangentPlanesBesideAnOppositeFace(double degrees)
+{
+  const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
+  const std::vector<ctcad::Point3> nodes{ { 0, 0, 0 }, { 1, 0, 0 }, { 0, 1, 0 },
+    { 0.5, -c, -s }, { -1, 0.5, 0 } };
+  // Per face: its nodes (global, uv) and the B-rep edges of its segments; face 2's loop runs
+  // along the y axis the way face 0's does (the faces are oriented against each other).
+  const ctcad::Id globals[3][3] = { { 0, 1, 2 }, { 1, 0, 3 }, { 0, 4, 2 } };
+  const double uv[3][3][2] = { { { 0, 0 }, { 1, 0 }, { 0, 1 } },
+    { { 1, 0 }, { 0, 0 }, { 0.5, -1 } }, { { 0, 0 }, { -1, -0.5 }, { 0, -1 } } };
+  const ctcad::Id edges[3][3] = { { 0, 1, 2 }, { 0, 3, 4 }, { 5, 6, 2 } };
+  std::vector<ctcad::CADFace> faces(3);
+  for (int f = 0; f < 3; ++f)
+  {
+    faces[f] = TriangleFace(f, nodes, globals[f], uv[f], edges[f], 0);
+  }
+  const ctcad::FaceDerivatives evaluate = [c, s](int f, double u, double v, double P[3],
+                                            double Ds[3], double Dt[3]) {
+    const double dt[3][3] = { { 0, 1, 0 }, { 0, c, s }, { 0, -1, 0 } };
+    for (int i = 0; i < 3; ++i)
+    {
+      Ds[i] = i == 0 ? 1 : 0;
+      Dt[i] = dt[f][i];
+      P[i] = u * Ds[i] + v * Dt[i];
+    }
+  };
+  ctcad::TangentPlaneOptions options;
+  options.RestoreG1 = true;
+  options.MaxMove = 1e-3;
+  return ctcad::SetInterfaceTangentPlanes(faces, nodes, evaluate, options);
+}
+} // namespace
+
+// Where a face is oriented against its neighbour (normals opposite: KiCad's Bourns 8100 pins),
+// their planes at a shared node are one, and the cubic of the edge between them stays in the
+// tangent group's plane: it turns by the group's tilt (half the faces' angle) only. Their line,
+// from the group's tilt (or the rounding of its mean normal, 1e-7 on L19), ran anywhere in the
+// plane and turned the cubic by up to 90 degrees: the span was halved down to the shortest, and
+// the needle triangles next to it left G1 at 0.71 degrees on L19.
+TEST(CADStages, OppositeNormalsAtANodeAreOnePlane)
+{
+  for (const double degrees : { 0.0, 1e-5, 0.1, 2.0 })
+  {
+    const ctcad::TangentPlaneReport report = TangentPlanesBesideAnOppositeFace(degrees);
+    const double turn = std::sin(0.5 * degrees * M_PI / 180) / 3; // |tau| = 1/3
+    EXPECT_LE(report.MaxCurveChange, turn + 1e-12) << degrees;
+    const bool splitsEdge2 = std::find(report.SpansToSplit.begin(), report.SpansToSplit.end(),
+                               std::make_pair(ctcad::Id(2), ctcad::Id(0))) !=
+      report.SpansToSplit.end();
+    EXPECT_EQ(splitsEdge2, turn > 1e-3) << degrees;
   }
 }
 
