@@ -369,6 +369,163 @@ void DropSamplesAtOnePoint(std::vector<EdgeSample>& samples, double tol)
   kept.push_back(samples.back());
   samples.swap(kept);
 }
+
+/// An edge's mean curve: the mean of its adjacent surfaces over their pcurves (the 3D curve
+/// when no face has a pcurve).
+struct EdgeMeanCurve
+{
+  const BRepAdaptor_Curve& Curve;
+  const std::vector<PCurveUse>& Uses;
+  const std::vector<BRepAdaptor_Surface>& Surfaces;
+
+  /// The point at t and its derivative; returns how far apart the faces' points are there.
+  double At(double t, Point3& p, Point3& dp) const
+  {
+    double spread = 0;
+    if (Uses.empty())
+    {
+      gp_Pnt q;
+      gp_Vec v;
+      Curve.D1(t, q, v);
+      p = ToPoint(q.XYZ());
+      dp = ToPoint(v.XYZ());
+      return spread;
+    }
+    p = dp = Point3{ 0, 0, 0 };
+    std::vector<Point3> onFace;
+    for (const PCurveUse& u : Uses)
+    {
+      gp_Pnt2d q;
+      gp_Vec2d dq;
+      u.Curve->D1(t, q, dq);
+      gp_Pnt x;
+      gp_Vec xu, xv;
+      Surfaces[u.Face].D1(q.X(), q.Y(), x, xu, xv);
+      const gp_Vec dx = dq.X() * xu + dq.Y() * xv;
+      onFace.push_back(ToPoint(x.XYZ()));
+      for (int i = 0; i < 3; ++i)
+      {
+        p[i] += x.Coord(i + 1) / Uses.size();
+        dp[i] += dx.Coord(i + 1) / Uses.size();
+      }
+    }
+    for (std::size_t i = 0; i < onFace.size(); ++i)
+    {
+      for (std::size_t j = 0; j < i; ++j)
+      {
+        spread = std::max(spread, Distance(onFace[i], onFace[j]));
+      }
+    }
+    return spread;
+  }
+};
+
+/// A span is split while its Hermite cubic is off the mean curve by more than half the
+/// tolerance (the other half is left to the face interiors), or off any adjacent surface over
+/// the pcurve chord (the stitched spline's boundary lies over that chord) by more than
+/// max(tol / 2, gap + tol / 4), gap being that surface's own distance from the mean curve
+/// there (the face is held to max(tol, 2 gap), and its interior next to the edge must stay
+/// within 0.8 of that); with an angular tolerance, also while the cubic's tangent leaves a
+/// face's tangent plane by more than half of it. Measured at five points of the span. Where a
+/// vertex node is off the mean curve's end (the faces at the vertex miss each other), the
+/// cubic carries that offset into the span (blended by its Hermite basis function), and no
+/// split removes it: it is allowed on top of a quarter of the tolerance, like the gap.
+/// Returns the span's error relative to that bound (split above 1); useGap[k] takes the largest
+/// distance seen between pcurve use k's surface and the mean curve.
+double SpanError(const EdgeMeanCurve& mean, const EdgeSample& a, const EdgeSample& b, double tol,
+  double angTol, std::vector<double>& useGap)
+{
+  const double h = b.T - a.T;
+  Point3 ca, cb;
+  for (int i = 0; i < 3; ++i)
+  {
+    ca[i] = a.P[i] + h * a.D[i] / 3;
+    cb[i] = b.P[i] - h * b.D[i] / 3;
+  }
+  double err = 0; // relative to the bound: a span is split above 1
+  for (const double s : { 1.0 / 6, 1.0 / 3, 0.5, 2.0 / 3, 5.0 / 6 })
+  {
+    const Point3 hermite = Bezier3(a.P, ca, cb, b.P, s);
+    Point3 c, dc;
+    mean.At(a.T + s * h, c, dc);
+    const double h0 = (1 - s) * (1 - s) * (1 + 2 * s), h1 = s * s * (3 - 2 * s);
+    const double off = std::hypot(h0 * a.Off[0] + h1 * b.Off[0], h0 * a.Off[1] + h1 * b.Off[1],
+      h0 * a.Off[2] + h1 * b.Off[2]);
+    err = std::max(err, Distance(hermite, c) / std::max(0.5 * tol, off + 0.25 * tol));
+    // The cubic's tangent (the Bezier derivative, up to its length).
+    const double r = 1 - s;
+    gp_Vec tangent;
+    for (int i = 0; i < 3; ++i)
+    {
+      tangent.SetCoord(i + 1,
+        r * r * (ca[i] - a.P[i]) + 2 * r * s * (cb[i] - ca[i]) + s * s * (b.P[i] - cb[i]));
+    }
+    for (std::size_t k = 0; k < mean.Uses.size(); ++k)
+    {
+      const PCurveUse& u = mean.Uses[k];
+      const gp_Pnt2d ua = u.Curve->Value(a.T), ub = u.Curve->Value(b.T);
+      const gp_Pnt2d um = u.Curve->Value(a.T + s * h);
+      const BRepAdaptor_Surface& S = mean.Surfaces[u.Face];
+      gp_Pnt chord;
+      gp_Vec du, dv;
+      S.D1((1 - s) * ua.X() + s * ub.X(), (1 - s) * ua.Y() + s * ub.Y(), chord, du, dv);
+      const double gap = Distance(ToPoint(S.Value(um.X(), um.Y()).XYZ()), c);
+      useGap[k] = std::max(useGap[k], gap);
+      err = std::max(err,
+        Distance(ToPoint(chord.XYZ()), hermite) / std::max(0.5 * tol, gap + off + 0.25 * tol));
+      const gp_Vec normal = du.Crossed(dv);
+      if (angTol > 0 && normal.Magnitude() > 0 && tangent.Magnitude() > 0)
+      {
+        const double off = std::abs(std::asin(std::min(1.0,
+          std::abs(normal.Dot(tangent)) / (normal.Magnitude() * tangent.Magnitude()))));
+        err = std::max(err, off / (0.5 * angTol));
+      }
+    }
+  }
+  return err;
+}
+
+/// Largest tilt (radians) of a forced split's cubic off the mean curve by a vertex's offset.
+constexpr double MaxOffsetTilt = 0.5 * M_PI / 180;
+
+/// RestoreG1's splits (Forced) next to a vertex whose node is off the mean curve's end: the
+/// end span's cubic carries that offset, fading by its Hermite basis function, and so would
+/// the piece next to the vertex alone, tilted out of the faces' planes by about 1.5 offset /
+/// length, more with every split, and the normal shared at its midpoint (perpendicular to the
+/// cubic) with it: linkrods.step, faces 1e-4 apart at a vertex, spans halved to 5e-4 by the
+/// chord-mismatch rule, normals 8 degrees off the surfaces and 0.4 off G1. The forced samples
+/// keep the offset fading over a length that tilts the cubic by at most MaxOffsetTilt (or over
+/// the whole end span). Not over more: boundary nodes off the surface tilt the faces' small
+/// triangles next to them.
+/// ends: per end of the edge, its vertex sample and the end span's other sample; s is the forced
+/// sample at t, taking the faded offsets.
+void FadeVertexOffsets(const EdgeSample (&ends)[2][2], double t, EdgeSample& s)
+{
+  for (const auto& end : ends)
+  {
+    const EdgeSample &v = end[0], &next = end[1]; // the vertex and the end span's other sample
+    const double offset = std::hypot(v.Off[0], v.Off[1], v.Off[2]);
+    const double length = Distance(v.P, next.P);
+    if (offset == 0 || length == 0)
+    {
+      continue;
+    }
+    const double fade = std::min(1.0, 1.5 * offset / (std::tan(MaxOffsetTilt) * length));
+    const double h = fade * (next.T - v.T), r = (t - v.T) / h;
+    if (r <= 0 || r >= 1)
+    {
+      continue;
+    }
+    // The Hermite basis function (1 - r)^2 (1 + 2 r) from the vertex, and its derivative.
+    const double w = (1 - r) * (1 - r) * (1 + 2 * r), dw = -6 * r * (1 - r) / h;
+    for (int i = 0; i < 3; ++i)
+    {
+      s.Off[i] += w * v.Off[i];
+      s.P[i] += w * v.Off[i];
+      s.D[i] += dw * v.Off[i];
+    }
+  }
+}
 } // namespace
 
 struct CADModel::Impl
@@ -427,6 +584,8 @@ struct CADModel::Stages
   static bool CollectEdge(CADModel& m, int e);
   static bool CollapseTinyEdges(CADModel& m, double length);
   static void SampleEdge(CADModel& m, int e, const SamplingOptions& options);
+  static void StoreSamples(
+    CADModel& m, EdgeSampling& es, const std::vector<EdgeSample>& samples, double tol);
   static void CutDoublingBack(CADModel& m, int e, std::vector<EdgeSample>& samples, double tol,
     const std::function<EdgeSample(double)>& sampleAt);
   static bool WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::vector<Run>& runs, std::vector<double>& spanLengths);
@@ -787,9 +946,6 @@ void CADModel::Stages::CutDoublingBack(CADModel& m, int e, std::vector<EdgeSampl
   samples.erase(samples.begin(), samples.begin() + begin);
 }
 
-/// Largest tilt (radians) of a forced split's cubic off the mean curve by a vertex's offset.
-constexpr double MaxOffsetTilt = 0.5 * M_PI / 180;
-
 /// Pass 2 for edge e: adaptive Hermite samples of its mean curve.
 void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& options)
 {
@@ -807,49 +963,10 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
   const BRepAdaptor_Curve curve(E);
   const double t0 = curve.FirstParameter(), t1 = curve.LastParameter();
   const Point3 p0 = m.NodePoints[es.Vertex0], p1 = m.NodePoints[es.Vertex1];
-  // The edge's point at t: the mean of the adjacent surfaces over their pcurves (the 3D
-  // curve when no face has a pcurve), its derivative, and how far the faces are from it.
-  auto pointAt = [&](double t, Point3& p, Point3& dp) {
-    double spread = 0;
-    if (uses.empty())
-    {
-      gp_Pnt q;
-      gp_Vec v;
-      curve.D1(t, q, v);
-      p = ToPoint(q.XYZ());
-      dp = ToPoint(v.XYZ());
-      return spread;
-    }
-    p = dp = Point3{ 0, 0, 0 };
-    std::vector<Point3> onFace;
-    for (const PCurveUse& u : uses)
-    {
-      gp_Pnt2d q;
-      gp_Vec2d dq;
-      u.Curve->D1(t, q, dq);
-      gp_Pnt x;
-      gp_Vec xu, xv;
-      d.Surfaces[u.Face].D1(q.X(), q.Y(), x, xu, xv);
-      const gp_Vec dx = dq.X() * xu + dq.Y() * xv;
-      onFace.push_back(ToPoint(x.XYZ()));
-      for (int i = 0; i < 3; ++i)
-      {
-        p[i] += x.Coord(i + 1) / uses.size();
-        dp[i] += dx.Coord(i + 1) / uses.size();
-      }
-    }
-    for (std::size_t i = 0; i < onFace.size(); ++i)
-    {
-      for (std::size_t j = 0; j < i; ++j)
-      {
-        spread = std::max(spread, Distance(onFace[i], onFace[j]));
-      }
-    }
-    return spread;
-  };
+  const EdgeMeanCurve mean{ curve, uses, d.Surfaces };
   auto makeSample = [&](double t) {
     EdgeSample s{ t, {}, {}, {}, t };
-    m.EdgeGap = std::max(m.EdgeGap, pointAt(t, s.P, s.D));
+    m.EdgeGap = std::max(m.EdgeGap, mean.At(t, s.P, s.D));
     return s;
   };
   // Shared vertices: the curve ends are the vertex nodes (means over all faces at the vertex).
@@ -868,68 +985,8 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     samples.push_back(makeSample(t0 + (t1 - t0) * k / n0));
   }
   samples.push_back(last);
-  // A span is split while its Hermite cubic is off the mean curve by more than half the
-  // tolerance (the other half is left to the face interiors), or off any adjacent surface over
-  // the pcurve chord (the stitched spline's boundary lies over that chord) by more than
-  // max(tol / 2, gap + tol / 4), gap being that surface's own distance from the mean curve
-  // there (the face is held to max(tol, 2 gap), and its interior next to the edge must stay
-  // within 0.8 of that); with an angular tolerance, also while the cubic's tangent leaves a
-  // face's tangent plane by more than half of it. Measured at five points of the span. Where a
-  // vertex node is off the mean curve's end (the faces at the vertex miss each other), the
-  // cubic carries that offset into the span (blended by its Hermite basis function), and no
-  // split removes it: it is allowed on top of a quarter of the tolerance, like the gap.
   es.UseGap.assign(uses.size(), 0.0);
   const double angTol = options.AngularTolerance * M_PI / 180;
-  auto spanError = [&](const EdgeSample& a, const EdgeSample& b) {
-    const double h = b.T - a.T;
-    Point3 ca, cb;
-    for (int i = 0; i < 3; ++i)
-    {
-      ca[i] = a.P[i] + h * a.D[i] / 3;
-      cb[i] = b.P[i] - h * b.D[i] / 3;
-    }
-    double err = 0; // relative to the bound: a span is split above 1
-    for (const double s : { 1.0 / 6, 1.0 / 3, 0.5, 2.0 / 3, 5.0 / 6 })
-    {
-      const Point3 hermite = Bezier3(a.P, ca, cb, b.P, s);
-      Point3 c, dc;
-      pointAt(a.T + s * h, c, dc);
-      const double h0 = (1 - s) * (1 - s) * (1 + 2 * s), h1 = s * s * (3 - 2 * s);
-      const double off = std::hypot(h0 * a.Off[0] + h1 * b.Off[0], h0 * a.Off[1] + h1 * b.Off[1],
-        h0 * a.Off[2] + h1 * b.Off[2]);
-      err = std::max(err, Distance(hermite, c) / std::max(0.5 * tol, off + 0.25 * tol));
-      // The cubic's tangent (the Bezier derivative, up to its length).
-      const double r = 1 - s;
-      gp_Vec tangent;
-      for (int i = 0; i < 3; ++i)
-      {
-        tangent.SetCoord(i + 1,
-          r * r * (ca[i] - a.P[i]) + 2 * r * s * (cb[i] - ca[i]) + s * s * (b.P[i] - cb[i]));
-      }
-      for (std::size_t k = 0; k < uses.size(); ++k)
-      {
-        const PCurveUse& u = uses[k];
-        const gp_Pnt2d ua = u.Curve->Value(a.T), ub = u.Curve->Value(b.T);
-        const gp_Pnt2d um = u.Curve->Value(a.T + s * h);
-        const BRepAdaptor_Surface& S = d.Surfaces[u.Face];
-        gp_Pnt chord;
-        gp_Vec du, dv;
-        S.D1((1 - s) * ua.X() + s * ub.X(), (1 - s) * ua.Y() + s * ub.Y(), chord, du, dv);
-        const double gap = Distance(ToPoint(S.Value(um.X(), um.Y()).XYZ()), c);
-        es.UseGap[k] = std::max(es.UseGap[k], gap);
-        err = std::max(err,
-          Distance(ToPoint(chord.XYZ()), hermite) / std::max(0.5 * tol, gap + off + 0.25 * tol));
-        const gp_Vec normal = du.Crossed(dv);
-        if (angTol > 0 && normal.Magnitude() > 0 && tangent.Magnitude() > 0)
-        {
-          const double off = std::abs(std::asin(std::min(1.0,
-            std::abs(normal.Dot(tangent)) / (normal.Magnitude() * tangent.Magnitude()))));
-          err = std::max(err, off / (0.5 * angTol));
-        }
-      }
-    }
-    return err;
-  };
   const double minSpan = 1e-9 * std::abs(t1 - t0);
   for (bool changed = true; changed && static_cast<int>(samples.size()) < maxSamples;)
   {
@@ -943,7 +1000,8 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
       // the face mesher, so a face's triangles can meet that bound (and an aspect bound near
       // the boundary) only if the edge samples do.
       const bool tooLong = maxSpan > 0 && Distance(a.P, b.P) > maxSpan;
-      if (std::abs(b.T - a.T) > minSpan && (tooLong || spanError(a, b) > 1) &&
+      if (std::abs(b.T - a.T) > minSpan &&
+        (tooLong || SpanError(mean, a, b, tol, angTol, es.UseGap) > 1) &&
         static_cast<int>(samples.size() + next.size()) < 2 * maxSamples)
       {
         next.push_back(makeSample(0.5 * (a.T + b.T)));
@@ -953,52 +1011,17 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
     }
     samples.swap(next);
   }
-  // RestoreG1's splits (Forced) next to a vertex whose node is off the mean curve's end: the
-  // end span's cubic carries that offset, fading by its Hermite basis function, and so would
-  // the piece next to the vertex alone, tilted out of the faces' planes by about 1.5 offset /
-  // length, more with every split, and the normal shared at its midpoint (perpendicular to the
-  // cubic) with it: linkrods.step, faces 1e-4 apart at a vertex, spans halved to 5e-4 by the
-  // chord-mismatch rule, normals 8 degrees off the surfaces and 0.4 off G1. The forced samples
-  // keep the offset fading over a length that tilts the cubic by at most MaxOffsetTilt (or over
-  // the whole end span). Not over more: boundary nodes off the surface tilt the faces' small
-  // triangles next to them.
   const EdgeSample ends[2][2] = { { samples[0], samples[1] },
     { samples[samples.size() - 1], samples[samples.size() - 2] } };
-  auto forcedSample = [&](double t) {
-    EdgeSample s = makeSample(t);
-    for (const auto& end : ends)
-    {
-      const EdgeSample &v = end[0], &next = end[1]; // the vertex and the end span's other sample
-      const double offset = std::hypot(v.Off[0], v.Off[1], v.Off[2]);
-      const double length = Distance(v.P, next.P);
-      if (offset == 0 || length == 0)
-      {
-        continue;
-      }
-      const double fade = std::min(1.0, 1.5 * offset / (std::tan(MaxOffsetTilt) * length));
-      const double h = fade * (next.T - v.T), r = (t - v.T) / h;
-      if (r <= 0 || r >= 1)
-      {
-        continue;
-      }
-      // The Hermite basis function (1 - r)^2 (1 + 2 r) from the vertex, and its derivative.
-      const double w = (1 - r) * (1 - r) * (1 + 2 * r), dw = -6 * r * (1 - r) / h;
-      for (int i = 0; i < 3; ++i)
-      {
-        s.Off[i] += w * v.Off[i];
-        s.P[i] += w * v.Off[i];
-        s.D[i] += dw * v.Off[i];
-      }
-    }
-    return s;
-  };
   for (const double t : es.Forced)
   {
     const auto at = std::lower_bound(samples.begin(), samples.end(), t,
       [&](const EdgeSample& a, double b) { return (a.T - b) * (t1 - t0) < 0; });
     if (at != samples.begin() && at != samples.end() && at->T != t)
     {
-      samples.insert(at, forcedSample(t));
+      EdgeSample forced = makeSample(t);
+      FadeVertexOffsets(ends, t, forced);
+      samples.insert(at, forced);
     }
   }
   CutDoublingBack(m, e, samples, tol, makeSample);
@@ -1006,7 +1029,15 @@ void CADModel::Stages::SampleEdge(CADModel& m, int e, const SamplingOptions& opt
   {
     DropSamplesAtOnePoint(samples, tol);
   }
-  // A sample of an earlier sampling of this edge keeps its node (RestoreG1's splits re-sample).
+  StoreSamples(m, es, samples, tol);
+}
+
+/// Keeps edge es's samples: parameters, derivatives, nodes (a sample of an earlier sampling keeps
+/// its node) and the spans' inner Hermite control points.
+void CADModel::Stages::StoreSamples(
+  CADModel& m, EdgeSampling& es, const std::vector<EdgeSample>& samples, double tol)
+{
+  // RestoreG1's splits re-sample the edge.
   std::map<double, Id> earlier;
   for (std::size_t k = 0; k < es.T.size(); ++k)
   {
