@@ -128,6 +128,7 @@ std::vector<bool> CuspNodes(const FaceSpline& fs)
       }
     }
   }
+  const double cosMax = std::cos(3 * M_PI / 180);
   std::vector<bool> cusp(leaving.size(), false);
   for (std::size_t v = 0; v < leaving.size(); ++v)
   {
@@ -135,7 +136,7 @@ std::vector<bool> CuspNodes(const FaceSpline& fs)
     {
       for (std::size_t j = i + 1; j < leaving[v].size() && !cusp[v]; ++j)
       {
-        cusp[v] = leaving[v][i].dot(leaving[v][j]) >= std::cos(3 * M_PI / 180);
+        cusp[v] = leaving[v][i].dot(leaving[v][j]) >= cosMax;
       }
     }
   }
@@ -172,9 +173,13 @@ bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const Samp
     cusps.clear();
     for (int i = 0; i < 3; ++i)
     {
+      if (!cuspNode[triangles[3 * t + i]])
+      {
+        continue;
+      }
       const auto at = std::find_if(
         points.begin(), points.end(), [i](const ctk::Vec3& tau) { return tau[i] == 1; });
-      if (at != points.end() && cuspNode[triangles[3 * t + i]])
+      if (at != points.end())
       {
         cusps.push_back(*at);
         points.erase(at);
