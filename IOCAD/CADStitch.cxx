@@ -20,13 +20,31 @@ std::array<ctk::Id, 4> MergedEdgeKey(ctk::Id a, ctk::Id ta, ctk::Id tb, ctk::Id 
                                                        : std::array<ctk::Id, 4>{ a, ta, tb, b };
 }
 
+/// How a merged macro-edge is used: by how many macro-triangles, and whether every use is a
+/// boundary span of one B-rep edge (the merge keys boundary T points by B-rep edge, so they all
+/// name the same one) or some use is a face's interior edge.
+struct MacroEdgeUses
+{
+  int Uses = 0;
+  ctk::Id BRepEdge = -1;
+  bool Interior = false;
+};
+
 /// The merge's tables across faces.
 struct MergeTables
 {
   std::unordered_map<ctk::Id, ctk::Id> NodePoint;
   std::map<SpanKey, ctk::Id> EdgePoint;
-  std::map<std::array<ctk::Id, 4>, int> MacroEdgeUse;
+  std::map<std::array<ctk::Id, 4>, MacroEdgeUses> MacroEdgeUse;
+  /// B-rep edge -> (last face counted, number of faces with a boundary span on it).
+  std::unordered_map<ctk::Id, std::pair<int, int>> BRepEdgeFaces;
 };
+
+/// The B-rep edge of the face's boundary edge e.
+ctk::Id BoundaryBRepEdge(const SampledFace& face, const ctk::MeshTopology& topo, ctk::Id e)
+{
+  return face.BRepEdge[3 * topo.EdgeTriangles[e][0] + topo.EdgeLocalIndex[e][0]];
+}
 
 /// The merged id of every control point of one face (new points appended to `points`): its
 /// vertices, then its boundary T points, then the rest, in the face's order.
@@ -54,8 +72,7 @@ std::vector<ctk::Id> MergeFacePoints(const SampledFace& face, const FaceSpline& 
       continue;
     }
     const ctk::Id a = topo.Edges[e][0], b = topo.Edges[e][1];
-    const ctk::Id brep =
-      face.BRepEdge[3 * topo.EdgeTriangles[e][0] + topo.EdgeLocalIndex[e][0]];
+    const ctk::Id brep = BoundaryBRepEdge(face, topo, e);
     for (const auto& nearFar : { std::make_pair(a, b), std::make_pair(b, a) })
     {
       const ctk::Id id = spline.Layout.EdgePoint(topo, e, nearFar.first);
@@ -79,9 +96,11 @@ std::vector<ctk::Id> MergeFacePoints(const SampledFace& face, const FaceSpline& 
   return map;
 }
 
-/// Counts the uses of the face's macro-edges on the merged grid: a macro-edge is used by its
-/// face's triangles at it, and by other faces' only where they share its points.
-void CountEdgeUses(const FaceSpline& fs, const std::vector<ctk::Id>& map, MergeTables& tables)
+/// Counts the uses of face f's macro-edges on the merged grid (a macro-edge is used by its
+/// face's triangles at it, and by other faces' only where they share its points) and the faces
+/// on each B-rep edge.
+void CountEdgeUses(int f, const SampledFace& face, const FaceSpline& fs,
+  const std::vector<ctk::Id>& map, MergeTables& tables)
 {
   const ctk::MeshTopology& topo = fs.Topology;
   for (ctk::Id e = 0; e < static_cast<ctk::Id>(topo.Edges.size()); ++e)
@@ -89,10 +108,24 @@ void CountEdgeUses(const FaceSpline& fs, const std::vector<ctk::Id>& map, MergeT
     const ctk::Id a = topo.Edges[e][0], b = topo.Edges[e][1];
     const ctk::Id ta = fs.Spline.Layout.EdgePoint(topo, e, a);
     const ctk::Id tb = fs.Spline.Layout.EdgePoint(topo, e, b);
-    if (!IsCollapsedEdge(fs.Spline, a, ta, tb, b))
+    if (IsCollapsedEdge(fs.Spline, a, ta, tb, b))
     {
-      const auto key = MergedEdgeKey(map[a], map[ta], map[tb], map[b]);
-      tables.MacroEdgeUse[key] += topo.IsBoundaryEdge(e) ? 1 : 2;
+      continue;
+    }
+    MacroEdgeUses& use = tables.MacroEdgeUse[MergedEdgeKey(map[a], map[ta], map[tb], map[b])];
+    if (!topo.IsBoundaryEdge(e))
+    {
+      use.Uses += 2;
+      use.Interior = true;
+      continue;
+    }
+    use.Uses += 1;
+    use.BRepEdge = BoundaryBRepEdge(face, topo, e);
+    std::pair<int, int>& faces =
+      tables.BRepEdgeFaces.emplace(use.BRepEdge, std::make_pair(-1, 0)).first->second;
+    if (faces.first != f)
+    {
+      faces = { f, faces.second + 1 };
     }
   }
 }
@@ -150,13 +183,16 @@ void StitchFaces(const std::vector<SampledFace>& faces, const std::vector<FaceSp
   {
     const std::vector<ctk::Id> map =
       MergeFacePoints(faces[f], splines[f], tables, surface.Points);
-    CountEdgeUses(splines[f], map, tables);
+    CountEdgeUses(static_cast<int>(f), faces[f], splines[f], map, tables);
     AppendCells(static_cast<int>(f), faces[f], splines[f], map, surface);
   }
-  for (const auto& use : tables.MacroEdgeUse)
+  for (const auto& edge : tables.MacroEdgeUse)
   {
-    surface.FreeEdges += use.second == 1;
-    surface.NonManifoldEdges += use.second > 2;
+    const MacroEdgeUses& use = edge.second;
+    surface.FreeEdges += use.Uses == 1;
+    surface.NonManifoldEdges += use.Uses > 2;
+    surface.ExtraNonManifoldEdges += use.Uses > 2 &&
+      (use.Interior || tables.BRepEdgeFaces.at(use.BRepEdge).second <= 2);
   }
 }
 

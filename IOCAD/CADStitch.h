@@ -33,6 +33,9 @@ struct StitchedSurface
   /// Macro-edges of the merged surface, identified by their merged control points, used by one
   /// macro-triangle / by more than two (collapsed macro-edges are not counted).
   ctk::Id FreeEdges = 0, NonManifoldEdges = 0;
+  /// Non-manifold macro-edges that the B-rep does not explain: not boundary spans of a B-rep
+  /// edge on which more than two faces lie (0 unless the merge joined what the model does not).
+  ctk::Id ExtraNonManifoldEdges = 0;
 };
 
 /// Merges the faces' splines: vertices by GlobalNode, boundary T points by (B-rep edge, near

@@ -310,6 +310,8 @@ int vtkWatertightSplineStitcher::RequestData(
   vtkFieldData* fd = merged->GetFieldData();
   AddField(fd, "NumberOfFreeEdges", static_cast<double>(surface.FreeEdges));
   AddField(fd, "NumberOfNonManifoldEdges", static_cast<double>(surface.NonManifoldEdges));
+  AddField(
+    fd, "NumberOfExtraNonManifoldEdges", static_cast<double>(surface.ExtraNonManifoldEdges));
   AddField(fd, "MaxC0Gap", interfaces.MaxC0Gap);
   AddField(fd, "MaxGapBeforeStitching", gapBefore);
   AddField(fd, "NumberOfMacroTriangles", static_cast<double>(surface.NumberOfMacroTriangles));

@@ -27,7 +27,9 @@
  * `MacroTriangleId`, `MicroTriangleId`; field data `NumberOfFreeEdges`,
  * `NumberOfNonManifoldEdges` (macro-edges of the merged grid, identified by their merged control
  * points, used by one macro-triangle / more than two; collapsed macro-edges, one point like a
- * pole's, are not edges), `MaxC0Gap`
+ * pole's, are not edges), `NumberOfExtraNonManifoldEdges` (those of them that are not spans of
+ * a B-rep edge on which more than two faces lie: 0 unless the merge joined what the model does
+ * not), `MaxC0Gap`
  * (largest distance between the two sides' boundary cubics, evaluated on the per-face outputs),
  * `MaxGapBeforeStitching` (largest distance between a face's own boundary cubic, from its exact
  * derivatives, and the shared edge cubic), `NumberOfMacroTriangles`, `MaxG1Angle` (degrees, the

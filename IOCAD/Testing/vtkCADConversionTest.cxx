@@ -694,6 +694,7 @@ TEST(CADConversion, NonManifoldEdgeOfTheModelIsReported)
   vtkFieldData* fd = c.Merged->GetFieldData();
   const double spans = Field(fd, "NumberOfNonManifoldEdges");
   EXPECT_GT(spans, 0) << "the shared edge";
+  EXPECT_EQ(Field(fd, "NumberOfExtraNonManifoldEdges"), 0) << "all on the B-rep's edge";
   EXPECT_GE(Field(fd, "NumberOfFreeEdges"), 3 * 3 * spans) << "three free sides per face";
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
 }

@@ -52,7 +52,7 @@ CRITERIA = (
     ("converts", "converts, or exits non-zero with an `error:` line (no signal, timeout, "
      "traceback)"),
     ("free_edges", "0 free edges"),
-    ("non_manifold", "no non-manifold edge beyond the B-rep's"),
+    ("non_manifold", "no non-manifold edge beyond the B-rep's (spans of B-rep edges of 3+ faces)"),
     ("c0_gap", "C0 gap exactly 0"),
     ("deviation", "max deviation <= tolerance (<= 2x the model's own edge gap where larger)"),
     ("g1", "max G1 angle over tangent interfaces <= 0.1 degrees"),
@@ -102,8 +102,9 @@ def evaluate(facts, run):
 
     judge("free_edges", "free_edges", lambda v: v == 0, lambda v: f"free edges {v}")
     brep_nm = facts.get("non_manifold_edges") or 0
-    judge("non_manifold", "non_manifold_edges", lambda v: v == 0 or brep_nm > 0,
-          lambda v: f"non-manifold edges {v} (B-rep {brep_nm})")
+    judge("non_manifold", "extra_non_manifold_edges", lambda v: v == 0,
+          lambda v: f"non-manifold edges {s.get('non_manifold_edges')}, {v} not on the B-rep's "
+                    f"{brep_nm}")
     judge("c0_gap", "c0_gap", lambda v: v == 0, lambda v: f"C0 gap {v:.3g}")
     tol = (s.get("options") or {}).get("tolerance", 1e-4)
     gap, diagonal = _number(s, "edge_gap"), _number(s, "diagonal")

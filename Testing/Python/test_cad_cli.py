@@ -62,7 +62,7 @@ class CADCommandLineTest(CommandLineCase):
         self.assertEqual(field(merged, "NumberOfFreeEdges"), 0)
         self.assertEqual(field(merged, "NumberOfNonManifoldEdges"), 0)
         self.assertEqual(field(merged, "MaxC0Gap"), 0.0)
-        self.assertIn("free edges: 0 (non-manifold edges: 0)", text)
+        self.assertIn("free edges: 0 (non-manifold edges: 0, 0 of them", text)
         self.assertIn("C0 gap: max 0.000e+00", text)
         # The faces are refined for the stitched spline (IM steps aside): within the tolerance.
         deviation = float(re.search(r"relative to the diagonal\): max (\S+),", text).group(1))

@@ -15,7 +15,8 @@ FACTS = {"faces": 12, "closed": True, "non_manifold_edges": 0, "read_time": 2.0}
 
 def summary(**changes):
     s = {"exit_status": 0, "error": None, "options": {"tolerance": 1e-4}, "faces": 12,
-         "diagonal": 10.0, "free_edges": 0, "non_manifold_edges": 0, "c0_gap": 0.0,
+         "diagonal": 10.0, "free_edges": 0, "non_manifold_edges": 0,
+         "extra_non_manifold_edges": 0, "c0_gap": 0.0,
          "max_deviation": 9e-5, "edge_gap": 1e-4, "tangent_edges": 8,
          "g1_angle_tangent": 0.05, "max_normal_deviation": 0.2, "rms_normal_deviation": 0.05}
     s.update(changes)
@@ -41,7 +42,7 @@ class CriteriaTest(unittest.TestCase):
 
     def test_each_guarantee_fails_on_its_own_figure(self):
         for key, value, criterion in (
-                ("free_edges", 3, "free_edges"), ("non_manifold_edges", 8, "non_manifold"),
+                ("free_edges", 3, "free_edges"), ("extra_non_manifold_edges", 8, "non_manifold"),
                 ("c0_gap", 1e-12, "c0_gap"), ("max_deviation", 1.1e-4, "deviation"),
                 ("g1_angle_tangent", 0.2, "g1"), ("g1_angle_tangent", 177.0, "g1_flip")):
             v = verdicts(FACTS, run(summary(**{key: value})))
@@ -55,9 +56,13 @@ class CriteriaTest(unittest.TestCase):
                         ["deviation"])
         self.assertFalse(verdicts(FACTS, run(summary(edge_gap=1e-3, max_deviation=2.1e-4)))
                          ["deviation"])
-        # Non-manifold edges the B-rep has itself are not the conversion's.
+        # Non-manifold edges the B-rep has itself are not the conversion's; others are, even
+        # where the B-rep has some.
         self.assertTrue(verdicts(dict(FACTS, non_manifold_edges=2),
                                  run(summary(non_manifold_edges=8)))["non_manifold"])
+        self.assertFalse(verdicts(dict(FACTS, non_manifold_edges=2),
+                                  run(summary(non_manifold_edges=9, extra_non_manifold_edges=1)))
+                         ["non_manifold"])
         # No tangent interface: nothing to be G1.
         v = verdicts(FACTS, run(summary(tangent_edges=0, g1_angle_tangent=None)))
         self.assertTrue(v["g1"] and v["g1_flip"])

@@ -294,7 +294,8 @@ def _convert_cad(args):
           f"{args.split_point}, {args.boundary_mode}, {args.iterations} iterations)")
     print(f"watertight: {r['merged']} ({r['patches']} patches, {r['bezier_triangles']} Bézier "
           f"triangles, {r['control_points']} control points)")
-    print(f"free edges: {r['free_edges']} (non-manifold edges: {r['non_manifold_edges']})")
+    print(f"free edges: {r['free_edges']} (non-manifold edges: {r['non_manifold_edges']}, "
+          f"{r['extra_non_manifold_edges']} of them not on a B-rep edge of 3 or more faces)")
     print(f"healing: {r['sewn_edges']} edges sewn"
           + (f" in {r['sewing_time']:.3f} s" if r["sewing_time"] > 0 else "")
           + ("" if options["sew"] else " (--no-sew)")

@@ -120,6 +120,7 @@ def convert(model, output, options, messages, progress):
         "control_points": merged.GetNumberOfPoints(),
         "free_edges": int(_field(merged, "NumberOfFreeEdges")),
         "non_manifold_edges": int(_field(merged, "NumberOfNonManifoldEdges")),
+        "extra_non_manifold_edges": int(_field(merged, "NumberOfExtraNonManifoldEdges")),
         "c0_gap": _field(merged, "MaxC0Gap"),
         "gap_before": _field(merged, "MaxGapBeforeStitching"),
         "max_deviation": _field(merged, "MaxDeviation"),
