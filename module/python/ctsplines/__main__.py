@@ -566,6 +566,15 @@ def build_parser():
         "2 bad command line, 3 missing, unknown or unreadable file.",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    choices = _spline_choices()
+    _add_demo_command(sub, choices)
+    _add_convert_command(sub, choices)
+    _add_info_command(sub, choices)
+    _add_sample_command(sub)
+    return parser
+
+
+def _add_demo_command(sub, choices):
     demo = sub.add_parser(
         "demo",
         help="convert the built-in default surface and write .vtu, .vtp and .png",
@@ -577,7 +586,7 @@ def build_parser():
     demo.add_argument(
         "--construction",
         default="KaG",
-        choices=_spline_choices()[0],
+        choices=choices[0],
         help="Clough-Tocher construction (default KaG, the study's recommendation)",
     )
     demo.add_argument("--points", type=int, default=300, help="random interior samples")
@@ -585,7 +594,8 @@ def build_parser():
     demo.add_argument("--no-render", action="store_true", help="skip the PNG")
     demo.set_defaults(func=_demo)
 
-    choices = _spline_choices()
+
+def _add_convert_command(sub, choices):
     convert = sub.add_parser(
         "convert",
         help="convert a parametrised triangle mesh file into a Bézier spline (.vtu), or a "
@@ -612,6 +622,35 @@ def build_parser():
     convert.add_argument("--output", "-o", dest="output_option", metavar="OUTPUT",
                          help="the same as the positional OUTPUT")
     _add_spline_options(convert, choices, cad=True)
+    _add_cad_options(convert)
+    convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
+                         help="auto: use the file's derivative arrays, estimate them when "
+                         "missing; file: only the file's (missing ones are an error); "
+                         "estimate: always estimate, ignoring the file's (default %(default)s)")
+    convert.add_argument("--derivative-method", choices=list(DERIVATIVE_METHODS),
+                         default="local-quadratic",
+                         help="how derivatives are estimated: local-quadratic fits a quadratic "
+                         "over each vertex's neighbour rings (exact for quadratic surfaces, "
+                         "affine invariant); minimum-energy minimises the spline's bending "
+                         "energy per coordinate (exact for planes, smoother, global) "
+                         "(default %(default)s)")
+    out = convert.add_argument_group("outputs and analysis")
+    out.add_argument("--tessellate", "-t", type=_positive, metavar="LEVEL",
+                     help="also write the tessellation with LEVEL segments per cell edge "
+                     "(LEVEL^2 triangles per Bézier triangle)")
+    out.add_argument("--tessellation", metavar="PATH",
+                     help="where the tessellation goes (default: OUTPUT with .vtp)")
+    out.add_argument("--reference", metavar="FILE",
+                     help="report the error against this surface: parametric when it has UV "
+                     "(e.g. a finer `sample` of the same surface), else mesh distance")
+    out.add_argument("--no-analysis", action="store_true",
+                     help="skip the continuity and error summaries")
+    _progress_option(convert)
+    convert.set_defaults(func=_convert, _choices=choices, _parser=convert)
+
+
+def _add_cad_options(convert):
+    """The convert command's options for CAD models."""
     cad = convert.add_argument_group("CAD models (.step, .stp, .iges, .igs)")
     cad.add_argument("--tolerance", type=_tolerance, metavar="REL",
                      help="error bound of the edge and face sampling, relative to the model's "
@@ -652,31 +691,9 @@ def build_parser():
                      help="also write the summary as JSON: every figure printed and more (keys "
                      "of the conversion's result), the options, the warnings, exit_status and, "
                      "on failure, error (the message printed after `error:`)")
-    convert.add_argument("--derivatives", choices=["auto", "file", "estimate"], default="auto",
-                         help="auto: use the file's derivative arrays, estimate them when "
-                         "missing; file: only the file's (missing ones are an error); "
-                         "estimate: always estimate, ignoring the file's (default %(default)s)")
-    convert.add_argument("--derivative-method", choices=list(DERIVATIVE_METHODS),
-                         default="local-quadratic",
-                         help="how derivatives are estimated: local-quadratic fits a quadratic "
-                         "over each vertex's neighbour rings (exact for quadratic surfaces, "
-                         "affine invariant); minimum-energy minimises the spline's bending "
-                         "energy per coordinate (exact for planes, smoother, global) "
-                         "(default %(default)s)")
-    out = convert.add_argument_group("outputs and analysis")
-    out.add_argument("--tessellate", "-t", type=_positive, metavar="LEVEL",
-                     help="also write the tessellation with LEVEL segments per cell edge "
-                     "(LEVEL^2 triangles per Bézier triangle)")
-    out.add_argument("--tessellation", metavar="PATH",
-                     help="where the tessellation goes (default: OUTPUT with .vtp)")
-    out.add_argument("--reference", metavar="FILE",
-                     help="report the error against this surface: parametric when it has UV "
-                     "(e.g. a finer `sample` of the same surface), else mesh distance")
-    out.add_argument("--no-analysis", action="store_true",
-                     help="skip the continuity and error summaries")
-    _progress_option(convert)
-    convert.set_defaults(func=_convert, _choices=choices, _parser=convert)
 
+
+def _add_info_command(sub, choices):
     info = sub.add_parser(
         "info",
         help="summarise a mesh or spline file and check it is valid conversion input",
@@ -688,6 +705,8 @@ def build_parser():
     _add_spline_options(info, choices)
     info.set_defaults(func=_info, _choices=choices)
 
+
+def _add_sample_command(sub):
     surfaces, domains = _source_choices()
     sample = sub.add_parser(
         "sample",
@@ -721,7 +740,6 @@ def build_parser():
                         metavar=("TX", "TY"), help="translation t (default 0 0)")
     _progress_option(sample)
     sample.set_defaults(func=_sample)
-    return parser
 
 
 def _expected_errors():
