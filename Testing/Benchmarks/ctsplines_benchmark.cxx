@@ -391,6 +391,159 @@ vtkSmartPointer<vtkPolyData> MakeMesh(const Options& opt, double size, double& s
   }
   return mesh;
 }
+/// What every row needs: the options, the machine's bounds, and whether all updates succeeded.
+struct Context
+{
+  const Options& Opt;
+  bench::MachineBounds Bounds;
+  bool AllOk = true;
+  /// Fraction of the first-touch bound of writing `bytes` in `seconds`.
+  double WriteBound(double bytes, double seconds) const
+  {
+    return bytes / seconds / (1e9 * Bounds.FirstTouchGBs);
+  }
+};
+
+void PrintHeader(const Options& opt, const bench::MachineBounds& bounds)
+{
+  std::printf("ctsplines_benchmark: %s, %s, output order %s, best of %d run(s), %s time\n",
+    opt.Mesh == "grid" ? "Franke on regular grids of [0,1]^2 (vtkSampledSurfaceSource)"
+                       : "sin 3x cos 2y on random Delaunay meshes of [0,1]^2 (CGAL)",
+    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered",
+    opt.OutputOrder == vtkCloughTocherSplineFilter::InputOrder ? "input" : "locality", opt.Repeat,
+    bench::UseProcessCpuClock() ? "process CPU" : "wall-clock");
+  std::printf("VTK %s, SMP backend %s, %d thread(s), CTSPLINES_NUM_THREADS %s\n",
+    vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend(),
+    vtkSMPTools::GetEstimatedNumberOfThreads(),
+    std::getenv("CTSPLINES_NUM_THREADS") ? std::getenv("CTSPLINES_NUM_THREADS") : "unset");
+  std::printf("machine bounds (measured now, one thread): copy %.2f GB/s, first-touch write "
+              "%.2f GB/s (huge pages advised), cubic jet with normal %.1f ns\n",
+    bounds.CopyGBs, bounds.FirstTouchGBs, 1e9 * bounds.JetSeconds);
+  std::printf("spline filter: split point Bary, boundary Midpoint, Iterations 0; ns/triangle is "
+              "per input triangle; x CTo is the time over CTo's; rate is input triangles/s "
+              "unless stated; of bound: output bytes/s over first-touch write (probe: queries "
+              "x jet time over time)\n\n");
+  std::printf("%11s  %-24s %10s %12s %7s %9s %12s\n", "triangles", "stage", "seconds",
+    "ns/triangle", "x CTo", "of bound", "rate");
+}
+
+/// One row per construction of --constructions; returns CTo's time (0 when not among them).
+double SplineRows(vtkPolyData* mesh, long long nT, Context& ctx)
+{
+  const Options& opt = ctx.Opt;
+  double tCTo = 0.0;
+  bool ok = true;
+  for (const std::string& name : opt.Constructions)
+  {
+    const int c = ConstructionId(name);
+    vtkSmartPointer<vtkUnstructuredGrid> out;
+    const double t = TimeSpline(mesh, opt.OutputOrder, c, 0, opt.Repeat, ok, &out);
+    ctx.AllOk = ctx.AllOk && ok;
+    if (c == vtkCloughTocherSplineFilter::CTo)
+    {
+      tCTo = t;
+    }
+    const double outBytes = 1024.0 * out->GetActualMemorySize();
+    char extra[96] = "";
+    if (opt.Memory)
+    {
+      out = nullptr; // measured alone
+      const double peak = bench::PeakExtraBytes(
+        [&] { TimeSpline(mesh, opt.OutputOrder, c, 0, 1, ok); });
+      std::snprintf(extra, sizeof(extra), "  peak %.0f MB = %.2f x output %.0f MB", 1e-6 * peak,
+        peak / outBytes, 1e-6 * outBytes);
+    }
+    Row(nT, "spline " + name, t, nT, "tri/s", true, tCTo > 0.0 ? t / tCTo : 0.0,
+      ctx.WriteBound(outBytes, t), extra);
+  }
+  return tCTo;
+}
+
+/// The time of one IM step: CTi with --im-steps iterations against none.
+void IMRow(vtkPolyData* mesh, long long nT, double tCTo, Context& ctx)
+{
+  const Options& opt = ctx.Opt;
+  bool ok = true;
+  const double t0 =
+    TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, 0, opt.Repeat, ok);
+  ctx.AllOk = ctx.AllOk && ok;
+  const double tN =
+    TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, opt.IMSteps, opt.Repeat, ok);
+  ctx.AllOk = ctx.AllOk && ok;
+  // Differences of two noisy minima can be tiny or negative on a loaded machine.
+  const double step = std::max(tN - t0, 1e-9) / opt.IMSteps;
+  Row(nT, "IM step (CTi, " + std::to_string(opt.IMSteps) + " vs 0)", step, nT, "tri/s", true,
+    tCTo > 0.0 ? step / tCTo : 0.0);
+}
+
+#ifdef CTSPLINES_HAVE_TESSELLATOR
+void TessellateRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
+{
+  const Options& opt = ctx.Opt;
+  bool ok = true;
+  const double outTriangles =
+    double(ctiSpline->GetNumberOfCells()) * opt.Level * opt.Level;
+  const std::string stage = "tessellate L" + std::to_string(opt.Level) + " (CTi)";
+  if (outTriangles > opt.MaxTessellatedTriangles)
+  {
+    std::printf("%11lld  %-24s skipped: %.3g output triangles > --max-tessellated %.3g\n",
+      nT, stage.c_str(), outTriangles, opt.MaxTessellatedTriangles);
+  }
+  else
+  {
+    vtkNew<vtkBezierTriangleTessellator> tess;
+    tess->SetInputData(ctiSpline);
+    tess->SetSubdivisionLevel(opt.Level);
+    const double t = Best(
+      opt.Repeat,
+      [&] {
+        tess->Modified();
+        return tess->GetExecutive()->Update() != 0;
+      },
+      ok);
+    ctx.AllOk = ctx.AllOk && ok;
+    Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false, 0.0,
+      ctx.WriteBound(1024.0 * tess->GetOutput()->GetActualMemorySize(), t));
+  }
+}
+#endif
+
+#ifdef CTSPLINES_HAVE_PROBE
+/// --probe-points uniform random (u, v) in the unit square; best of --repeat runs, which from the
+/// second on reuse the probe's locator.
+void ProbeRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
+{
+  const Options& opt = ctx.Opt;
+  bool ok = true;
+  const vtkIdType np = static_cast<vtkIdType>(opt.ProbePoints);
+  vtkNew<vtkPoints> uv;
+  uv->SetDataTypeToDouble();
+  uv->SetNumberOfPoints(np);
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (vtkIdType i = 0; i < np; ++i)
+  {
+    const double u = uniform(rng);
+    uv->SetPoint(i, u, uniform(rng), 0.0);
+  }
+  vtkNew<vtkPolyData> queries;
+  queries->SetPoints(uv);
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetInputData(queries);
+  probe->SetSourceData(ctiSpline);
+  const double t = Best(
+    opt.Repeat,
+    [&] {
+      probe->Modified();
+      return probe->GetExecutive()->Update() != 0;
+    },
+    ok);
+  ctx.AllOk = ctx.AllOk && ok;
+  std::ostringstream stage;
+  stage << "probe " << double(np) << " pts (CTi)";
+  Row(nT, stage.str(), t, np, "evaluations/s", false, 0.0, double(np) * ctx.Bounds.JetSeconds / t);
+}
+#endif
 } // namespace
 
 int main(int argc, char** argv)
@@ -408,39 +561,13 @@ int main(int argc, char** argv)
     return 1;
   }
   vtkSMPTools::Initialize(opt.Threads);
-
-  std::printf("ctsplines_benchmark: %s, %s, output order %s, best of %d run(s), %s time\n",
-    opt.Mesh == "grid" ? "Franke on regular grids of [0,1]^2 (vtkSampledSurfaceSource)"
-                       : "sin 3x cos 2y on random Delaunay meshes of [0,1]^2 (CGAL)",
-    opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered",
-    opt.OutputOrder == vtkCloughTocherSplineFilter::InputOrder ? "input" : "locality", opt.Repeat,
-    bench::UseProcessCpuClock() ? "process CPU" : "wall-clock");
-  std::printf("VTK %s, SMP backend %s, %d thread(s), CTSPLINES_NUM_THREADS %s\n",
-    vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend(),
-    vtkSMPTools::GetEstimatedNumberOfThreads(),
-    std::getenv("CTSPLINES_NUM_THREADS") ? std::getenv("CTSPLINES_NUM_THREADS") : "unset");
-  const bench::MachineBounds bounds = bench::MeasureBounds();
-  std::printf("machine bounds (measured now, one thread): copy %.2f GB/s, first-touch write "
-              "%.2f GB/s (huge pages advised), cubic jet with normal %.1f ns\n",
-    bounds.CopyGBs, bounds.FirstTouchGBs, 1e9 * bounds.JetSeconds);
-  std::printf("spline filter: split point Bary, boundary Midpoint, Iterations 0; ns/triangle is "
-              "per input triangle; x CTo is the time over CTo's; rate is input triangles/s "
-              "unless stated; of bound: output bytes/s over first-touch write (probe: queries "
-              "x jet time over time)\n\n");
-  std::printf("%11s  %-24s %10s %12s %7s %9s %12s\n", "triangles", "stage", "seconds",
-    "ns/triangle", "x CTo", "of bound", "rate");
-  // Fraction of the first-touch bound of writing `bytes` in `seconds`.
-  auto writeBound = [&](double bytes, double seconds) {
-    return bytes / seconds / (1e9 * bounds.FirstTouchGBs);
-  };
-
-  bool allOk = true;
+  Context ctx{ opt, bench::MeasureBounds() };
+  PrintHeader(opt, ctx.Bounds);
   for (double size : opt.Sizes)
   {
     bool ok = true;
     double tSource = 0.0;
     const vtkSmartPointer<vtkPolyData> mesh = MakeMesh(opt, size, tSource, ok);
-    allOk = allOk && ok;
     const long long nT = mesh ? mesh->GetNumberOfPolys() : 0;
     if (!ok || nT == 0)
     {
@@ -450,116 +577,29 @@ int main(int argc, char** argv)
     if (opt.Has("source"))
     {
       Row(nT, opt.Mesh == "grid" ? "source (Franke grid)" : "source (Delaunay, CGAL)", tSource,
-        nT, "tri/s", true, 0.0, writeBound(MeshBytes(mesh), tSource));
+        nT, "tri/s", true, 0.0, ctx.WriteBound(MeshBytes(mesh), tSource));
     }
-
-    double tCTo = 0.0;
-    if (opt.Has("spline"))
-    {
-      for (const std::string& name : opt.Constructions)
-      {
-        const int c = ConstructionId(name);
-        vtkSmartPointer<vtkUnstructuredGrid> out;
-        const double t = TimeSpline(mesh, opt.OutputOrder, c, 0, opt.Repeat, ok, &out);
-        allOk = allOk && ok;
-        if (c == vtkCloughTocherSplineFilter::CTo)
-        {
-          tCTo = t;
-        }
-        const double outBytes = 1024.0 * out->GetActualMemorySize();
-        char extra[96] = "";
-        if (opt.Memory)
-        {
-          out = nullptr; // measured alone
-          const double peak = bench::PeakExtraBytes(
-            [&] { TimeSpline(mesh, opt.OutputOrder, c, 0, 1, ok); });
-          std::snprintf(extra, sizeof(extra), "  peak %.0f MB = %.2f x output %.0f MB", 1e-6 * peak,
-            peak / outBytes, 1e-6 * outBytes);
-        }
-        Row(nT, "spline " + name, t, nT, "tri/s", true, tCTo > 0.0 ? t / tCTo : 0.0,
-          writeBound(outBytes, t), extra);
-      }
-    }
+    const double tCTo = opt.Has("spline") ? SplineRows(mesh, nT, ctx) : 0.0;
     if (opt.Has("im"))
     {
-      const double t0 =
-        TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, 0, opt.Repeat, ok);
-      allOk = allOk && ok;
-      const double tN =
-        TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, opt.IMSteps, opt.Repeat, ok);
-      allOk = allOk && ok;
-      // Differences of two noisy minima can be tiny or negative on a loaded machine.
-      const double step = std::max(tN - t0, 1e-9) / opt.IMSteps;
-      Row(nT, "IM step (CTi, " + std::to_string(opt.IMSteps) + " vs 0)", step, nT, "tri/s", true,
-        tCTo > 0.0 ? step / tCTo : 0.0);
+      IMRow(mesh, nT, tCTo, ctx);
     }
     vtkSmartPointer<vtkUnstructuredGrid> ctiSpline;
     if (opt.Has("tessellate") || opt.Has("probe"))
     {
       TimeSpline(mesh, opt.OutputOrder, vtkCloughTocherSplineFilter::CTi, 0, 1, ok, &ctiSpline);
-      allOk = allOk && ok;
+      ctx.AllOk = ctx.AllOk && ok;
     }
-
 #ifdef CTSPLINES_HAVE_TESSELLATOR
     if (opt.Has("tessellate"))
     {
-      const double outTriangles =
-        double(ctiSpline->GetNumberOfCells()) * opt.Level * opt.Level;
-      const std::string stage = "tessellate L" + std::to_string(opt.Level) + " (CTi)";
-      if (outTriangles > opt.MaxTessellatedTriangles)
-      {
-        std::printf("%11lld  %-24s skipped: %.3g output triangles > --max-tessellated %.3g\n",
-          nT, stage.c_str(), outTriangles, opt.MaxTessellatedTriangles);
-      }
-      else
-      {
-        vtkNew<vtkBezierTriangleTessellator> tess;
-        tess->SetInputData(ctiSpline);
-        tess->SetSubdivisionLevel(opt.Level);
-        const double t = Best(
-          opt.Repeat,
-          [&] {
-            tess->Modified();
-            return tess->GetExecutive()->Update() != 0;
-          },
-          ok);
-        allOk = allOk && ok;
-        Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false, 0.0,
-          writeBound(1024.0 * tess->GetOutput()->GetActualMemorySize(), t));
-      }
+      TessellateRow(ctiSpline, nT, ctx);
     }
 #endif
-
 #ifdef CTSPLINES_HAVE_PROBE
     if (opt.Has("probe"))
     {
-      const vtkIdType np = static_cast<vtkIdType>(opt.ProbePoints);
-      vtkNew<vtkPoints> uv;
-      uv->SetDataTypeToDouble();
-      uv->SetNumberOfPoints(np);
-      std::mt19937_64 rng(12345);
-      std::uniform_real_distribution<double> uniform(0.0, 1.0);
-      for (vtkIdType i = 0; i < np; ++i)
-      {
-        const double u = uniform(rng);
-        uv->SetPoint(i, u, uniform(rng), 0.0);
-      }
-      vtkNew<vtkPolyData> queries;
-      queries->SetPoints(uv);
-      vtkNew<vtkSplineParameterProbe> probe;
-      probe->SetInputData(queries);
-      probe->SetSourceData(ctiSpline);
-      const double t = Best(
-        opt.Repeat,
-        [&] {
-          probe->Modified();
-          return probe->GetExecutive()->Update() != 0;
-        },
-        ok);
-      allOk = allOk && ok;
-      std::ostringstream stage;
-      stage << "probe " << double(np) << " pts (CTi)";
-      Row(nT, stage.str(), t, np, "evaluations/s", false, 0.0, double(np) * bounds.JetSeconds / t);
+      ProbeRow(ctiSpline, nT, ctx);
     }
 #endif
   }
@@ -569,7 +609,7 @@ int main(int argc, char** argv)
 #ifndef CTSPLINES_HAVE_PROBE
   std::printf("\n(vtkSplineParameterProbe is not part of this build: no probe figures)\n");
 #endif
-  if (!allOk)
+  if (!ctx.AllOk)
   {
     std::fprintf(stderr, "some pipeline updates failed (see the VTK errors above)\n");
     return 1;
