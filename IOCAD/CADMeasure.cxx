@@ -144,9 +144,11 @@ std::vector<bool> CuspNodes(const FaceSpline& fs)
 }
 
 /// The deviation of face f's spline at its lattice points and `samples` pseudo-random points
-/// per macro-triangle (a stream of the face's own, so that faces can be measured in parallel).
+/// per macro-triangle (a stream of the face's own, so that faces can be measured in parallel),
+/// and each macro-triangle's own into perTriangle when not null.
 bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const SampledFace& in,
-  const FaceSpline& fs, int f, Deviation& face, std::string& error)
+  const FaceSpline& fs, int f, Deviation& face, std::vector<Deviation>* perTriangle,
+  std::string& error)
 {
   std::uint64_t state = 0x2545F4914F6CDD1DULL ^ (0x9E3779B97F4A7C15ULL * (f + 1));
   auto uniform = [&state]() {
@@ -166,6 +168,10 @@ bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const Samp
   const std::vector<bool> cuspNode = CuspNodes(fs);
   face.CuspNodes += std::count(cuspNode.begin(), cuspNode.end(), true);
   std::vector<ctk::Vec3> points, cusps;
+  if (perTriangle)
+  {
+    perTriangle->assign(fs.Spline.Layout.NumberOfTriangles, Deviation());
+  }
   for (ctk::Id t = 0; t < fs.Spline.Layout.NumberOfTriangles; ++t)
   {
     DeviationPoints(fs.Spline.SplitTau[t], level, { false, false, false }, points);
@@ -195,12 +201,19 @@ bool MeasureFace(const FaceSurface& evaluate, int level, int samples, const Samp
       }
       points.emplace_back(1 - a - b, a, b);
     }
-    if (!MeasureTriangle(fs.Spline, fs.Topology, triangles, t, points, surface, true, face, error) ||
-      !MeasureTriangle(fs.Spline, fs.Topology, triangles, t, cusps, surface, false, face, error))
+    Deviation triangle;
+    if (!MeasureTriangle(fs.Spline, fs.Topology, triangles, t, points, surface, true, triangle,
+          error) ||
+      !MeasureTriangle(fs.Spline, fs.Topology, triangles, t, cusps, surface, false, triangle, error))
     {
       error = "deviation from the CAD surfaces, face " + std::to_string(f) + ": " +
         (failure.empty() ? error : failure);
       return false;
+    }
+    face.Add(triangle);
+    if (perTriangle)
+    {
+      (*perTriangle)[t] = triangle;
     }
   }
   return true;
@@ -283,14 +296,20 @@ double GapBeforeStitching(const SampledFace& face, const FaceSpline& fs)
 
 bool MeasureDeviation(const FaceSurface& surface, int level, int samples,
   const std::vector<SampledFace>& faces, const std::vector<FaceSpline>& splines,
-  std::vector<Deviation>& perFace, Deviation& all, std::string& error, const FaceRunner& forEach)
+  std::vector<Deviation>& perFace, Deviation& all, std::string& error, const FaceRunner& forEach,
+  std::vector<std::vector<Deviation>>* perTriangle)
 {
   perFace.assign(splines.size(), Deviation());
   all = Deviation();
+  if (perTriangle)
+  {
+    perTriangle->assign(splines.size(), {});
+  }
   if (!RunOnFaces(
         static_cast<int>(splines.size()),
         [&](int f, std::string& message) {
-          return MeasureFace(surface, level, samples, faces[f], splines[f], f, perFace[f], message);
+          return MeasureFace(surface, level, samples, faces[f], splines[f], f, perFace[f],
+            perTriangle ? &(*perTriangle)[f] : nullptr, message);
         },
         error, forEach))
   {

@@ -48,12 +48,13 @@ using FaceSurface = std::function<bool(
 /// (ForEachFaceInParallel by default; the same figures whatever forEach). perFace[f] is face
 /// f's, all their sum. At a face's cusp nodes (two of its boundary macro-edges leave within 3
 /// degrees of each other: its boundary curves touch) only the distance is measured: the normal
-/// there is undefined (Deviation::CuspNodes counts them). On failure returns false with the
-/// lowest failed face's error.
+/// there is undefined (Deviation::CuspNodes counts them). With perTriangle, (*perTriangle)[f][t]
+/// is macro-triangle t of face f's own (where to look when a maximum is large). On failure
+/// returns false with the lowest failed face's error.
 bool MeasureDeviation(const FaceSurface& surface, int level, int samples,
   const std::vector<SampledFace>& faces, const std::vector<FaceSpline>& splines,
   std::vector<Deviation>& perFace, Deviation& all, std::string& error,
-  const FaceRunner& forEach = nullptr);
+  const FaceRunner& forEach = nullptr, std::vector<std::vector<Deviation>>* perTriangle = nullptr);
 
 } // namespace ctcad
 

@@ -143,11 +143,51 @@ void FillMergedGrid(const ctcad::StitchedSurface& surface, vtkUnstructuredGrid* 
     NewArray<vtkSignedCharArray>("MicroTriangleId", surface.MicroTriangles));
 }
 
-/// With a SurfaceSource, the deviation of every face (perFace) and of all (into fd).
+/// Cell data `Deviation` (relative to the diagonal) and `NormalDeviation` (degrees): the largest
+/// of each cell's macro-triangle (cell data MacroTriangleId) in its face (cell data FaceId, or
+/// `face` when not -1); field data `MaxDeviationCell`, `MaxNormalDeviationCell`: the first cell
+/// where each is largest.
+void AddDeviationArrays(vtkDataSet* grid, int face,
+  const std::vector<std::vector<ctcad::Deviation>>& perTriangle, double diagonal)
+{
+  vtkCellData* cd = grid->GetCellData();
+  vtkDataArray* faceIds = face < 0 ? cd->GetArray("FaceId") : nullptr;
+  vtkDataArray* macro = cd->GetArray("MacroTriangleId");
+  const vtkIdType n = grid->GetNumberOfCells();
+  if (!macro || (face < 0 && !faceIds))
+  {
+    return;
+  }
+  vtkNew<vtkDoubleArray> distance, angle;
+  distance->SetName("Deviation");
+  angle->SetName("NormalDeviation");
+  distance->SetNumberOfTuples(n);
+  angle->SetNumberOfTuples(n);
+  vtkIdType worstDistance = 0, worstAngle = 0;
+  for (vtkIdType c = 0; c < n; ++c)
+  {
+    const auto f = static_cast<std::size_t>(face < 0 ? faceIds->GetTuple1(c) : face);
+    const ctcad::Deviation& d = perTriangle[f][static_cast<std::size_t>(macro->GetTuple1(c))];
+    distance->SetValue(c, d.MaxDistance / diagonal);
+    angle->SetValue(c, d.MaxAngle);
+    worstDistance = distance->GetValue(c) > distance->GetValue(worstDistance) ? c : worstDistance;
+    worstAngle = d.MaxAngle > angle->GetValue(worstAngle) ? c : worstAngle;
+  }
+  cd->AddArray(distance);
+  cd->AddArray(angle);
+  if (n > 0)
+  {
+    AddField(grid->GetFieldData(), "MaxDeviationCell", static_cast<double>(worstDistance));
+    AddField(grid->GetFieldData(), "MaxNormalDeviationCell", static_cast<double>(worstAngle));
+  }
+}
+
+/// With a SurfaceSource, the deviation of every face (perFace) and macro-triangle (perTriangle)
+/// and of all (into fd).
 bool MeasureDeviation(vtkWatertightSplineStitcher* self,
   const std::vector<ctcad::SampledFace>& sampled,
   const std::vector<ctcad::FaceSpline>& splines, std::vector<ctcad::Deviation>& perFace,
-  vtkFieldData* fd)
+  std::vector<std::vector<ctcad::Deviation>>& perTriangle, vtkFieldData* fd)
 {
   vtkCADFaceSampler* source = self->GetSurfaceSource();
   if (!source || source->GetDiagonal() <= 0)
@@ -161,7 +201,7 @@ bool MeasureDeviation(vtkWatertightSplineStitcher* self,
   ctcad::Deviation all;
   std::string error;
   if (!ctcad::MeasureDeviation(surface, self->GetDeviationLevel(), self->GetDeviationSamples(),
-        sampled, splines, perFace, all, error))
+        sampled, splines, perFace, all, error, nullptr, &perTriangle))
   {
     vtkErrorWithObjectMacro(self, << error);
     return false;
@@ -180,7 +220,8 @@ bool MeasureDeviation(vtkWatertightSplineStitcher* self,
 /// Output port 0: every face's spline (moved out of splines) with its deviation.
 void FillFaceBlocks(vtkWatertightSplineStitcher* self, vtkMultiBlockDataSet* input,
   const std::vector<ctcad::SampledFace>& sampled, std::vector<ctcad::FaceSpline>& splines,
-  const std::vector<ctcad::Deviation>& deviations, vtkMultiBlockDataSet* faces)
+  const std::vector<ctcad::Deviation>& deviations,
+  const std::vector<std::vector<ctcad::Deviation>>& perTriangle, vtkMultiBlockDataSet* faces)
 {
   const unsigned int nF = static_cast<unsigned int>(splines.size());
   faces->SetNumberOfBlocks(nF);
@@ -209,6 +250,7 @@ void FillFaceBlocks(vtkWatertightSplineStitcher* self, vtkMultiBlockDataSet* inp
       const double diag = self->GetSurfaceSource()->GetDiagonal();
       AddField(fd, "MaxDeviation", deviations[f].MaxDistance / diag);
       AddField(fd, "MaxNormalDeviation", deviations[f].MaxAngle);
+      AddDeviationArrays(grid, static_cast<int>(f), perTriangle, diag);
     }
     faces->SetBlock(f, grid);
     if (input->HasMetaData(f) && input->GetMetaData(f)->Has(vtkCompositeDataSet::NAME()))
@@ -323,13 +365,18 @@ int vtkWatertightSplineStitcher::RequestData(
 
   start = Clock::now();
   std::vector<ctcad::Deviation> deviations;
-  if (!MeasureDeviation(this, sampled, splines, deviations, fd))
+  std::vector<std::vector<ctcad::Deviation>> perTriangle;
+  if (!MeasureDeviation(this, sampled, splines, deviations, perTriangle, fd))
   {
     return 0;
   }
+  if (!deviations.empty())
+  {
+    AddDeviationArrays(merged, -1, perTriangle, this->GetSurfaceSource()->GetDiagonal());
+  }
   const double deviationTime = Seconds(start);
   start = Clock::now();
-  FillFaceBlocks(this, input, sampled, splines, deviations, faces);
+  FillFaceBlocks(this, input, sampled, splines, deviations, perTriangle, faces);
   vtkNew<vtkDoubleArray> times;
   times->SetName("StageTimes");
   // The per-face blocks are the spline stage's output.

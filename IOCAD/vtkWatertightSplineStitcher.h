@@ -42,7 +42,11 @@
  * `RMSNormalDeviation` (degrees between their normals, not at poles nor at the
  * `NumberOfCuspNodes` nodes where a face's boundary curves touch and the spline's normal is
  * undefined: ctcad::MeasureDeviation), measured on a dense lattice of every micro-triangle
- * (DeviationLevel), each face's own maxima in its block.
+ * (DeviationLevel), each face's own maxima in its block; then both outputs also get cell data
+ * `Deviation` (relative to the diagonal) and `NormalDeviation` (degrees): the maxima over the
+ * cell's macro-triangle, to see where the spline leaves its surface (threshold them in ParaView),
+ * and field data `MaxDeviationCell`, `MaxNormalDeviationCell` (the first cell where each is
+ * largest).
  */
 #ifndef vtkWatertightSplineStitcher_h
 #define vtkWatertightSplineStitcher_h

@@ -699,6 +699,44 @@ TEST(CADConversion, NonManifoldEdgeOfTheModelIsReported)
   EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
 }
 
+/// The deviation per cell: both outputs carry every macro-triangle's maxima, whose largest are
+/// the field data's maxima, and MaxDeviationCell / MaxNormalDeviationCell name a cell holding
+/// them; the per-face blocks agree with the merged grid cell by cell.
+TEST(CADConversion, DeviationIsMappedPerCell)
+{
+  Conversion c;
+  c.Run(TempStep("box_with_hole_cells", ctsplines_test::BoxWithHole()), 1e-4);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  vtkCellData* cd = c.Merged->GetCellData();
+  vtkDataArray* distance = cd->GetArray("Deviation");
+  vtkDataArray* angle = cd->GetArray("NormalDeviation");
+  ASSERT_NE(distance, nullptr);
+  ASSERT_NE(angle, nullptr);
+  ASSERT_EQ(distance->GetNumberOfTuples(), c.Merged->GetNumberOfCells());
+  EXPECT_GT(Field(fd, "MaxDeviation"), 0.0);
+  EXPECT_EQ(distance->GetRange()[1], Field(fd, "MaxDeviation"));
+  EXPECT_EQ(angle->GetRange()[1], Field(fd, "MaxNormalDeviation"));
+  EXPECT_EQ(distance->GetTuple1(static_cast<vtkIdType>(Field(fd, "MaxDeviationCell"))),
+    Field(fd, "MaxDeviation"));
+  EXPECT_EQ(angle->GetTuple1(static_cast<vtkIdType>(Field(fd, "MaxNormalDeviationCell"))),
+    Field(fd, "MaxNormalDeviation"));
+  EXPECT_LT(distance->GetRange()[0], 0.5 * distance->GetRange()[1]) << "not one value for all";
+  // Cells of the merged grid come face after face, three per macro-triangle, as in the blocks.
+  vtkIdType merged = 0;
+  for (unsigned int f = 0; f < c.Splines->GetNumberOfBlocks(); ++f)
+  {
+    auto* block = vtkDataSet::SafeDownCast(c.Splines->GetBlock(f));
+    vtkDataArray* own = block->GetCellData()->GetArray("NormalDeviation");
+    ASSERT_NE(own, nullptr) << "face " << f;
+    EXPECT_EQ(own->GetRange()[1], Field(block->GetFieldData(), "MaxNormalDeviation"));
+    for (vtkIdType k = 0; k < block->GetNumberOfCells(); ++k, ++merged)
+    {
+      ASSERT_EQ(own->GetTuple1(k), angle->GetTuple1(merged)) << "face " << f << ", cell " << k;
+    }
+  }
+  EXPECT_EQ(merged, c.Merged->GetNumberOfCells());
+}
+
 /// The cylinder with a hole read from `file` (STEP or IGES): closed, watertight, within 1e-4.
 void CheckCylinderWithHole(const std::string& file, const char* what)
 {

@@ -297,6 +297,13 @@ class CADCommandLineTest(CommandLineCase):
         self.assertLessEqual(s["max_deviation"], 1e-3)
         self.assertEqual([name for name, _ in s["stages"]][:2], ["read", "edges"])
         self.assertIn("g1_angle_tangent", s)
+        # Where the largest deviations are: a face and macro-triangle of the model, near the box.
+        for key in ("max_deviation_at", "max_normal_deviation_at"):
+            where = s[key]
+            self.assertTrue(0 <= where["face"] < s["faces"], where)
+            self.assertGreaterEqual(where["macro_triangle"], 0)
+            self.assertLess(max(abs(x) for x in where["point"]), 10 * s["diagonal"], where)
+            self.assertIn(f"face {where['face']}, macro-triangle {where['macro_triangle']}", text)
         # A failure writes the error the CLI prints and its exit status.
         garbage = self.path("garbage.step")
         with open(garbage, "w") as f:

@@ -310,6 +310,13 @@ def _convert_cad(args):
              if r["cusp_nodes"] else "")
           + (f" (angular tolerance {options['angular_tolerance']:g})"
              if options["angular_tolerance"] else ""))
+    for what, where in (("deviation", r["max_deviation_at"]),
+                        ("normal deviation", r["max_normal_deviation_at"])):
+        if where:
+            x, y, z = where["point"]
+            print(f"largest {what}: face {where['face']}, macro-triangle "
+                  f"{where['macro_triangle']}, near ({x:.6g}, {y:.6g}, {z:.6g}) (cell data "
+                  f"{'Deviation' if what == 'deviation' else 'NormalDeviation'} of {r['merged']})")
     for f, name, gap in r["gap_faces"]:
         print(f"model gap: face {f} ({name}) lies {gap:.3e} of the diagonal from its shared "
               f"edge curves, more than half the tolerance: held to {2 * gap:.3e} there")

@@ -28,6 +28,21 @@ def _field(data, name, i=0):
     return a.GetComponent(i, 0) if a is not None else float("nan")
 
 
+def _worst_cell(merged, field):
+    """Where a maximum is (field data `field` names the merged grid's cell): face, macro-triangle
+    and the centre of the cell's corners; None without a deviation measured."""
+    a = merged.GetFieldData().GetArray(field)
+    if a is None or merged.GetNumberOfCells() == 0:
+        return None
+    c = int(a.GetValue(0))
+    cd = merged.GetCellData()
+    ids = merged.GetCell(c).GetPointIds()
+    corners = [merged.GetPoint(ids.GetId(i)) for i in range(3)]  # VTK lists the corners first
+    return {"face": int(cd.GetArray("FaceId").GetValue(c)),
+            "macro_triangle": int(cd.GetArray("MacroTriangleId").GetValue(c)),
+            "point": [sum(p[k] for p in corners) / 3 for k in range(3)]}
+
+
 def _gap_faces(faces, tolerance):
     """(block index, name, gap relative to the diagonal) of the faces whose surface lies farther
     than half the tolerance from the edge curves they share (the model's own gap): the sampler
@@ -126,6 +141,8 @@ def convert(model, output, options, messages, progress):
         "max_deviation": _field(merged, "MaxDeviation"),
         "rms_deviation": _field(merged, "RMSDeviation"),
         "max_normal_deviation": _field(merged, "MaxNormalDeviation"),
+        "max_deviation_at": _worst_cell(merged, "MaxDeviationCell"),
+        "max_normal_deviation_at": _worst_cell(merged, "MaxNormalDeviationCell"),
         "rms_normal_deviation": _field(merged, "RMSNormalDeviation"),
         "cusp_nodes": int(_field(merged, "NumberOfCuspNodes")),
         "gap_faces": _gap_faces(faces, options["tolerance"]),
