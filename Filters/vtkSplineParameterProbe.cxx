@@ -250,15 +250,35 @@ struct ProbeSpline
   }
 };
 
-// Whether all n values are usable (finite, below MaxInputMagnitude): one flat, vectorised loop.
-bool AllUsable(const double* values, vtkIdType n)
+// Whether all n values are usable (finite, below MaxInputMagnitude) and, with `positive`, > 0.
+// Written as a select on doubles, which the compiler vectorises (a bool reduction, or an early
+// exit, stays scalar: a third of a first call's validation time on 1e6 triangles).
+bool AllUsable(const double* values, vtkIdType n, bool positive = false)
 {
-  bool usable = true;
+  const double lowest = positive ? 0.0 : -ctk::MaxInputMagnitude;
+  double bad = 0.0;
   for (vtkIdType i = 0; i < n; ++i)
   {
-    usable &= ctk::IsUsableValue(values[i]);
+    const double x = values[i];
+    bad = x > lowest && x < ctk::MaxInputMagnitude ? bad : 1.0; // NaN compares false
   }
-  return usable;
+  return bad == 0.0;
+}
+
+// Whether all n ids lie in [0, nPoints) (nPoints > 0): an id is in range when neither id nor
+// nPoints - 1 - id has its top bit set (unsigned, wrapping), so one OR over both tests them all
+// (vectorised).
+template <typename IdT>
+bool AllInRange(const IdT* ids, vtkIdType n, vtkIdType nPoints)
+{
+  const std::uint64_t last = static_cast<std::uint64_t>(nPoints - 1);
+  std::uint64_t any = 0;
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const std::uint64_t id = static_cast<std::uint64_t>(static_cast<std::int64_t>(ids[i]));
+    any |= id | (last - id);
+  }
+  return (any >> 63) == 0;
 }
 
 // Whether the source's own arrays pass every check of ReadSpline (cell types and sizes, point
@@ -273,30 +293,16 @@ bool IsValidInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>
   {
     return false;
   }
-  if (in.Weights)
+  if (in.Weights && !AllUsable(in.Weights, in.NPoints, true))
   {
-    bool positive = AllUsable(in.Weights, in.NPoints);
-    for (vtkIdType p = 0; p < in.NPoints; ++p)
-    {
-      positive &= in.Weights[p] > 0;
-    }
-    if (!positive)
-    {
-      return false;
-    }
+    return false;
   }
   if (in.NCells > 0 ? in.Offsets[0] != 0 || static_cast<vtkIdType>(in.Offsets[in.NCells]) != nIds
                     : nIds != 0)
   {
     return false;
   }
-  bool idsInRange = true;
-  for (vtkIdType i = 0; i < nIds; ++i)
-  {
-    idsInRange &= static_cast<std::make_unsigned_t<IdT>>(in.Ids[i]) <
-      static_cast<std::make_unsigned_t<vtkIdType>>(in.NPoints);
-  }
-  if (!idsInRange)
+  if (!AllInRange(in.Ids, nIds, in.NPoints))
   {
     return false;
   }
