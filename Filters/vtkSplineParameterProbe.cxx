@@ -569,13 +569,17 @@ struct vtkSplineParameterProbe::SplineCache
 
 namespace
 {
-// The output arrays, one tuple per query.
+// The output arrays, one tuple per query, written through raw pointers taken once (GetPointer
+// is an out-of-line call into VTK: four per query were about 4 % of a probe's instructions).
 struct ProbeArrays
 {
   vtkNew<vtkDoubleArray> Coords, Du, Dv, Normals; // Du, Dv, Normals with Derivatives only
   bool Derivatives;
   vtkNew<vtkIdTypeArray> MacroIds;
   vtkNew<vtkCharArray> Mask;
+  double *CoordsData, *DuData = nullptr, *DvData = nullptr, *NormalsData = nullptr;
+  vtkIdType* MacroIdsData;
+  char* MaskData;
 
   ProbeArrays(vtkIdType nPoints, bool derivatives)
     : Derivatives(derivatives)
@@ -592,26 +596,35 @@ struct ProbeArrays
     ctsplines::AllocateTuples(this->MacroIds, nPoints);
     this->Mask->SetName("vtkValidPointMask");
     ctsplines::AllocateTuples(this->Mask, nPoints);
+    this->CoordsData = this->Coords->GetPointer(0);
+    if (derivatives)
+    {
+      this->DuData = this->Du->GetPointer(0);
+      this->DvData = this->Dv->GetPointer(0);
+      this->NormalsData = this->Normals->GetPointer(0);
+    }
+    this->MacroIdsData = this->MacroIds->GetPointer(0);
+    this->MaskData = this->Mask->GetPointer(0);
   }
   /// Query i outside the spline's domain: the query point, zero derivatives, invalid.
   void SetOutside(vtkIdType i, const double x[3])
   {
-    double* xyz = this->Coords->GetPointer(3 * i);
+    double* xyz = this->CoordsData + 3 * i;
     xyz[0] = x[0];
     xyz[1] = x[1];
     xyz[2] = 0.0;
     if (this->Derivatives)
     {
-      std::fill_n(this->Du->GetPointer(3 * i), 3, 0.0);
-      std::fill_n(this->Dv->GetPointer(3 * i), 3, 0.0);
-      std::fill_n(this->Normals->GetPointer(3 * i), 3, 0.0);
+      std::fill_n(this->DuData + 3 * i, 3, 0.0);
+      std::fill_n(this->DvData + 3 * i, 3, 0.0);
+      std::fill_n(this->NormalsData + 3 * i, 3, 0.0);
     }
-    this->MacroIds->SetValue(i, -1);
-    this->Mask->SetValue(i, 0);
+    this->MacroIdsData[i] = -1;
+    this->MaskData[i] = 0;
   }
   void Set(vtkIdType i, const ctk::ParametricJet& jet, vtkIdType macro)
   {
-    std::copy_n(jet.Value.data(), 3, this->Coords->GetPointer(3 * i));
+    std::copy_n(jet.Value.data(), 3, this->CoordsData + 3 * i);
     if (this->Derivatives)
     {
       ctk::Vec3 normal = jet.Du.cross(jet.Dv);
@@ -620,12 +633,12 @@ struct ProbeArrays
       {
         normal /= length;
       }
-      std::copy_n(jet.Du.data(), 3, this->Du->GetPointer(3 * i));
-      std::copy_n(jet.Dv.data(), 3, this->Dv->GetPointer(3 * i));
-      std::copy_n(normal.data(), 3, this->Normals->GetPointer(3 * i));
+      std::copy_n(jet.Du.data(), 3, this->DuData + 3 * i);
+      std::copy_n(jet.Dv.data(), 3, this->DvData + 3 * i);
+      std::copy_n(normal.data(), 3, this->NormalsData + 3 * i);
     }
-    this->MacroIds->SetValue(i, macro);
-    this->Mask->SetValue(i, 1);
+    this->MacroIdsData[i] = macro;
+    this->MaskData[i] = 1;
   }
 };
 } // namespace
