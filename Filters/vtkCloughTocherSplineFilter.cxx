@@ -332,6 +332,8 @@ std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* sel
         nCells, "cell", in.BoundaryCurvePoints, 6);
     }
   }
+  // CopyArray checked every value it copied (estimated derivatives are not copied).
+  in.ValuesChecked = error.empty() && !estimate;
   return error;
 }
 
