@@ -448,11 +448,13 @@ void KeepUsedPoints(vtkIdType* conn, vtkIdType nConn,
   points.resize(kept);
   uv.resize(kept);
   ctsplines::ParallelFor(0, nConn, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+    const vtkIdType first = kept; // a local: conn's entries could alias the captured one
+    const vtkIdType* to = moved.data();
     for (vtkIdType a = b; a < e; ++a)
     {
-      if (conn[a] >= kept)
+      if (conn[a] >= first)
       {
-        conn[a] = moved[conn[a] - kept];
+        conn[a] = to[conn[a] - first];
       }
     }
   });
@@ -499,6 +501,11 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   // With ghosts, the points the written cells use (threads may mark a point together).
   std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
   ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
+    // Locals: the entries written could alias the captured counts and pointers, which the loops
+    // would otherwise load again for every entry.
+    const vtkIdType n = perCell;
+    const int* order = vtkOrder.data();
+    std::atomic<unsigned char>* mark = keptTriangles ? used.data() : nullptr;
     for (vtkIdType i = b; i < e; ++i)
     {
       const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
@@ -507,13 +514,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
       for (int k = 0; k < 3; ++k)
       {
         const vtkIdType c = 3 * i + k;
-        for (vtkIdType a = 0; a < perCell; ++a)
+        vtkIdType* cell = conn + n * c;
+        for (vtkIdType a = 0; a < n; ++a)
         {
-          conn[perCell * c + a] = nets[k][vtkOrder[a]];
+          cell[a] = nets[k][order[a]];
         }
-        for (vtkIdType a = 0; a < perCell && keptTriangles; ++a)
+        for (vtkIdType a = 0; a < n && mark; ++a)
         {
-          used[nets[k][a]].store(1, std::memory_order_relaxed);
+          mark[nets[k][a]].store(1, std::memory_order_relaxed);
         }
         off[c] = perCell * c;
         typeOf[c] = VTK_BEZIER_TRIANGLE;
