@@ -35,10 +35,13 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <mutex>
 #include <unordered_map>
+#include <unordered_set>
 
 vtkStandardNewMacro(vtkCloughTocherSplineFilter);
 
@@ -157,7 +160,7 @@ namespace
 // Cell and field data of the Bézier extraction (see ComputeBezierExtraction).
 void AddBezierExtraction(vtkUnstructuredGrid* output,
   const ctk::SplineData& data, const ctk::MeshTopology& topology,
-  const ctk::BezierExtraction& extraction)
+  const ctk::BezierExtraction& extraction, const std::vector<ctk::Id>* keptTriangles)
 {
   constexpr int M = ctk::BezierExtraction::MaxElementDofs;
   const vtkIdType nCells = output->GetNumberOfCells();
@@ -169,17 +172,14 @@ void AddBezierExtraction(vtkUnstructuredGrid* output,
   operators->SetName("BezierExtraction");
   operators->SetNumberOfComponents(10 * M);
   operators->SetNumberOfTuples(nCells);
-  // Kernel rows are in canonical order; the cell's points are in VTK order. The kernel's cell
-  // 3 t + k is the output's cell of macro-triangle t, micro-triangle k (ghosts are not written).
+  // Kernel rows are in canonical order; the cell's points are in VTK order. Output cell 3 i + k
+  // is micro-triangle k of the i-th written kernel triangle (FillSplineGrid), the kernel's cell
+  // 3 t + k (ghosts are not written).
   const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
-  const vtkIdType* macro = vtkIdTypeArray::SafeDownCast(
-    output->GetCellData()->GetArray("MacroTriangleId"))->GetPointer(0);
-  const signed char* micro = vtkSignedCharArray::SafeDownCast(
-    output->GetCellData()->GetArray("MicroTriangleId"))->GetPointer(0);
   ctsplines::ParallelFor(0, nCells, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {
-      const vtkIdType k = 3 * macro[c] + micro[c];
+      const vtkIdType k = 3 * (keptTriangles ? (*keptTriangles)[c / 3] : c / 3) + c % 3;
       std::copy_n(&extraction.CellDofs[k * M], M, dofIds->GetPointer(c * M));
       const double* op = &extraction.CellOperators[k * 10 * M];
       double* out = operators->GetPointer(c * 10 * M);
@@ -332,6 +332,8 @@ std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* sel
         nCells, "cell", in.BoundaryCurvePoints, 6);
     }
   }
+  // CopyArray checked every value it copied (estimated derivatives are not copied).
+  in.ValuesChecked = error.empty() && !estimate;
   return error;
 }
 
@@ -414,34 +416,48 @@ private:
 
 namespace
 {
-// Keeps the points that the first nConn connectivity entries use, in their order, moving them to
-// the front of points and uv (in place: a point only moves down), and renumbers the entries.
-// Ghost triangles' micro-cells are never written, so nothing else is gathered.
-void KeepUsedPoints(vtkIdType* conn, vtkIdType nConn, std::vector<ctk::Vec3>& points,
+// Keeps the points marked in `used` (those the first nConn connectivity entries use) and
+// renumbers the entries. Ghost triangles' micro-cells are never written, so the unused points are
+// the few that only ghosts have (a thin band along the piece's border): each used point past the
+// kept count fills the first free hole below it, and only the entries naming those points change.
+// (Shifting every point down instead moved all of them, 272 MB at 1e6 triangles, and rewrote
+// every entry: a piece's spline cost 30 % more than its share of the whole's.)
+void KeepUsedPoints(vtkIdType* conn, vtkIdType nConn,
+  const std::vector<std::atomic<unsigned char>>& used, std::vector<ctk::Vec3>& points,
   std::vector<ctk::Vec2>& uv)
 {
-  std::vector<vtkIdType> newId(points.size(), 0);
-  for (vtkIdType a = 0; a < nConn; ++a)
-  {
-    newId[conn[a]] = 1;
-  }
+  const vtkIdType n = static_cast<vtkIdType>(points.size());
   vtkIdType kept = 0;
-  for (size_t p = 0; p < points.size(); ++p)
+  for (const std::atomic<unsigned char>& u : used)
   {
-    if (newId[p])
+    kept += u.load(std::memory_order_relaxed);
+  }
+  std::vector<vtkIdType> moved(static_cast<size_t>(n - kept), -1); // new id of point kept + j
+  vtkIdType hole = 0;
+  for (vtkIdType p = kept; p < n; ++p)
+  {
+    if (used[p])
     {
-      newId[p] = kept;
-      points[kept] = points[p];
-      uv[kept] = uv[p];
-      ++kept;
+      while (used[hole])
+      {
+        ++hole;
+      }
+      points[hole] = points[p];
+      uv[hole] = uv[p];
+      moved[p - kept] = hole++;
     }
   }
   points.resize(kept);
   uv.resize(kept);
   ctsplines::ParallelFor(0, nConn, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+    const vtkIdType first = kept; // a local: conn's entries could alias the captured one
+    const vtkIdType* to = moved.data();
     for (vtkIdType a = b; a < e; ++a)
     {
-      conn[a] = newId[conn[a]];
+      if (conn[a] >= first)
+      {
+        conn[a] = to[conn[a] - first];
+      }
     }
   });
 }
@@ -484,7 +500,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   unsigned char* typeOf = types->GetPointer(0);
   vtkIdType* macroOf = macroIds->GetPointer(0);
   signed char* microOf = microIds->GetPointer(0);
+  // With ghosts, the points the written cells use (threads may mark a point together).
+  std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
   ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
+    // Locals: the entries written could alias the captured counts and pointers, which the loops
+    // would otherwise load again for every entry.
+    const vtkIdType n = perCell;
+    const int* order = vtkOrder.data();
+    std::atomic<unsigned char>* mark = keptTriangles ? used.data() : nullptr;
     for (vtkIdType i = b; i < e; ++i)
     {
       const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
@@ -493,9 +516,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
       for (int k = 0; k < 3; ++k)
       {
         const vtkIdType c = 3 * i + k;
-        for (vtkIdType a = 0; a < perCell; ++a)
+        vtkIdType* cell = conn + n * c;
+        for (vtkIdType a = 0; a < n; ++a)
         {
-          conn[perCell * c + a] = nets[k][vtkOrder[a]];
+          cell[a] = nets[k][order[a]];
+        }
+        for (vtkIdType a = 0; a < n && mark; ++a)
+        {
+          mark[nets[k][a]].store(1, std::memory_order_relaxed);
         }
         off[c] = perCell * c;
         typeOf[c] = VTK_BEZIER_TRIANGLE;
@@ -507,7 +535,7 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   off[nCells] = perCell * nCells;
   if (keptTriangles)
   {
-    KeepUsedPoints(conn, perCell * nCells, controlPoints, domainPoints);
+    KeepUsedPoints(conn, perCell * nCells, used, controlPoints, domainPoints);
   }
   vtkNew<vtkCellArray> cells;
   cells->SetData(offsets, connectivity);
@@ -580,11 +608,11 @@ std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options,
   return built.Ok ? std::string() : built.Message;
 }
 
-// Distributed runs: the triangles that are not ghosts (duplicates of another piece's), in the
-// kernel's numbering (input triangle order[t] for kernel triangle t; empty: the same), or
+// Distributed runs: the n kernel triangles that are not ghosts (duplicates of another piece's),
+// in the kernel's numbering (input cell order[t] for kernel triangle t; empty: the same), or
 // nothing to drop.
-std::vector<ctk::Id> OwnedTriangles(
-  vtkUnsignedCharArray* ghosts, const std::vector<ctk::Id>& order, bool& anyGhost)
+std::vector<ctk::Id> OwnedTriangles(vtkUnsignedCharArray* ghosts, ctk::Id n,
+  const std::vector<ctk::Id>& order, bool& anyGhost)
 {
   std::vector<ctk::Id> owned;
   anyGhost = false;
@@ -592,18 +620,106 @@ std::vector<ctk::Id> OwnedTriangles(
   {
     return owned;
   }
-  const vtkIdType n = ghosts->GetNumberOfTuples();
   const unsigned char* flag = ghosts->GetPointer(0);
   owned.reserve(n);
-  for (vtkIdType t = 0; t < n; ++t)
+  for (ctk::Id t = 0; t < n; ++t)
   {
     if (!(flag[order.empty() ? t : order[t]] & vtkDataSetAttributes::DUPLICATECELL))
     {
       owned.push_back(t);
     }
   }
-  anyGhost = static_cast<vtkIdType>(owned.size()) < n;
+  anyGhost = static_cast<ctk::Id>(owned.size()) < n;
   return owned;
+}
+
+// Distributed runs: the input cells kept as the kernel's triangles (empty: all of them). A ghost
+// triangle with the same three points as an owned or earlier ghost triangle is that triangle
+// received twice (ParaView 5.11's D3 sends a few ghost cells twice; each of its edges would
+// have three triangles): it is dropped with its rows of the per-triangle arrays.
+std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::SplineInput& in)
+{
+  std::vector<ctk::Id> kept;
+  if (!ghosts)
+  {
+    return kept;
+  }
+  const ctk::Id nT = in.NumberOfTriangles();
+  const unsigned char* flag = ghosts->GetPointer(0);
+  auto isGhost = [&](ctk::Id t) { return (flag[t] & vtkDataSetAttributes::DUPLICATECELL) != 0; };
+  // Only a triangle whose points all belong to ghost triangles can equal a ghost: the set holds
+  // the thin band along the piece's border, not the piece.
+  std::vector<char> ghostPoint(static_cast<size_t>(in.NumberOfVertices()), 0);
+  for (ctk::Id t = 0; t < nT; ++t)
+  {
+    for (int a = 0; a < 3 && isGhost(t); ++a)
+    {
+      ghostPoint[in.Triangles[3 * t + a]] = 1;
+    }
+  }
+  using Key = std::array<ctk::Id, 3>;
+  struct KeyHash
+  {
+    size_t operator()(const Key& k) const
+    {
+      return std::hash<ctk::Id>()(k[0]) ^ (std::hash<ctk::Id>()(k[1]) * 0x9e3779b97f4a7c15ULL) ^
+        (std::hash<ctk::Id>()(k[2]) * 0xc2b2ae3d27d4eb4fULL);
+    }
+  };
+  std::unordered_set<Key, KeyHash> seen;
+  std::vector<char> drop(static_cast<size_t>(nT), 0);
+  bool anyDropped = false;
+  for (const bool ghostPass : { false, true }) // owned triangles first: they are kept
+  {
+    for (ctk::Id t = 0; t < nT; ++t)
+    {
+      const ctk::Id* p = &in.Triangles[3 * t];
+      if (isGhost(t) != ghostPass || !(ghostPoint[p[0]] && ghostPoint[p[1]] && ghostPoint[p[2]]))
+      {
+        continue;
+      }
+      Key key{ p[0], p[1], p[2] };
+      std::sort(key.begin(), key.end());
+      drop[t] = !seen.insert(key).second && ghostPass;
+      anyDropped = anyDropped || drop[t];
+    }
+  }
+  if (!anyDropped)
+  {
+    return kept;
+  }
+  for (ctk::Id t = 0; t < nT; ++t)
+  {
+    if (!drop[t])
+    {
+      kept.push_back(t);
+    }
+  }
+  auto keepRows = [&](auto& v, size_t width) {
+    ctk::PermuteRows(v, width, kept, false);
+    v.resize(v.empty() ? 0 : width * kept.size());
+  };
+  keepRows(in.Triangles, 3);
+  keepRows(in.EdgeGradients, 18);
+  keepRows(in.BoundaryCurvePoints, 18);
+  keepRows(in.SplitTau, 1);
+  return kept;
+}
+
+// The input cell of each kernel triangle t: cells[order[t]] (either empty: the identity), or
+// empty when that is t.
+std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, const std::vector<ctk::Id>& order)
+{
+  if (cells.empty() || order.empty())
+  {
+    return cells.empty() ? order : cells;
+  }
+  std::vector<ctk::Id> composed(order.size());
+  for (size_t t = 0; t < order.size(); ++t)
+  {
+    composed[t] = cells[order[t]];
+  }
+  return composed;
 }
 
 // Frees what only the construction reads before the output's cells are allocated (peak memory:
@@ -669,6 +785,8 @@ int vtkCloughTocherSplineFilter::RequestData(
   {
     error = ReadPieceArrays(input, globalIds, globalIdArray, ghosts);
   }
+  const std::vector<ctk::Id> cells = error.empty() ? DropRepeatedGhosts(ghosts, in)
+                                                   : std::vector<ctk::Id>();
   if (error.empty() && this->ComputeBezierExtraction && !info.HasBezierExtraction)
   {
     error = std::string("Bézier extraction is available for ") +
@@ -716,10 +834,12 @@ int vtkCloughTocherSplineFilter::RequestData(
 
   // 3. Fill the output.
   bool anyGhost = false;
-  const std::vector<ctk::Id> owned = OwnedTriangles(ghosts, order.Triangles, anyGhost);
+  const std::vector<ctk::Id> inputCells = InputCells(cells, order.Triangles);
+  const std::vector<ctk::Id> owned =
+    OwnedTriangles(ghosts, in.NumberOfTriangles(), inputCells, anyGhost);
   ctsplines::FillSplineGrid(spline, topology, in,
     this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output,
-    anyGhost ? &owned : nullptr, order.IsIdentity() ? nullptr : &order.Triangles);
+    anyGhost ? &owned : nullptr, inputCells.empty() ? nullptr : &inputCells);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
@@ -741,7 +861,7 @@ int vtkCloughTocherSplineFilter::RequestData(
       vtkErrorMacro(<< ex.Message);
       return 0;
     }
-    AddBezierExtraction(output, data, topology, extraction);
+    AddBezierExtraction(output, data, topology, extraction, anyGhost ? &owned : nullptr);
   }
   if (globalIdArray)
   {

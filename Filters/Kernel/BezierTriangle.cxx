@@ -57,15 +57,29 @@ struct MultinomialTable
 };
 constexpr MultinomialTable Multinomials;
 
+#if defined(__GNUC__) && !defined(__clang__)
+#define CTK_UNROLL _Pragma("GCC unroll 12")
+#elif defined(__clang__)
+#define CTK_UNROLL _Pragma("unroll")
+#else
+#define CTK_UNROLL
+#endif
+
 // Sum over degree-m multi-indices of B^m_i(t) H[i + shift], the shift adding d0 and d1 to the
-// first two exponents (the third follows from the degree n).
-inline Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Vector4d* H, int d0, int d1)
+// first two exponents (the third follows from the degree n). H: homogeneous points (Vector4d)
+// or plain ones (Vec3).
+template <typename Point>
+inline Point ShiftedSum(int n, int m, const double* B, const Point* H, int d0, int d1)
 {
-  Eigen::Vector4d s = Eigen::Vector4d::Zero();
+  Point s = Point::Zero();
   int idx = 0;
+  // Unrolled for a degree known at compile time: the indices are then constants (otherwise
+  // computing them was a sixth of a cubic jet's instructions). Same operations, same order.
+  CTK_UNROLL
   for (int r = 0; r <= m; ++r)
   {
     const int i = m - r;
+    CTK_UNROLL
     for (int k = 0; k <= r; ++k, ++idx)
     {
       const int j = r - k;
@@ -73,28 +87,6 @@ inline Eigen::Vector4d ShiftedSum(int n, int m, const double* B, const Eigen::Ve
     }
   }
   return s;
-}
-
-inline void BernsteinImpl(int m, const Vec3& t, double* out)
-{
-  double p0[MaxDegree + 1], p1[MaxDegree + 1], p2[MaxDegree + 1];
-  p0[0] = p1[0] = p2[0] = 1.0;
-  for (int e = 1; e <= m; ++e)
-  {
-    p0[e] = p0[e - 1] * t[0];
-    p1[e] = p1[e - 1] * t[1];
-    p2[e] = p2[e - 1] * t[2];
-  }
-  int idx = 0;
-  for (int r = 0; r <= m; ++r)
-  {
-    const int i = m - r;
-    for (int k = 0; k <= r; ++k, ++idx)
-    {
-      const int j = r - k;
-      out[idx] = Multinomials.Value[m][idx] * p0[i] * p1[j] * p2[k];
-    }
-  }
 }
 
 inline void HomogeneousNetImpl(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
@@ -107,9 +99,73 @@ inline void HomogeneousNetImpl(int n, const Vec3* P, const double* w, Eigen::Vec
   }
 }
 
+// A homogeneous sum (sum B w P, sum B w) as its point part and its weight part.
+struct HomogeneousSum
+{
+  Vec3 Point;
+  double Weight;
+};
+
+// The homogeneous sums of a rational net, from its homogeneous points.
+struct RationalSums
+{
+  Eigen::Vector4d H[MaxBezierPoints];
+  RationalSums(int n, const Vec3* P, const double* w) { HomogeneousNetImpl(n, P, w, this->H); }
+  HomogeneousSum operator()(int n, int m, const double* B, int d0, int d1) const
+  {
+    const Eigen::Vector4d s = ShiftedSum(n, m, B, this->H, d0, d1);
+    return { s.head<3>(), s[3] };
+  }
+};
+
+// The same for a polynomial net (all weights 1), read in place: the weight part is the sum of
+// the B's in the same order, so every value has the bits of RationalSums with weights 1 (the
+// net is not copied into homogeneous points, which cost a third of a probe's evaluation).
+struct PolynomialSums
+{
+  const Vec3* P;
+  PolynomialSums(int, const Vec3* points, const double*)
+    : P(points)
+  {
+  }
+  HomogeneousSum operator()(int n, int m, const double* B, int d0, int d1) const
+  {
+    double weight = 0.0;
+    for (int idx = 0; idx < BezierPointCount(m); ++idx)
+    {
+      weight += B[idx];
+    }
+    return { ShiftedSum(n, m, B, this->P, d0, d1), weight };
+  }
+};
+
+inline void BernsteinImpl(int m, const Vec3& t, double* out)
+{
+  double p0[MaxDegree + 1], p1[MaxDegree + 1], p2[MaxDegree + 1];
+  p0[0] = p1[0] = p2[0] = 1.0;
+  for (int e = 1; e <= m; ++e)
+  {
+    p0[e] = p0[e - 1] * t[0];
+    p1[e] = p1[e - 1] * t[1];
+    p2[e] = p2[e - 1] * t[2];
+  }
+  int idx = 0;
+  CTK_UNROLL
+  for (int r = 0; r <= m; ++r)
+  {
+    const int i = m - r;
+    CTK_UNROLL
+    for (int k = 0; k <= r; ++k, ++idx)
+    {
+      const int j = r - k;
+      out[idx] = Multinomials.Value[m][idx] * p0[i] * p1[j] * p2[k];
+    }
+  }
+}
+
 // The degree is N when N >= 0 (known at compile time: the loops unroll, with the same operations
-// in the same order, so the same bits), else n.
-template <int N>
+// in the same order, so the same bits), else n. Sums: RationalSums or PolynomialSums.
+template <int N, typename Sums>
 BezierJet EvaluateImpl(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
 {
   if (N >= 0)
@@ -117,26 +173,26 @@ BezierJet EvaluateImpl(int n, const Vec3* P, const double* weights, const Vec3& 
     n = N;
   }
   assert(n >= 0 && n <= MaxDegree);
-  Eigen::Vector4d H[MaxBezierPoints];
-  HomogeneousNetImpl(n, P, weights, H);
+  const Sums sums(n, P, weights);
   double B[MaxBezierPoints];
 
   BezierJet jet;
   BernsteinImpl(n, t, B);
-  const Eigen::Vector4d h = ShiftedSum(n, n, B, H, 0, 0);
-  const double W = h[3];
-  jet.Value = h.head<3>() / W;
+  const HomogeneousSum h = sums(n, n, B, 0, 0);
+  const double W = h.Weight;
+  jet.Value = h.Point / W;
   if (order < 1 || n == 0)
   {
     return jet;
   }
 
   BernsteinImpl(n - 1, t, B);
-  Eigen::Vector4d hd[3];
+  HomogeneousSum hd[3];
   for (int a = 0; a < 3; ++a)
   {
-    hd[a] = n * ShiftedSum(n, n - 1, B, H, a == 0, a == 1);
-    jet.DT[a] = (hd[a].head<3>() - jet.Value * hd[a][3]) / W;
+    const HomogeneousSum d = sums(n, n - 1, B, a == 0, a == 1);
+    hd[a] = { double(n) * d.Point, double(n) * d.Weight };
+    jet.DT[a] = (hd[a].Point - jet.Value * hd[a].Weight) / W;
   }
   if (order < 2)
   {
@@ -153,17 +209,33 @@ BezierJet EvaluateImpl(int n, const Vec3* P, const double* weights, const Vec3& 
   {
     for (int b = a; b < 3; ++b, ++ab)
     {
-      const Eigen::Vector4d hdd = n < 2 ? Eigen::Vector4d::Zero()
-                                        : Eigen::Vector4d(n * (n - 1) *
-                                            ShiftedSum(n, n - 2, B, H, (a == 0) + (b == 0),
-                                              (a == 1) + (b == 1)));
+      HomogeneousSum hdd{ Vec3::Zero(), 0.0 };
+      if (n >= 2)
+      {
+        const HomogeneousSum d =
+          sums(n, n - 2, B, (a == 0) + (b == 0), (a == 1) + (b == 1));
+        hdd = { double(n * (n - 1)) * d.Point, double(n * (n - 1)) * d.Weight };
+      }
       // Quotient rule, second order: p_ab = (h_ab - p_a W_b - p_b W_a - p W_ab) / W.
-      jet.DTT[ab] = (hdd.head<3>() - jet.DT[a] * hd[b][3] - jet.DT[b] * hd[a][3] -
-                      jet.Value * hdd[3]) /
+      jet.DTT[ab] = (hdd.Point - jet.DT[a] * hd[b].Weight - jet.DT[b] * hd[a].Weight -
+                      jet.Value * hdd.Weight) /
         W;
     }
   }
   return jet;
+}
+
+// EvaluateImpl with the degree fixed for cubic nets (every Clough-Tocher spline) and the sums
+// of the net's kind.
+BezierJet Evaluate(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
+{
+  if (weights)
+  {
+    return n == 3 ? EvaluateImpl<3, RationalSums>(n, P, weights, t, order)
+                  : EvaluateImpl<-1, RationalSums>(n, P, weights, t, order);
+  }
+  return n == 3 ? EvaluateImpl<3, PolynomialSums>(n, P, weights, t, order)
+                : EvaluateImpl<-1, PolynomialSums>(n, P, weights, t, order);
 }
 
 } // namespace
@@ -180,9 +252,7 @@ void HomogeneousNet(int n, const Vec3* P, const double* w, Eigen::Vector4d* H)
 
 BezierJet EvaluateBezierTriangle(int n, const Vec3* P, const double* weights, const Vec3& t, int order)
 {
-  // Cubic nets (every Clough-Tocher spline) with their degree known at compile time.
-  return n == 3 ? EvaluateImpl<3>(n, P, weights, t, order)
-                : EvaluateImpl<-1>(n, P, weights, t, order);
+  return Evaluate(n, P, weights, t, order);
 }
 
 
@@ -356,8 +426,7 @@ Eigen::Matrix<double, 3, 2> BarycentricGradient(const Vec2& A0, const Vec2& A1, 
 ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, const Vec2& A0,
   const Vec2& A1, const Vec2& A2, const Vec3& t, int order)
 {
-  const BezierJet jet = n == 3 ? EvaluateImpl<3>(n, P, weights, t, order)
-                               : EvaluateImpl<-1>(n, P, weights, t, order);
+  const BezierJet jet = Evaluate(n, P, weights, t, order);
   const Eigen::Matrix<double, 3, 2> G = BarycentricGradient(A0, A1, A2);
   ParametricJet out;
   out.Value = jet.Value;

@@ -70,6 +70,20 @@ bool TriangleBucketGrid::BuildFrom(
     return false;
   }
 
+  // Corners are read in batches (one indirect call per batch).
+  constexpr Id Batch = 256;
+  Vec2 c[3 * Batch];
+  auto forBatches = [&](auto&& body) {
+    for (Id first = 0; first < numTriangles; first += Batch)
+    {
+      const Id count = std::min(Batch, numTriangles - first);
+      corners(context, first, count, c);
+      for (Id i = 0; i < count; ++i)
+      {
+        body(first + i, c + 3 * i);
+      }
+    }
+  };
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
   Vec2 hi = -lo;
   Id usable = box ? numTriangles : 0;
@@ -78,19 +92,19 @@ bool TriangleBucketGrid::BuildFrom(
     lo = box[0];
     hi = box[1];
   }
-  Vec2 c[3];
-  for (Id t = 0; !box && t < numTriangles; ++t)
+  else
   {
-    corners(context, t, c);
-    if (IsUsable(c))
-    {
-      ++usable;
-      for (int a = 0; a < 3; ++a)
+    forBatches([&](Id, const Vec2* a) {
+      if (IsUsable(a))
       {
-        lo = lo.cwiseMin(c[a]);
-        hi = hi.cwiseMax(c[a]);
+        ++usable;
+        for (int k = 0; k < 3; ++k)
+        {
+          lo = lo.cwiseMin(a[k]);
+          hi = hi.cwiseMax(a[k]);
+        }
       }
-    }
+    });
   }
   if (usable == 0)
   {
@@ -119,15 +133,17 @@ bool TriangleBucketGrid::BuildFrom(
     }
   }
 
-  // Pass 1: bucket sizes (counted from index 1); prefix sums give the row starts.
+  // Pass 1: every triangle's bucket range (kept for pass 2: ranges are ~16 B per triangle, and
+  // computing them again cost about as much as the rest of the build), bucket sizes (counted
+  // from index 1); prefix sums give the row starts. Unusable triangles get an empty range.
   const Id nBuckets = this->NX * this->NY;
   AssignLarge(this->Offsets, static_cast<size_t>(nBuckets + 1), std::uint32_t(0));
-  Id range[4];
+  std::vector<std::uint32_t> ranges;
+  ResizeForOverwrite(ranges, static_cast<size_t>(4 * numTriangles));
   std::uint64_t total = 0;
-  for (Id t = 0; t < numTriangles; ++t)
-  {
-    corners(context, t, c);
-    if (this->BucketRange(c, range))
+  forBatches([&](Id t, const Vec2* a) {
+    Id range[4] = { 1, 0, 1, 0 };
+    if (this->BucketRange(a, range))
     {
       for (Id iy = range[2]; iy <= range[3]; ++iy)
       {
@@ -138,7 +154,8 @@ bool TriangleBucketGrid::BuildFrom(
       }
       total += static_cast<std::uint64_t>(range[1] - range[0] + 1) * (range[3] - range[2] + 1);
     }
-  }
+    std::copy_n(range, 4, &ranges[4 * t]); // columns and rows are below 2^32 (MaxTriangles)
+  });
   if (total > UINT32_MAX)
   {
     *this = TriangleBucketGrid();
@@ -153,15 +170,12 @@ bool TriangleBucketGrid::BuildFrom(
   ResizeForOverwrite(this->Items, static_cast<size_t>(total));
   for (Id t = 0; t < numTriangles; ++t)
   {
-    corners(context, t, c);
-    if (this->BucketRange(c, range))
+    const std::uint32_t* range = &ranges[4 * t];
+    for (Id iy = range[2]; iy <= Id(range[3]); ++iy)
     {
-      for (Id iy = range[2]; iy <= range[3]; ++iy)
+      for (Id ix = range[0]; ix <= Id(range[1]); ++ix)
       {
-        for (Id ix = range[0]; ix <= range[1]; ++ix)
-        {
-          this->Items[this->Offsets[iy * this->NX + ix]++] = static_cast<std::uint32_t>(t);
-        }
+        this->Items[this->Offsets[iy * this->NX + ix]++] = static_cast<std::uint32_t>(t);
       }
     }
   }

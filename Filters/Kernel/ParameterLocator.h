@@ -74,11 +74,16 @@ public:
   Id GetNumberOfRows() const { return this->NY; }
 
 private:
-  using CornerFunction = void (*)(const void* context, Id t, Vec2* c);
+  // Writes the corners of triangles first .. first + count - 1 to c[3 i + a]: one indirect call
+  // per batch of triangles, the caller's corner function inlined in the loop.
+  using CornerFunction = void (*)(const void* context, Id first, Id count, Vec2* c);
   template <typename Corners>
-  static void CallCorners(const void* corners, Id t, Vec2* c)
+  static void CallCorners(const void* corners, Id first, Id count, Vec2* c)
   {
-    (*static_cast<const Corners*>(corners))(t, c);
+    for (Id i = 0; i < count; ++i)
+    {
+      (*static_cast<const Corners*>(corners))(first + i, c + 3 * i);
+    }
   }
   bool BuildFrom(Id numTriangles, CornerFunction corners, const void* context, const Vec2* box);
   bool BucketRange(const Vec2* c, Id range[4]) const;

@@ -30,7 +30,8 @@ constexpr double MinDomainDiagonal = 1e-100;
 
 /// Checks data (and its topology) before any construction:
 /// - UV, F, Fu, Fv and the optional arrays are finite and below MaxInputMagnitude (NaN groups
-///   of BoundaryCurvePoints mean "none"); given split points lie inside their triangles;
+///   of BoundaryCurvePoints mean "none"; skipped when data.ValuesChecked); given split points
+///   lie inside their triangles;
 /// - no parameter triangle has zero area (relative 1e-13 of the domain's squared diagonal);
 /// - no fold: across every interior edge the two opposite vertices lie on opposite sides of the
 ///   edge in (u, v), whatever the triangles' vertex order.

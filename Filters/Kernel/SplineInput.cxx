@@ -39,6 +39,7 @@ SplineData SplineInput::View() const
   d.EdgeGradients = OrNull(this->EdgeGradients);
   d.BoundaryCurvePoints = OrNull(this->BoundaryCurvePoints);
   d.SplitTau = OrNull(this->SplitTau);
+  d.ValuesChecked = this->ValuesChecked;
   return d;
 }
 

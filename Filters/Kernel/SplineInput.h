@@ -19,6 +19,7 @@ struct SplineInput
   std::vector<double> EdgeGradients;       // empty or #T by 18
   std::vector<double> BoundaryCurvePoints; // empty or #T by 18
   std::vector<Vec3> SplitTau;              // empty or #T
+  bool ValuesChecked = false;              // see SplineData::ValuesChecked
 
   Id NumberOfVertices() const { return static_cast<Id>(this->UV.size() / 2); }
   Id NumberOfTriangles() const { return static_cast<Id>(this->Triangles.size() / 3); }

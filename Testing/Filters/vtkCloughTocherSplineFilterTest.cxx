@@ -1182,3 +1182,98 @@ TEST(vtkCloughTocherSplineFilter, LocalityOutputOrderNamesInputIdsInErrors)
   }
   EXPECT_EQ(messages[1], messages[0]);
 }
+
+namespace
+{
+// A copy of input whose ghost triangles (DUPLICATECELL where u > 0.7) carry global ids, with
+// (repeat set) a ghost copy of the first ghost and of the first owned triangle right after each,
+// as D3 sends: the cells after them are shifted.
+vtkSmartPointer<vtkPolyData> PieceWithGhosts(vtkPolyData* input, bool repeat)
+{
+  auto piece = vtkSmartPointer<vtkPolyData>::New();
+  piece->SetPoints(input->GetPoints());
+  piece->GetPointData()->ShallowCopy(input->GetPointData());
+  vtkNew<vtkCellArray> polys;
+  vtkNew<vtkUnsignedCharArray> ghosts;
+  ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  vtkNew<vtkIdTypeArray> globalIds;
+  globalIds->SetName("GlobalIds");
+  vtkDataArray* uv = input->GetPointData()->GetArray("UV");
+  bool ghostRepeated = false, ownedRepeated = false;
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType t = 0; t < input->GetNumberOfCells(); ++t)
+  {
+    input->GetCellPoints(t, ids);
+    double u = 0;
+    for (int l = 0; l < 3; ++l)
+    {
+      u += uv->GetComponent(ids->GetId(l), 0) / 3;
+    }
+    const bool ghost = u > 0.7;
+    bool& repeated = ghost ? ghostRepeated : ownedRepeated;
+    for (int copy = 0; copy < (repeat && !repeated ? 2 : 1); ++copy)
+    {
+      polys->InsertNextCell(ids);
+      ghosts->InsertNextValue(ghost || copy ? vtkDataSetAttributes::DUPLICATECELL : 0);
+      globalIds->InsertNextValue(7 * t + 1);
+    }
+    repeated = true;
+  }
+  piece->SetPolys(polys);
+  piece->GetCellData()->AddArray(ghosts);
+  piece->GetCellData()->SetGlobalIds(globalIds);
+  return piece;
+}
+} // namespace
+
+TEST(vtkCloughTocherSplineFilter, RepeatedGhostTrianglesAreDropped)
+{
+  // ParaView 5.11's D3 sends a few ghost cells twice (each of their edges then has three
+  // triangles): the piece's spline is the one without the repeats, in both output orders and
+  // with the Bézier extraction.
+  vtkSmartPointer<vtkPolyData> input = ShuffledFranke(128, 6u);
+  vtkSmartPointer<vtkPolyData> plain = PieceWithGhosts(input, false);
+  vtkSmartPointer<vtkPolyData> repeated = PieceWithGhosts(input, true);
+  ASSERT_EQ(repeated->GetNumberOfCells(), plain->GetNumberOfCells() + 2);
+  using F = vtkCloughTocherSplineFilter;
+  const std::function<void(F*)> extraction = [](F* f) { f->ComputeBezierExtractionOn(); };
+  for (const int order : { F::InputOrder, F::LocalityOrder })
+  {
+    const auto setup = order == F::InputOrder ? extraction : nullptr;
+    auto want = ConvertInOrder(plain, F::CTi, order, setup);
+    auto got = ConvertInOrder(repeated, F::CTi, order, setup);
+    ASSERT_GT(want->GetNumberOfCells(), 0);
+    ASSERT_EQ(got->GetNumberOfCells(), want->GetNumberOfCells()) << "order " << order;
+    ASSERT_EQ(got->GetNumberOfPoints(), want->GetNumberOfPoints());
+    // Same cells in the same order: the same global ids, points and extraction rows, bit for bit.
+    std::vector<std::string> names = { "MacroTriangleGlobalId", "MicroTriangleId" };
+    if (order == F::InputOrder)
+    {
+      names.insert(names.end(), { "GlobalDofIds", "BezierExtraction" });
+    }
+    for (const std::string& name : names)
+    {
+      vtkDataArray* g = got->GetCellData()->GetArray(name.c_str());
+      vtkDataArray* w = want->GetCellData()->GetArray(name.c_str());
+      ASSERT_TRUE(g && w) << name;
+      vtkIdType differing = 0;
+      for (vtkIdType c = 0; c < g->GetNumberOfTuples(); ++c)
+      {
+        for (int j = 0; j < g->GetNumberOfComponents(); ++j)
+        {
+          differing += g->GetComponent(c, j) != w->GetComponent(c, j);
+        }
+      }
+      EXPECT_EQ(differing, 0) << name << ", order " << order;
+    }
+    vtkIdType differing = 0;
+    for (vtkIdType p = 0; p < got->GetNumberOfPoints(); ++p)
+    {
+      double x[3], y[3];
+      got->GetPoint(p, x);
+      want->GetPoint(p, y);
+      differing += x[0] != y[0] || x[1] != y[1] || x[2] != y[2];
+    }
+    EXPECT_EQ(differing, 0) << "order " << order;
+  }
+}

@@ -174,3 +174,41 @@ TEST(BezierTriangle, BarycentricGradientIsExact)
   const Vec3 diff = Barycentric(A0, A1, A2, X + d) - Barycentric(A0, A1, A2, X);
   EXPECT_NEAR((G * d - diff).norm(), 0.0, 1e-14);
 }
+
+// A polynomial net (weights nullptr, evaluated without homogeneous points) gives the bits of the
+// same net with all weights 1 (the homogeneous evaluation), at every degree and order: the
+// probe's and the tessellator's results do not depend on which a source spells.
+TEST(BezierTriangle, PolynomialNetHasTheBitsOfUnitWeights)
+{
+  std::mt19937 rng(11);
+  const Vec2 A[3] = { Vec2(0.2, -0.1), Vec2(1.3, 0.4), Vec2(0.1, 0.9) };
+  for (int n = 0; n <= MaxDegree; ++n)
+  {
+    const std::vector<Vec3> P = RandomNet(n, rng);
+    const std::vector<double> ones(P.size(), 1.0);
+    for (int s = 0; s < 20; ++s)
+    {
+      const Vec3 t = RandomBarycentric(rng, -0.2);
+      for (int order = 0; order <= 2; ++order)
+      {
+        const BezierJet a = EvaluateBezierTriangle(n, P.data(), nullptr, t, order);
+        const BezierJet b = EvaluateBezierTriangle(n, P.data(), ones.data(), t, order);
+        ASSERT_EQ(a.Value, b.Value) << "degree " << n << " order " << order;
+        for (int k = 0; k < 3; ++k)
+        {
+          ASSERT_EQ(a.DT[k], b.DT[k]) << "degree " << n << " order " << order;
+        }
+        for (int k = 0; k < 6; ++k)
+        {
+          ASSERT_EQ(a.DTT[k], b.DTT[k]) << "degree " << n << " order " << order;
+        }
+        const ParametricJet x = EvaluateOverDomain(n, P.data(), nullptr, A[0], A[1], A[2], t, order);
+        const ParametricJet y =
+          EvaluateOverDomain(n, P.data(), ones.data(), A[0], A[1], A[2], t, order);
+        ASSERT_EQ(x.Value, y.Value);
+        ASSERT_EQ(x.Du, y.Du);
+        ASSERT_EQ(x.Dvv, y.Dvv);
+      }
+    }
+  }
+}

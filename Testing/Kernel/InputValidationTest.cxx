@@ -120,6 +120,23 @@ TEST(InputValidation, ValuesThatWouldOverflowAreRejected)
   }
 }
 
+// The filter checks the values while copying them (CopyArray) and says so: the kernel then skips
+// its own pass over them, but still checks the geometry.
+TEST(InputValidation, ValuesCheckedByTheCallerAreNotReadAgain)
+{
+  SampledMesh mesh = Square();
+  mesh.Fu[3 * 2 + 1] = 1e150; // vertex 2: rejected unless the caller vouches for the values
+  const BuildStatus unchecked = ValidateSplineData(mesh.Data(), mesh.Topology);
+  ASSERT_FALSE(unchecked.Ok);
+  EXPECT_NE(unchecked.Message.find("derivatives d/du of vertex 2"), std::string::npos)
+    << unchecked.Message;
+  mesh.ValuesChecked = true;
+  EXPECT_TRUE(ValidateSplineData(mesh.Data(), mesh.Topology).Ok);
+  mesh.UV[2 * 3] = 0.0; // vertex 3 onto the diagonal: a fold is still found
+  mesh.UV[2 * 3 + 1] = 0.0;
+  EXPECT_FALSE(ValidateSplineData(mesh.Data(), mesh.Topology).Ok);
+}
+
 TEST(InputValidation, SplitPointsOutsideTheirTriangleAreRejected)
 {
   const SampledMesh mesh = Square();

@@ -6,6 +6,9 @@
     VTK_SMP_BACKEND_IN_USE=Sequential CTSPLINES_NUM_THREADS=1 \
         mpirun -np N pvbatch partitioned_scaling.py run PLUGIN DIR [--repeats 3] [--no-d3]
 
+    VTK_SMP_BACKEND_IN_USE=Sequential CTSPLINES_NUM_THREADS=1 \
+        mpirun -np N pvbatch --symmetric partitioned_scaling.py ranks DIR [--repeats 3]
+
 (as root in a container add --allow-run-as-root and OMPI_MCA_btl=self,vader.)
 `prepare` (PYTHONPATH: the ctsplines package, for nothing but the benchmark's mesh; SciPy)
 makes issue 12's mesh: qhull's Delaunay triangulation of --points uniform random points of the
@@ -23,6 +26,11 @@ vtkGhostType), so that a rank reads its piece and the ghosts the spline filter a
 - D3 (N > 1): whole.vtu read on rank 0, redistributed by D3; the first spline filter after it
   brings D3 up to date with the ghost rings requested ("distribute", D3 and ghosts included),
   and its cost of its own is that minus the spline time.
+`ranks` (PYTHONPATH: the ctsplines package; the VTK classes without ParaView's proxies) gives
+each rank's own CPU and wall time, for a machine shared with other work: the read, D3 of
+whole.vtu read on rank 0 with the ghost rings (N > 1, vtkPDistributedDataFilter, what the D3
+proxy runs), and the spline filter on the piece read and on D3's piece. "first" is the first
+spline of the process (fresh pages: the kernel zeroes them), "best" the best of --repeats.
 Every spline's cell count must be 3 × the triangles: a piece built without its ghost rings
 would still have them, but the serial comparison of Testing/ParaView/distributed.py is the
 correctness test; this script only checks counts."""
@@ -46,8 +54,10 @@ def parse():
     run.add_argument("plugin")
     run.add_argument("dir")
     run.add_argument("--repeats", type=int, default=3)
-    run.add_argument("--no-d3", action="store_true",
-                     help="skip the D3 route (at 1e6 triangles it left a rank a non-manifold piece)")
+    run.add_argument("--no-d3", action="store_true", help="skip the D3 route")
+    ranks = sub.add_parser("ranks")
+    ranks.add_argument("dir")
+    ranks.add_argument("--repeats", type=int, default=3)
     return parser.parse_args()
 
 
@@ -235,6 +245,86 @@ def run(args):
         sys.exit(1)
 
 
+def clocks(fn):
+    """CPU and wall seconds of fn() on this rank."""
+    cpu, wall = time.process_time(), time.perf_counter()
+    fn()
+    return time.process_time() - cpu, time.perf_counter() - wall
+
+
+def ranks_mode(args):
+    import numpy as np
+    from ctsplines import vtkCloughTocherSplineFilter
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonCore import vtkIdTypeArray
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+    from vtkmodules.vtkFiltersParallelGeometry import vtkPDistributedDataFilter
+    from vtkmodules.vtkIOXML import vtkXMLPUnstructuredGridReader, vtkXMLUnstructuredGridReader
+    from vtkmodules.vtkParallelCore import vtkCommunicator, vtkMultiProcessController
+
+    controller = vtkMultiProcessController.GetGlobalController()
+    rank, n = controller.GetLocalProcessId(), controller.GetNumberOfProcesses()
+    levels = vtkCloughTocherSplineFilter().GetRequiredGhostLevels()
+    lines = []
+
+    def spline(route, data):
+        """First and best CPU/wall of fresh CTi filters on data; checks the cell count."""
+        ghosts = data.GetCellData().GetArray("vtkGhostType")
+        owned = data.GetNumberOfCells() - (np.count_nonzero(vtk_to_numpy(ghosts)) if ghosts else 0)
+        times, cells = [], 0
+        for _ in range(args.repeats):
+            f = vtkCloughTocherSplineFilter()
+            f.SetConstruction(vtkCloughTocherSplineFilter.CTi)
+            f.SetInputData(data)
+            controller.Barrier()
+            times.append(clocks(lambda: f.UpdatePiece(rank, n, 0)))
+            cells = f.GetOutput().GetNumberOfCells()
+            del f
+        best = builtins.min(times)
+        lines.append(f"{rank:>5}{data.GetNumberOfCells():>10}  {route + ' spline':<19}"
+                     f"{times[0][0]:>7.3f}{times[0][1]:>7.3f}{best[0]:>7.3f}{best[1]:>7.3f}")
+        if cells != 3 * owned:
+            lines.append(f"FAIL: rank {rank}, {route}: {cells} micro-triangles, expected {3 * owned}")
+        return cells
+
+    def stage(route, data, seconds):
+        lines.append(f"{rank:>5}{data.GetNumberOfCells():>10}  {route:<19}"
+                     f"{seconds[0]:>7.3f}{seconds[1]:>7.3f}")
+
+    reader = vtkXMLUnstructuredGridReader() if n == 1 else vtkXMLPUnstructuredGridReader()
+    reader.SetFileName(os.path.join(args.dir, "whole.vtu" if n == 1 else "pieces.pvtu"))
+    stage("read", reader.GetOutput(), clocks(lambda: reader.UpdatePiece(rank, n, levels)))
+    total = [spline("partitioned", reader.GetOutput())]
+    if n > 1:
+        whole = vtkUnstructuredGrid()
+        if rank == 0:
+            single = vtkXMLUnstructuredGridReader()
+            single.SetFileName(os.path.join(args.dir, "whole.vtu"))
+            single.Update()
+            whole = single.GetOutput()
+        d3 = vtkPDistributedDataFilter()
+        d3.SetController(controller)
+        d3.SetInputData(whole)
+        controller.Barrier()
+        stage("D3", d3.GetOutput(), clocks(lambda: d3.UpdatePiece(rank, n, levels)))
+        total.append(spline("D3", d3.GetOutput()))
+    for route, cells in zip(["partitioned", "D3"], total):
+        mine, summed = vtkIdTypeArray(), vtkIdTypeArray()
+        mine.InsertNextValue(cells)
+        controller.AllReduce(mine, summed, vtkCommunicator.SUM_OP)
+        if rank == 0 and n > 1:
+            lines.append(f"      {route}: {summed.GetValue(0)} micro-triangles on {n} ranks")
+    if rank == 0:
+        print(f"\n{'rank':>5}{'cells':>10}  {'stage':<19}{'cpu':>7}{'wall':>7}{'cpu':>7}{'wall':>7}"
+              f"  (seconds; spline: first, then best of {args.repeats})")
+    for r in range(n):
+        if r == rank:
+            print("\n".join(lines), flush=True)
+        controller.Barrier()
+    if any(line.startswith("FAIL") for line in lines):
+        sys.exit(1)
+
+
 if __name__ == "__main__":
     arguments = parse()
-    prepare(arguments) if arguments.mode == "prepare" else run(arguments)
+    {"prepare": prepare, "run": run, "ranks": ranks_mode}[arguments.mode](arguments)
