@@ -260,6 +260,18 @@ double Best(int repeat, const std::function<bool()>& run, bool& ok)
   return bench::BestSeconds(repeat, [&] { ok = run() && ok; });
 }
 
+/// Best seconds of `repeat` re-executions of `algorithm` (marked modified before each).
+double BestUpdate(vtkAlgorithm* algorithm, int repeat, bool& ok)
+{
+  return Best(
+    repeat,
+    [&] {
+      algorithm->Modified();
+      return algorithm->GetExecutive()->Update() != 0;
+    },
+    ok);
+}
+
 /// One table row; ns/triangle only for the stages that process the input triangles, and the
 /// time relative to CTo's for the spline rows (relative <= 0: none).
 /// bound: fraction of the machine's bound reached (<= 0: none); extra: printed after the row.
@@ -297,13 +309,7 @@ double TimeSpline(vtkPolyData* mesh, int outputOrder, int construction, int iter
   filter->SetSplitPointToBary();
   filter->SetBoundaryModeToMidpoint();
   filter->SetIterations(iterations);
-  const double t = Best(
-    repeat,
-    [&] {
-      filter->Modified();
-      return filter->GetExecutive()->Update() != 0;
-    },
-    ok);
+  const double t = BestUpdate(filter, repeat, ok);
   if (spline)
   {
     *spline = vtkSmartPointer<vtkUnstructuredGrid>::New();
@@ -375,13 +381,7 @@ vtkSmartPointer<vtkPolyData> MakeMesh(const Options& opt, double size, double& s
   source->SetSurfaceToFranke();
   source->SetDomainToGrid();
   source->SetResolution(n);
-  seconds = Best(
-    repeat,
-    [&] {
-      source->Modified();
-      return source->GetExecutive()->Update() != 0;
-    },
-    ok);
+  seconds = BestUpdate(source, repeat, ok);
   auto mesh = vtkSmartPointer<vtkPolyData>::New();
   mesh->ShallowCopy(source->GetOutput());
   if (opt.Renumber == "morton")
@@ -494,13 +494,7 @@ void TessellateRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
     vtkNew<vtkBezierTriangleTessellator> tess;
     tess->SetInputData(ctiSpline);
     tess->SetSubdivisionLevel(opt.Level);
-    const double t = Best(
-      opt.Repeat,
-      [&] {
-        tess->Modified();
-        return tess->GetExecutive()->Update() != 0;
-      },
-      ok);
+    const double t = BestUpdate(tess, opt.Repeat, ok);
     ctx.AllOk = ctx.AllOk && ok;
     Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false, 0.0,
       ctx.WriteBound(1024.0 * tess->GetOutput()->GetActualMemorySize(), t));
@@ -531,13 +525,7 @@ void ProbeRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
   vtkNew<vtkSplineParameterProbe> probe;
   probe->SetInputData(queries);
   probe->SetSourceData(ctiSpline);
-  const double t = Best(
-    opt.Repeat,
-    [&] {
-      probe->Modified();
-      return probe->GetExecutive()->Update() != 0;
-    },
-    ok);
+  const double t = BestUpdate(probe, opt.Repeat, ok);
   ctx.AllOk = ctx.AllOk && ok;
   std::ostringstream stage;
   stage << "probe " << double(np) << " pts (CTi)";
