@@ -83,7 +83,10 @@ Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* points);
 /// Net (canonical order) of the micro-triangle (U_l, U_l+1, Z) of the cubic macro-patch `macro`
 /// over (U0, U1, U2), Z with barycentric tau: SubTriangle(3, macro, e_l, e_l+1, tau) in closed
 /// form, ordinate (a, b, c) being the blossom b(U_l^a, U_l+1^b, Z^c) (RuleA.h, rows 1 and 2).
-void MacroPatchMicroNet(const Vec3* macro, int l, const Vec3& tau, Vec3* PM);
+/// Only the rows c = firstRow .. lastRow are computed (a C^r condition across the macro-edge
+/// reads rows 0 .. r); the others are set to NaN.
+void MacroPatchMicroNet(
+  const Vec3* macro, int l, const Vec3& tau, Vec3* PM, int firstRow = 0, int lastRow = 3);
 
 /// Step 1, eq. (12): I_i1 = tau_i V_i + tau_j T_ij + tau_k T_ik.
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points);
