@@ -77,17 +77,17 @@ inline Vec3 Row3(const double* a, Id v)
   return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]);
 }
 
-// Whether the 19 control points of a macro-element are finite.
+// Whether the 19 control points of a macro-element are finite, by their sum: one test instead of
+// 57. A sum of finite values may overflow; the caller then checks every point on its own.
 bool AllFinite(const MacroElementIds& ids, const Vec3* P)
 {
-  bool finite = P[ids.S].allFinite();
+  Vec3 sum = P[ids.S];
   for (int i = 0; i < 3; ++i)
   {
-    finite = finite && P[ids.V[i]].allFinite() && P[ids.I1[i]].allFinite() &&
-      P[ids.I2[i]].allFinite() && P[ids.C[i]].allFinite() &&
-      P[ids.T[i][(i + 1) % 3]].allFinite() && P[ids.T[(i + 1) % 3][i]].allFinite();
+    const int j = (i + 1) % 3;
+    sum += P[ids.V[i]] + P[ids.I1[i]] + P[ids.I2[i]] + P[ids.C[i]] + P[ids.T[i][j]] + P[ids.T[j][i]];
   }
-  return finite;
+  return sum.allFinite();
 }
 
 // Shared state of one construction run and the per-edge and per-triangle steps.

@@ -37,15 +37,6 @@ MacroElementIds GetMacroElementIds(
   return ids;
 }
 
-std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k)
-{
-  const int i = (k + 1) % 3, j = (k + 2) % 3;
-  // Canonical order (rows by the exponent of U_i, descending): exponents (i, j, z) =
-  // 300 210 201 120 111 102 030 021 012 003.
-  return { ids.V[i], ids.T[i][j], ids.I1[i], ids.T[j][i], ids.C[k], ids.I2[i], ids.V[j],
-    ids.I1[j], ids.I2[j], ids.S };
-}
-
 std::array<Vec3, 10> MacroNet(const MacroElementIds& ids, const Vec3* P, const Vec3& Q)
 {
   // Exponents 300 210 201 120 111 102 030 021 012 003.

@@ -47,16 +47,43 @@ constexpr int CubicCentreIndex = BezierIndex(3, 1, 1);
 // Row 2: f = 200 020 002 110 101 011 (|f| = 2), as pairs (p, q) of vertices.
 constexpr int Row2P[6] = { 0, 1, 2, 0, 0, 1 };
 constexpr int Row2Q[6] = { 0, 1, 2, 1, 2, 2 };
+// The indices of the two rows, tabulated: the vertices are known at run time only, and the
+// index arithmetic cost more than the sums.
+struct CubicRuleAIndices
+{
+  int Row1[3][3][3]; // CubicIndexOf(a, b, k)
+  int Row2[3][6];    // CubicIndexOf(a, Row2P[f], Row2Q[f])
+};
+constexpr CubicRuleAIndices MakeCubicRuleAIndices()
+{
+  CubicRuleAIndices t{};
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = 0; b < 3; ++b)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        t.Row1[a][b][k] = CubicIndexOf(a, b, k);
+      }
+    }
+    for (int f = 0; f < 6; ++f)
+    {
+      t.Row2[a][f] = CubicIndexOf(a, Row2P[f], Row2Q[f]);
+    }
+  }
+  return t;
+}
+inline constexpr CubicRuleAIndices CubicRuleAIndexTable = MakeCubicRuleAIndices();
 } // namespace detail
 
 /// Row 1: b(e_a, e_b, x) of the cubic net PA with `centre` standing for its P_111 (a may equal b).
 inline Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, const Vec3& x)
 {
+  const int* idx = detail::CubicRuleAIndexTable.Row1[a][b];
   Vec3 sum = Vec3::Zero();
   for (int k = 0; k < 3; ++k)
   {
-    const int idx = detail::CubicIndexOf(a, b, k);
-    sum += x[k] * (idx == detail::CubicCentreIndex ? centre : PA[idx]);
+    sum += x[k] * (idx[k] == detail::CubicCentreIndex ? centre : PA[idx[k]]);
   }
   return sum;
 }
@@ -65,19 +92,19 @@ inline Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, con
 /// centreWeight.
 inline Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreWeight)
 {
+  const int* idx = detail::CubicRuleAIndexTable.Row2[a];
   Vec3 sum = Vec3::Zero();
   for (int f = 0; f < 6; ++f)
   {
     const int p = detail::Row2P[f], q = detail::Row2Q[f];
     const double w = (p == q ? 1.0 : 2.0) * x[p] * x[q];
-    const int idx = detail::CubicIndexOf(a, p, q);
-    if (idx == detail::CubicCentreIndex)
+    if (idx[f] == detail::CubicCentreIndex)
     {
       centreWeight = w;
     }
     else
     {
-      sum += w * PA[idx];
+      sum += w * PA[idx[f]];
     }
   }
   return sum;
