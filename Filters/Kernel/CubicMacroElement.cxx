@@ -4,7 +4,6 @@
 #include "InnerEdgeC1Smoothing.h"
 #include "RuleA.h"
 
-#include <algorithm>
 #include <limits>
 
 namespace ctk
@@ -58,10 +57,7 @@ void MacroPatchMicroNet(
   const int i = l, j = (l + 1) % 3, k = (l + 2) % 3;
   const Vec3& Q = macro[BezierIndex(3, 1, 1)];
   auto corner = [macro](int a, int b) {
-    int e[3] = { 0, 0, 0 };
-    e[a] += 2;
-    ++e[b];
-    return macro[BezierIndex(3, e[0], e[1])];
+    return macro[detail::CubicRuleAIndexTable.Row1[a][a][b]]; // e_a + e_a + e_b
   };
   auto row2 = [&](int a) {
     double w = 0.0;
@@ -69,7 +65,7 @@ void MacroPatchMicroNet(
     return Vec3(b + w * Q);
   };
   auto wanted = [&](int row) { return row >= firstRow && row <= lastRow; };
-  std::fill(PM, PM + 10, Vec3::Constant(std::numeric_limits<double>::quiet_NaN()));
+  const Vec3 nan = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   // Exponents 300 210 201 120 111 102 030 021 012 003 over (U_i, U_j, Z).
   if (wanted(0))
   {
@@ -78,13 +74,21 @@ void MacroPatchMicroNet(
     PM[3] = corner(j, i);
     PM[6] = corner(j, j);
   }
+  else
+  {
+    PM[0] = PM[1] = PM[3] = PM[6] = nan;
+  }
   if (wanted(1))
   {
     PM[2] = CubicRuleARow1(macro, Q, i, i, tau);
     PM[4] = CubicRuleARow1(macro, Q, i, j, tau);
     PM[7] = CubicRuleARow1(macro, Q, j, j, tau);
   }
-  const Vec3 nan = PM[9];
+  else
+  {
+    PM[2] = PM[4] = PM[7] = nan;
+  }
+  PM[5] = PM[8] = PM[9] = nan;
   if (wanted(2) || wanted(3))
   {
     PM[5] = row2(i);
