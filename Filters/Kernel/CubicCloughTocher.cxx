@@ -146,6 +146,9 @@ private:
   // first triangle is t (for both sides).
   void Step2Centres(Id t, const MacroElementIds& ids);
   void Step3();
+  // The mid-edge gradient (f_u, f_v) of edge e: the mean of its triangles' (SplineData), taken
+  // where it is used (boundary edges only, for most constructions).
+  void MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const;
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
   Vec3 CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const;
   // body(t) per triangle, in parallel, in the locality order.
@@ -171,7 +174,6 @@ private:
   // place in the input's numbering, so the result does not depend on it.
   const std::vector<Id>& Order;
   std::vector<Vec2> SplitPoints;
-  std::vector<Vec3> EdgeGradients; // f_u, f_v per edge
 };
 
 bool Builder::Run()
@@ -264,7 +266,6 @@ void Builder::SplitPointsAndStep1()
       D[layout.Vertex(v)] = UVOf(d, v);
     }
   });
-  ResizeForOverwrite(this->EdgeGradients, d.EdgeGradients ? 2 * nE : 0);
   ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
     for (int s = 0; s < 2; ++s)
     {
@@ -289,27 +290,28 @@ void Builder::SplitPointsAndStep1()
         }
       }
     }
-    if (d.EdgeGradients)
-    {
-      Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();
-      int count = 0;
-      for (int s = 0; s < 2; ++s)
-      {
-        const Id t = this->Topo.EdgeTriangles[e][s];
-        if (t < 0)
-        {
-          continue;
-        }
-        const double* g = d.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
-        gu += Vec3(g[0], g[1], g[2]);
-        gv += Vec3(g[3], g[4], g[5]);
-        ++count;
-      }
-      this->EdgeGradients[2 * e] = gu / count;
-      this->EdgeGradients[2 * e + 1] = gv / count;
-    }
   });
+}
 
+void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const
+{
+  gu = Vec3::Zero();
+  gv = Vec3::Zero();
+  int count = 0;
+  for (int s = 0; s < 2; ++s)
+  {
+    const Id t = this->Topo.EdgeTriangles[e][s];
+    if (t < 0)
+    {
+      continue;
+    }
+    const double* g = this->Data.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
+    gu += Vec3(g[0], g[1], g[2]);
+    gv += Vec3(g[3], g[4], g[5]);
+    ++count;
+  }
+  gu /= count;
+  gv /= count;
 }
 
 void Builder::InnerRing1(Id t, const MacroElementIds& ids)
@@ -337,8 +339,9 @@ Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) con
   const Id e = this->Topo.TriangleEdges[t][l];
   const Id nb = this->Topo.Neighbor(t, l);
   auto gradientRule = [&](const Vec2& w) {
-    return MidEdgeGradientCentre(
-      rows, Ui, Uj, Z, this->EdgeGradients[2 * e], this->EdgeGradients[2 * e + 1], w);
+    Vec3 gu, gv;
+    this->MidEdgeGradient(e, gu, gv);
+    return MidEdgeGradientCentre(rows, Ui, Uj, Z, gu, gv, w);
   };
   // v_eps along Z Zbar (CTi, MGi), unless that line is (nearly) parallel to the edge.
   Vec2 d = Vec2::Zero();
