@@ -77,17 +77,17 @@ inline Vec3 Row3(const double* a, Id v)
   return Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]);
 }
 
-// Whether the 19 control points of a macro-element are finite.
+// Whether the 19 control points of a macro-element are finite, by their sum: one test instead of
+// 57. A sum of finite values may overflow; the caller then checks every point on its own.
 bool AllFinite(const MacroElementIds& ids, const Vec3* P)
 {
-  bool finite = P[ids.S].allFinite();
+  Vec3 sum = P[ids.S];
   for (int i = 0; i < 3; ++i)
   {
-    finite = finite && P[ids.V[i]].allFinite() && P[ids.I1[i]].allFinite() &&
-      P[ids.I2[i]].allFinite() && P[ids.C[i]].allFinite() &&
-      P[ids.T[i][(i + 1) % 3]].allFinite() && P[ids.T[(i + 1) % 3][i]].allFinite();
+    const int j = (i + 1) % 3;
+    sum += P[ids.V[i]] + P[ids.I1[i]] + P[ids.I2[i]] + P[ids.C[i]] + P[ids.T[i][j]] + P[ids.T[j][i]];
   }
-  return finite;
+  return sum.allFinite();
 }
 
 // Shared state of one construction run and the per-edge and per-triangle steps.
@@ -142,10 +142,13 @@ private:
   void SplitPointsAndStep1();
   // Eq. (12) and the domain points of the triangle-owned control points of triangle t.
   void InnerRing1(Id t, const MacroElementIds& ids);
-  // Step 2 on the edges of t whose rule reads t alone.
-  void OneSidedCentres(Id t, const MacroElementIds& ids);
-  void Step2();
+  // Step 2 at the edges of t: the one-sided rules, and the edge-based ones of the edges whose
+  // first triangle is t (for both sides).
+  void Step2Centres(Id t, const MacroElementIds& ids);
   void Step3();
+  // The mid-edge gradient (f_u, f_v) of edge e: the mean of its triangles' (SplineData), taken
+  // where it is used (boundary edges only, for most constructions).
+  void MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const;
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
   Vec3 CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const;
   // body(t) per triangle, in parallel, in the locality order.
@@ -157,7 +160,7 @@ private:
   // Per interior edge: body(e, t0, l0, t1, l1), in parallel, in the locality order.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
-  void InitialEdgeCentres(Id t0, int l0, Id t1, int l1);
+  void InitialEdgeCentres(Id t0, const MacroElementIds& ids0, int l0, Id t1, int l1);
   void MinimiseC2AcrossMacroEdges();
   void RestoreC1AcrossMacroEdges();
 
@@ -171,44 +174,42 @@ private:
   // place in the input's numbering, so the result does not depend on it.
   const std::vector<Id>& Order;
   std::vector<Vec2> SplitPoints;
-  std::vector<Vec3> EdgeGradients; // f_u, f_v per edge
 };
 
 bool Builder::Run()
 {
   this->SplitPointsAndStep1();
-  const bool fused = !Info(this->Options.Method).EdgeBased;
-  if (fused)
-  {
-    // Every step reads the triangle's own points (and its neighbours' split points): one pass,
-    // the triangle's points still in cache, and checked there. Every control point belongs to
-    // a triangle, but unused vertices', which are the positions (checked finite).
-    Vec3* P = this->Spline.ControlPoints.data();
-    std::atomic<bool> nonFinite{ false };
-    this->ForTriangles([&](Id t) {
-      const MacroElementIds ids = this->Ids(t);
-      this->InnerRing1(t, ids);
-      this->OneSidedCentres(t, ids);
-      ComputeInnerRing2AndSplitPoint(ids, this->Spline.SplitTau[t], P);
-      if (!AllFinite(ids, P))
-      {
-        nonFinite.store(true, std::memory_order_relaxed);
-      }
-    });
-    if (this->Options.Iterations == 0)
+  // Step 2 reads the Step 1 points and split points of a triangle and its neighbours only, so it
+  // runs in the pass of eq. (12), the triangle's points still in cache. An edge-based rule sets
+  // both central points of its edge, from the edge's first triangle: Step 3 then needs a second
+  // pass (a triangle's other central points may be its neighbours'). Every control point is
+  // checked finite in the pass of Step 3: every one belongs to a triangle, but unused vertices',
+  // which are the positions (checked finite).
+  Vec3* P = this->Spline.ControlPoints.data();
+  const bool edgeBased = Info(this->Options.Method).EdgeBased;
+  std::atomic<bool> nonFinite{ false };
+  auto step3 = [&](Id t, const MacroElementIds& ids) {
+    ComputeInnerRing2AndSplitPoint(ids, this->Spline.SplitTau[t], P);
+    if (!AllFinite(ids, P))
     {
-      return !nonFinite.load();
+      nonFinite.store(true, std::memory_order_relaxed);
     }
-  }
-  else
+  };
+  this->ForTriangles([&](Id t) {
+    const MacroElementIds ids = this->Ids(t);
+    this->InnerRing1(t, ids);
+    this->Step2Centres(t, ids);
+    if (!edgeBased)
+    {
+      step3(t, ids);
+    }
+  });
+  if (edgeBased)
   {
-    this->ForTriangles([&](Id t) { this->InnerRing1(t, this->Ids(t)); });
-    this->Step2();
-    this->Step3();
+    this->ForTriangles([&](Id t) { step3(t, this->Ids(t)); });
   }
   if (this->Options.Method == Construction::Kashyap)
   {
-    Vec3* P = this->Spline.ControlPoints.data();
     for (int round = 0; round < this->Options.Iterations; ++round)
     {
       this->MinimiseC2AcrossMacroEdges(); // exterior fairing, eq. (1)-(3)
@@ -227,7 +228,7 @@ bool Builder::Run()
     this->MinimiseC2AcrossMacroEdges(); // IM: Step 2 by Fa's rule on the current points
     this->Step3();
   }
-  return false;
+  return this->Options.Iterations == 0 && !nonFinite.load();
 }
 
 void Builder::SplitPointsAndStep1()
@@ -265,7 +266,6 @@ void Builder::SplitPointsAndStep1()
       D[layout.Vertex(v)] = UVOf(d, v);
     }
   });
-  ResizeForOverwrite(this->EdgeGradients, d.EdgeGradients ? 2 * nE : 0);
   ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
     for (int s = 0; s < 2; ++s)
     {
@@ -290,27 +290,28 @@ void Builder::SplitPointsAndStep1()
         }
       }
     }
-    if (d.EdgeGradients)
-    {
-      Vec3 gu = Vec3::Zero(), gv = Vec3::Zero();
-      int count = 0;
-      for (int s = 0; s < 2; ++s)
-      {
-        const Id t = this->Topo.EdgeTriangles[e][s];
-        if (t < 0)
-        {
-          continue;
-        }
-        const double* g = d.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
-        gu += Vec3(g[0], g[1], g[2]);
-        gv += Vec3(g[3], g[4], g[5]);
-        ++count;
-      }
-      this->EdgeGradients[2 * e] = gu / count;
-      this->EdgeGradients[2 * e + 1] = gv / count;
-    }
   });
+}
 
+void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const
+{
+  gu = Vec3::Zero();
+  gv = Vec3::Zero();
+  int count = 0;
+  for (int s = 0; s < 2; ++s)
+  {
+    const Id t = this->Topo.EdgeTriangles[e][s];
+    if (t < 0)
+    {
+      continue;
+    }
+    const double* g = this->Data.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
+    gu += Vec3(g[0], g[1], g[2]);
+    gv += Vec3(g[3], g[4], g[5]);
+    ++count;
+  }
+  gu /= count;
+  gv /= count;
 }
 
 void Builder::InnerRing1(Id t, const MacroElementIds& ids)
@@ -338,8 +339,9 @@ Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) con
   const Id e = this->Topo.TriangleEdges[t][l];
   const Id nb = this->Topo.Neighbor(t, l);
   auto gradientRule = [&](const Vec2& w) {
-    return MidEdgeGradientCentre(
-      rows, Ui, Uj, Z, this->EdgeGradients[2 * e], this->EdgeGradients[2 * e + 1], w);
+    Vec3 gu, gv;
+    this->MidEdgeGradient(e, gu, gv);
+    return MidEdgeGradientCentre(rows, Ui, Uj, Z, gu, gv, w);
   };
   // v_eps along Z Zbar (CTi, MGi), unless that line is (nearly) parallel to the edge.
   Vec2 d = Vec2::Zero();
@@ -393,45 +395,40 @@ void Builder::ForInteriorEdges(Body&& body)
   });
 }
 
-void Builder::Step2()
-{
-  // Rules that read one side only (every edge of the local constructions, boundary edges).
-  this->ForTriangles([&](Id t) { this->OneSidedCentres(t, this->Ids(t)); });
-  if (Info(this->Options.Method).EdgeBased)
-  {
-    this->ForInteriorEdges([&](Id, Id t0, int l0, Id t1, int l1) {
-      this->InitialEdgeCentres(t0, l0, t1, l1);
-    });
-  }
-}
-
-void Builder::OneSidedCentres(Id t, const MacroElementIds& ids)
+void Builder::Step2Centres(Id t, const MacroElementIds& ids)
 {
   const bool edgeBased = Info(this->Options.Method).EdgeBased;
   for (int l = 0; l < 3; ++l)
   {
-    if (!edgeBased || this->Topo.Neighbor(t, l) < 0)
+    const Id e = this->Topo.TriangleEdges[t][l];
+    const auto& et = this->Topo.EdgeTriangles[e];
+    if (!edgeBased || et[1] < 0)
     {
       this->Centre(ids, l) = this->CrossDerivativeCentre(t, ids, l);
+    }
+    else if (et[0] == t && this->Topo.EdgeLocalIndex[e][0] == l)
+    {
+      this->InitialEdgeCentres(t, ids, l, et[1], this->Topo.EdgeLocalIndex[e][1]);
     }
   }
 }
 
-void Builder::InitialEdgeCentres(Id t0, int l0, Id t1, int l1)
+void Builder::InitialEdgeCentres(Id t0, const MacroElementIds& ids0, int l0, Id t1, int l1)
 {
   const Vec3* P = this->Spline.ControlPoints.data();
-  const MacroElementIds ids0 = this->Ids(t0), ids1 = this->Ids(t1);
+  const MacroElementIds ids1 = this->Ids(t1);
   const Vec3& tau0 = this->Spline.SplitTau[t0];
   const Vec3& tau1 = this->Spline.SplitTau[t1];
   if (this->Options.Method == Construction::Fa)
   {
-    // Eq. (18)-(19): the quadratic-precision macro-patches subdivided at Z, then eq. (20)-(21).
+    // Eq. (18)-(19): the quadratic-precision macro-patches subdivided at Z, then eq. (20)-(21),
+    // which read the rows 0-2 of t0's micro-net at the edge and row 2 of t1's (Rule A).
     const std::array<Vec3, 10> macro0 = MacroNet(ids0, P, QuadraticPrecisionQ(ids0, P));
     const std::array<Vec3, 10> macro1 = MacroNet(ids1, P, QuadraticPrecisionQ(ids1, P));
     Vec3 PM[10], PMbar[10];
     Vec2 AM[3], AMbar[3];
-    MacroPatchMicroNet(macro0.data(), l0, tau0, PM);
-    MacroPatchMicroNet(macro1.data(), l1, tau1, PMbar);
+    MacroPatchMicroNet(macro0.data(), l0, tau0, PM, 0, 2);
+    MacroPatchMicroNet(macro1.data(), l1, tau1, PMbar, 2, 2);
     this->MicroDomain(t0, l0, AM);
     this->MicroDomain(t1, l1, AMbar);
     MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(ids0, l0), this->Centre(ids1, l1));

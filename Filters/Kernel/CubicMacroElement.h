@@ -62,8 +62,15 @@ MacroElementIds GetMacroElementIds(
   const CubicSplineLayout& layout, const MeshTopology& topo, const Id* triangles, Id t);
 
 /// Ids of the cubic net of micro-triangle k of a macro-element, in the kernel's canonical
-/// order for the domain (U_{k+1}, U_{k+2}, Z).
-std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k);
+/// order for the domain (U_{k+1}, U_{k+2}, Z). Inline: Step 3 reads a few entries of three nets.
+inline std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k)
+{
+  const int i = (k + 1) % 3, j = (k + 2) % 3;
+  // Canonical order (rows by the exponent of U_i, descending): exponents (i, j, z) =
+  // 300 210 201 120 111 102 030 021 012 003.
+  return { ids.V[i], ids.T[i][j], ids.I1[i], ids.T[j][i], ids.C[k], ids.I2[i], ids.V[j],
+    ids.I1[j], ids.I2[j], ids.S };
+}
 
 /// Step 1, eq. (11): T_ij = f_i + ((u_j - u_i) f_u + (v_j - v_i) f_v) / 3 at vertex i.
 inline Vec3 EdgeControlPoint(const Vec3& fi, const Vec3& fui, const Vec3& fvi, const Vec2& Ui,
@@ -83,7 +90,10 @@ Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* points);
 /// Net (canonical order) of the micro-triangle (U_l, U_l+1, Z) of the cubic macro-patch `macro`
 /// over (U0, U1, U2), Z with barycentric tau: SubTriangle(3, macro, e_l, e_l+1, tau) in closed
 /// form, ordinate (a, b, c) being the blossom b(U_l^a, U_l+1^b, Z^c) (RuleA.h, rows 1 and 2).
-void MacroPatchMicroNet(const Vec3* macro, int l, const Vec3& tau, Vec3* PM);
+/// Only the rows c = firstRow .. lastRow are computed (a C^r condition across the macro-edge
+/// reads rows 0 .. r); the others are set to NaN.
+void MacroPatchMicroNet(
+  const Vec3* macro, int l, const Vec3& tau, Vec3* PM, int firstRow = 0, int lastRow = 3);
 
 /// Step 1, eq. (12): I_i1 = tau_i V_i + tau_j T_ij + tau_k T_ik.
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points);

@@ -47,31 +47,57 @@ constexpr int CubicCentreIndex = BezierIndex(3, 1, 1);
 // Row 2: f = 200 020 002 110 101 011 (|f| = 2), as pairs (p, q) of vertices.
 constexpr int Row2P[6] = { 0, 1, 2, 0, 0, 1 };
 constexpr int Row2Q[6] = { 0, 1, 2, 1, 2, 2 };
+// The indices of the two rows, tabulated: the vertices are known at run time only, and the
+// index arithmetic cost more than the sums.
+struct CubicRuleAIndices
+{
+  int Row1[3][3][3]; // CubicIndexOf(a, b, k)
+  int Row2[3][6];    // CubicIndexOf(a, Row2P[f], Row2Q[f])
+};
+constexpr CubicRuleAIndices MakeCubicRuleAIndices()
+{
+  CubicRuleAIndices t{};
+  for (int a = 0; a < 3; ++a)
+  {
+    for (int b = 0; b < 3; ++b)
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        t.Row1[a][b][k] = CubicIndexOf(a, b, k);
+      }
+    }
+    for (int f = 0; f < 6; ++f)
+    {
+      t.Row2[a][f] = CubicIndexOf(a, Row2P[f], Row2Q[f]);
+    }
+  }
+  return t;
+}
+inline constexpr CubicRuleAIndices CubicRuleAIndexTable = MakeCubicRuleAIndices();
 } // namespace detail
 
-/// Row 1: b(e_a, e_b, x) of the cubic net PA with `centre` standing for its P_111 (a may equal b).
-inline Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, const Vec3& x)
+namespace detail
+{
+template <int A, int B>
+inline Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, const Vec3& x)
 {
   Vec3 sum = Vec3::Zero();
   for (int k = 0; k < 3; ++k)
   {
-    const int idx = detail::CubicIndexOf(a, b, k);
-    sum += x[k] * (idx == detail::CubicCentreIndex ? centre : PA[idx]);
+    const int idx = CubicRuleAIndexTable.Row1[A][B][k];
+    sum += x[k] * (idx == CubicCentreIndex ? centre : PA[idx]);
   }
   return sum;
 }
-
-/// Row 2: b(e_a, x, x) of the cubic net PA without its P_111 term, whose weight goes to
-/// centreWeight.
-inline Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreWeight)
+template <int A>
+inline Vec3 CubicRuleARow2(const Vec3* PA, const Vec3& x, double& centreWeight)
 {
   Vec3 sum = Vec3::Zero();
   for (int f = 0; f < 6; ++f)
   {
-    const int p = detail::Row2P[f], q = detail::Row2Q[f];
+    const int p = Row2P[f], q = Row2Q[f], idx = CubicRuleAIndexTable.Row2[A][f];
     const double w = (p == q ? 1.0 : 2.0) * x[p] * x[q];
-    const int idx = detail::CubicIndexOf(a, p, q);
-    if (idx == detail::CubicCentreIndex)
+    if (idx == CubicCentreIndex)
     {
       centreWeight = w;
     }
@@ -81,6 +107,35 @@ inline Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreW
     }
   }
   return sum;
+}
+} // namespace detail
+
+/// Row 1: b(e_a, e_b, x) of the cubic net PA with `centre` standing for its P_111 (a may equal b).
+/// The vertices select a specialisation, whose indices are constants.
+inline Vec3 CubicRuleARow1(const Vec3* PA, const Vec3& centre, int a, int b, const Vec3& x)
+{
+  using detail::CubicRuleARow1;
+  switch (3 * a + b)
+  {
+    case 0: return CubicRuleARow1<0, 0>(PA, centre, x);
+    case 1: return CubicRuleARow1<0, 1>(PA, centre, x);
+    case 2: return CubicRuleARow1<0, 2>(PA, centre, x);
+    case 3: return CubicRuleARow1<1, 0>(PA, centre, x);
+    case 4: return CubicRuleARow1<1, 1>(PA, centre, x);
+    case 5: return CubicRuleARow1<1, 2>(PA, centre, x);
+    case 6: return CubicRuleARow1<2, 0>(PA, centre, x);
+    case 7: return CubicRuleARow1<2, 1>(PA, centre, x);
+    default: return CubicRuleARow1<2, 2>(PA, centre, x);
+  }
+}
+
+/// Row 2: b(e_a, x, x) of the cubic net PA without its P_111 term, whose weight goes to
+/// centreWeight.
+inline Vec3 CubicRuleARow2(const Vec3* PA, int a, const Vec3& x, double& centreWeight)
+{
+  using detail::CubicRuleARow2;
+  return a == 0 ? CubicRuleARow2<0>(PA, x, centreWeight)
+                : (a == 1 ? CubicRuleARow2<1>(PA, x, centreWeight) : CubicRuleARow2<2>(PA, x, centreWeight));
 }
 
 /// The edge that a cubic net over B shares with one over A: A's vertices a, b at its ends, and

@@ -314,6 +314,21 @@ TEST(CubicConstructions, ClosedFormsAgreeWithTheRuleAMinimisation)
     {
       worst = std::max(worst, RelativeError(closed[a], sub[a]));
     }
+    // Rows by the exponent of Z: the ones asked for have the full net's bits, the rest is NaN.
+    const int rowOf[10] = { 0, 0, 1, 0, 1, 2, 0, 1, 2, 3 };
+    for (int first = 0; first <= 3; ++first)
+    {
+      for (int last = first; last <= 3; ++last)
+      {
+        Vec3 part[10];
+        MacroPatchMicroNet(PA, l, tau, part, first, last);
+        for (int a = 0; a < 10; ++a)
+        {
+          const bool wanted = rowOf[a] >= first && rowOf[a] <= last;
+          EXPECT_TRUE(wanted ? part[a] == closed[a] : part[a].hasNaN()) << a << " " << first << last;
+        }
+      }
+    }
   }
   EXPECT_GT(checked, 100);
   EXPECT_LT(worst, 1e-12);
