@@ -38,8 +38,10 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -422,7 +424,8 @@ namespace
 // kept count fills the first free hole below it, and only the entries naming those points change.
 // (Shifting every point down instead moved all of them, 272 MB at 1e6 triangles, and rewrote
 // every entry: a piece's spline cost 30 % more than its share of the whole's.)
-void KeepUsedPoints(vtkIdType* conn, vtkIdType nConn,
+template <typename CellId>
+void KeepUsedPoints(CellId* conn, vtkIdType nConn,
   const std::vector<std::atomic<unsigned char>>& used, std::vector<ctk::Vec3>& points,
   std::vector<ctk::Vec2>& uv)
 {
@@ -450,16 +453,94 @@ void KeepUsedPoints(vtkIdType* conn, vtkIdType nConn,
   points.resize(kept);
   uv.resize(kept);
   ctsplines::ParallelFor(0, nConn, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    const vtkIdType first = kept; // a local: conn's entries could alias the captured one
+    const CellId first = static_cast<CellId>(kept); // a local: conn's entries could alias it
     const vtkIdType* to = moved.data();
     for (vtkIdType a = b; a < e; ++a)
     {
       if (conn[a] >= first)
       {
-        conn[a] = to[conn[a] - first];
+        conn[a] = static_cast<CellId>(to[conn[a] - first]);
       }
     }
   });
+}
+} // namespace
+
+namespace
+{
+// The cells' arrays of FillSplineGrid, in the storage's id type.
+template <typename CellId>
+struct SplineCells
+{
+  CellId* Offsets;
+  CellId* Connectivity;
+  unsigned char* Types;
+  vtkIdType* MacroIds;
+  signed char* MicroIds;
+};
+
+// Cells 3 i + k of the i-th written triangle (keptTriangles[i], or i); marks the points they use
+// in `used` when it is not empty.
+template <typename CellId>
+void WriteSplineCells(const ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
+  const ctk::SplineInput& in, const std::vector<ctk::Id>* keptTriangles,
+  const std::vector<ctk::Id>* inputTriangles, vtkIdType nT, const SplineCells<CellId>& out,
+  std::vector<std::atomic<unsigned char>>& used)
+{
+  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(spline.Degree);
+  const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
+  ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
+    // Locals: the entries written could alias the captured counts and pointers, which the loops
+    // would otherwise load again for every entry.
+    const vtkIdType n = perCell;
+    const int* order = vtkOrder.data();
+    const SplineCells<CellId> o = out;
+    std::atomic<unsigned char>* mark = used.empty() ? nullptr : used.data();
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
+      const std::array<std::array<ctk::Id, 15>, 3> nets =
+        spline.MicroNets(topology, in.Triangles.data(), t);
+      for (int k = 0; k < 3; ++k)
+      {
+        const vtkIdType c = 3 * i + k;
+        CellId* cell = o.Connectivity + n * c;
+        for (vtkIdType a = 0; a < n; ++a)
+        {
+          cell[a] = static_cast<CellId>(nets[k][order[a]]);
+        }
+        for (vtkIdType a = 0; a < n && mark; ++a)
+        {
+          mark[nets[k][a]].store(1, std::memory_order_relaxed);
+        }
+        o.Offsets[c] = static_cast<CellId>(n * c);
+        o.Types[c] = VTK_BEZIER_TRIANGLE;
+        o.MacroIds[c] = inputTriangles ? (*inputTriangles)[t] : t;
+        o.MicroIds[c] = static_cast<signed char>(k);
+      }
+    }
+  });
+  out.Offsets[3 * nT] = static_cast<CellId>(perCell * 3 * nT);
+}
+
+// Offsets and connectivity of nCells cells of perCell points, 32-bit when every offset and point
+// id fits (VTK reads both storages; they are a fifth of the output's bytes, faulted in fresh).
+vtkSmartPointer<vtkCellArray> NewSplineCellArray(
+  vtkIdType nCells, vtkIdType perCell, vtkIdType nPoints)
+{
+  const bool narrow = perCell * nCells <= std::numeric_limits<vtkTypeInt32>::max() &&
+    nPoints <= std::numeric_limits<vtkTypeInt32>::max();
+  vtkSmartPointer<vtkDataArray> offsets, connectivity;
+  for (vtkSmartPointer<vtkDataArray>* a : { &offsets, &connectivity })
+  {
+    *a = narrow ? vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType32>::New())
+                : vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType64>::New());
+  }
+  ctsplines::AllocateTuples(offsets, nCells + 1);
+  ctsplines::AllocateTuples(connectivity, perCell * nCells);
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  cells->SetData(offsets, connectivity);
+  return cells;
 }
 } // namespace
 
@@ -483,9 +564,8 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   const vtkIdType nT =
     keptTriangles ? static_cast<vtkIdType>(keptTriangles->size()) : in.NumberOfTriangles();
   const vtkIdType nCells = 3 * nT;
-  vtkNew<vtkIdTypeArray> offsets, connectivity;
-  ctsplines::AllocateTuples(offsets, nCells + 1);
-  ctsplines::AllocateTuples(connectivity, perCell * nCells);
+  vtkSmartPointer<vtkCellArray> cells =
+    NewSplineCellArray(nCells, perCell, static_cast<vtkIdType>(controlPoints.size()));
   vtkNew<vtkUnsignedCharArray> types;
   ctsplines::AllocateTuples(types, nCells);
   vtkNew<vtkIdTypeArray> macroIds;
@@ -494,51 +574,26 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   vtkNew<vtkSignedCharArray> microIds;
   microIds->SetName("MicroTriangleId");
   ctsplines::AllocateTuples(microIds, nCells);
-  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(spline.Degree);
-  vtkIdType* off = offsets->GetPointer(0);
-  vtkIdType* conn = connectivity->GetPointer(0);
-  unsigned char* typeOf = types->GetPointer(0);
-  vtkIdType* macroOf = macroIds->GetPointer(0);
-  signed char* microOf = microIds->GetPointer(0);
   // With ghosts, the points the written cells use (threads may mark a point together).
   std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
-  ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
-    // Locals: the entries written could alias the captured counts and pointers, which the loops
-    // would otherwise load again for every entry.
-    const vtkIdType n = perCell;
-    const int* order = vtkOrder.data();
-    std::atomic<unsigned char>* mark = keptTriangles ? used.data() : nullptr;
-    for (vtkIdType i = b; i < e; ++i)
+  const auto write = [&](auto* offsets, auto* connectivity) {
+    using CellId = std::remove_pointer_t<decltype(offsets)>;
+    const SplineCells<CellId> out{ offsets, connectivity, types->GetPointer(0),
+      macroIds->GetPointer(0), microIds->GetPointer(0) };
+    WriteSplineCells(spline, topology, in, keptTriangles, inputTriangles, nT, out, used);
+    if (keptTriangles)
     {
-      const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
-      const std::array<std::array<ctk::Id, 15>, 3> nets =
-        spline.MicroNets(topology, in.Triangles.data(), t);
-      for (int k = 0; k < 3; ++k)
-      {
-        const vtkIdType c = 3 * i + k;
-        vtkIdType* cell = conn + n * c;
-        for (vtkIdType a = 0; a < n; ++a)
-        {
-          cell[a] = nets[k][order[a]];
-        }
-        for (vtkIdType a = 0; a < n && mark; ++a)
-        {
-          mark[nets[k][a]].store(1, std::memory_order_relaxed);
-        }
-        off[c] = perCell * c;
-        typeOf[c] = VTK_BEZIER_TRIANGLE;
-        macroOf[c] = inputTriangles ? (*inputTriangles)[t] : t;
-        microOf[c] = static_cast<signed char>(k);
-      }
+      KeepUsedPoints(connectivity, perCell * nCells, used, controlPoints, domainPoints);
     }
-  });
-  off[nCells] = perCell * nCells;
-  if (keptTriangles)
+  };
+  if (cells->IsStorage64Bit())
   {
-    KeepUsedPoints(conn, perCell * nCells, used, controlPoints, domainPoints);
+    write(cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0));
   }
-  vtkNew<vtkCellArray> cells;
-  cells->SetData(offsets, connectivity);
+  else
+  {
+    write(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
+  }
   vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(std::move(controlPoints), 3);
   vtkSmartPointer<vtkDoubleArray> uvOut = AdoptedVectors::Adopt(std::move(domainPoints), 2);
   uvOut->SetName(uvName);

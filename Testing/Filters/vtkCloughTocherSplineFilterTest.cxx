@@ -161,6 +161,10 @@ TEST(vtkCloughTocherSplineFilter, OutputLayoutAndArrays)
   EXPECT_EQ(out->GetNumberOfPoints(), nV + 2 * nE + 10 * nT);
   EXPECT_EQ(out->GetNumberOfCells(), 3 * nT);
   EXPECT_EQ(out->GetPoints()->GetDataType(), VTK_DOUBLE);
+  // 32-bit offsets and connectivity (the ids fit), read by VTK's cell API like 64-bit ones.
+  EXPECT_FALSE(out->GetCells()->IsStorage64Bit());
+  EXPECT_EQ(out->GetCells()->GetOffsetsArray32()->GetValue(out->GetNumberOfCells()),
+    10 * out->GetNumberOfCells());
   for (vtkIdType c = 0; c < out->GetNumberOfCells(); ++c)
   {
     ASSERT_EQ(out->GetCellType(c), VTK_BEZIER_TRIANGLE);
