@@ -397,17 +397,12 @@ int vtkBezierTriangleTessellator::RequestData(
     a->SetNumberOfComponents(3);
     ctsplines::AllocateTuples(a, nOutPoints);
   }
-  // 32-bit cell storage whenever the ids fit (split copies included: each is a triangle
-  // corner): offsets and connectivity are 40 % of the output bytes, all faulted in fresh.
-  const bool narrow = nOutPoints + 3 * nOutCells <= std::numeric_limits<vtkTypeInt32>::max();
-  vtkSmartPointer<vtkDataArray> offsets, connectivity;
-  for (vtkSmartPointer<vtkDataArray>* a : { &offsets, &connectivity })
-  {
-    *a = narrow ? vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType32>::New())
-                : vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType64>::New());
-  }
-  ctsplines::AllocateTuples(offsets, nOutCells + 1);
-  ctsplines::AllocateTuples(connectivity, 3 * nOutCells);
+  // 32-bit cell storage whenever the ids fit, split copies included (each is a triangle corner).
+  vtkSmartPointer<vtkCellArray> polys =
+    ctsplines::NewCellArray(nOutCells, 3 * nOutCells, nOutPoints + 3 * nOutCells);
+  const bool narrow = !polys->IsStorage64Bit();
+  vtkDataArray* offsets = polys->GetOffsetsArray();
+  vtkDataArray* connectivity = polys->GetConnectivityArray();
   vtkNew<vtkIdTypeArray> bezierCellId;
   bezierCellId->SetName("BezierCellId");
   ctsplines::AllocateTuples(bezierCellId, nOutCells);
@@ -432,8 +427,6 @@ int vtkBezierTriangleTessellator::RequestData(
     tessellation.SplitSharpPoints(this->FeatureAngle);
   }
 
-  vtkNew<vtkCellArray> polys;
-  polys->SetData(offsets, connectivity);
   outPoints->SetData(coords);
   output->SetPolys(polys);
   output->GetPointData()->SetNormals(normals);

@@ -523,25 +523,6 @@ void WriteSplineCells(const ctk::CloughTocherSpline& spline, const ctk::MeshTopo
   out.Offsets[3 * nT] = static_cast<CellId>(perCell * 3 * nT);
 }
 
-// Offsets and connectivity of nCells cells of perCell points, 32-bit when every offset and point
-// id fits (VTK reads both storages; they are a fifth of the output's bytes, faulted in fresh).
-vtkSmartPointer<vtkCellArray> NewSplineCellArray(
-  vtkIdType nCells, vtkIdType perCell, vtkIdType nPoints)
-{
-  const bool narrow = perCell * nCells <= std::numeric_limits<vtkTypeInt32>::max() &&
-    nPoints <= std::numeric_limits<vtkTypeInt32>::max();
-  vtkSmartPointer<vtkDataArray> offsets, connectivity;
-  for (vtkSmartPointer<vtkDataArray>* a : { &offsets, &connectivity })
-  {
-    *a = narrow ? vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType32>::New())
-                : vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType64>::New());
-  }
-  ctsplines::AllocateTuples(offsets, nCells + 1);
-  ctsplines::AllocateTuples(connectivity, perCell * nCells);
-  auto cells = vtkSmartPointer<vtkCellArray>::New();
-  cells->SetData(offsets, connectivity);
-  return cells;
-}
 } // namespace
 
 namespace ctsplines
@@ -564,8 +545,8 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   const vtkIdType nT =
     keptTriangles ? static_cast<vtkIdType>(keptTriangles->size()) : in.NumberOfTriangles();
   const vtkIdType nCells = 3 * nT;
-  vtkSmartPointer<vtkCellArray> cells =
-    NewSplineCellArray(nCells, perCell, static_cast<vtkIdType>(controlPoints.size()));
+  vtkSmartPointer<vtkCellArray> cells = ctsplines::NewCellArray(
+    nCells, perCell * nCells, static_cast<vtkIdType>(controlPoints.size()));
   vtkNew<vtkUnsignedCharArray> types;
   ctsplines::AllocateTuples(types, nCells);
   vtkNew<vtkIdTypeArray> macroIds;
