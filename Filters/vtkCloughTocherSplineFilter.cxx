@@ -8,6 +8,7 @@
 #include "BezierExtraction.h"
 #include "CloughTocherSpline.h"
 #include "DerivativeEstimation.h"
+#include "MessageIds.h"
 #include "SplineInput.h"
 
 #include "vtkCellArray.h"
@@ -555,19 +556,38 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
 
 namespace
 {
+// A kernel message (status: BuildStatus or TopologyStatus) naming the input's cells and points.
+// The kernel numbers its triangles and vertices: kernel triangle t is input cell
+// cells[order.Triangles[t]] (repeated ghosts dropped, then renumbered; either map empty: the
+// identity) and kernel vertex v is input point order.Vertices[v] (points are never dropped).
+template <typename Status>
+std::string InInputIds(const Status& status, const std::vector<ctk::Id>& cells,
+  const ctk::LocalityRenumbering& order)
+{
+  auto map = [](const std::vector<ctk::Id>& m, ctk::Id id) {
+    return id >= 0 && static_cast<size_t>(id) < m.size() ? m[id] : id;
+  };
+  return ctk::RenameIds(status.Message, status.Ids, [&](ctk::IdKind kind, ctk::Id id) {
+    return kind == ctk::IdKind::Vertex ? map(order.Vertices, id)
+                                       : map(cells, map(order.Triangles, id));
+  });
+}
+
 // 2. The topology, the estimated derivatives (estimation: NoEstimation or the method; in the
 // input's numbering, so that their bits do not depend on the order) and the kernel's spline,
 // built in the locality order when renumber is set and the mesh large enough (in is then left
-// renumbered by order). An error message, or empty.
-std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options, int estimation,
-  bool renumber, ctk::LocalityRenumbering& order, ctk::MeshTopology& topology,
-  ctk::CloughTocherSpline& spline, std::string& warning)
+// renumbered by order). An error message naming input cells and points (cells: the input cell
+// of each triangle of in, see InInputIds), or empty.
+std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
+  const ctk::SplineOptions& options, int estimation, bool renumber,
+  ctk::LocalityRenumbering& order, ctk::MeshTopology& topology, ctk::CloughTocherSpline& spline,
+  std::string& warning)
 {
   order = ctk::LocalityRenumbering();
   auto buildTopology = [&]() -> std::string {
     const ctk::TopologyStatus topo = ctk::BuildMeshTopology(
       in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology);
-    return topo.Ok ? std::string() : "invalid mesh: " + topo.Message;
+    return topo.Ok ? std::string() : "invalid mesh: " + InInputIds(topo, cells, order);
   };
   std::string error;
   if (estimation != vtkCloughTocherSplineFilter::NoEstimation)
@@ -583,7 +603,7 @@ std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options,
       ctsplines::SMPFor);
     if (!est.Ok)
     {
-      return est.Message;
+      return InInputIds(est, cells, order);
     }
   }
   if (renumber)
@@ -604,8 +624,9 @@ std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options,
   }
   const ctk::BuildStatus built =
     ctk::BuildCloughTocher(in.View(), topology, options, spline, ctsplines::SMPFor);
-  warning = built.Ok ? built.Message : std::string();
-  return built.Ok ? std::string() : built.Message;
+  const std::string message = InInputIds(built, cells, order);
+  warning = built.Ok ? message : std::string();
+  return built.Ok ? std::string() : message;
 }
 
 // Distributed runs: the n kernel triangles that are not ghosts (duplicates of another piece's),
@@ -806,12 +827,13 @@ int vtkCloughTocherSplineFilter::RequestData(
   ctk::CloughTocherSpline spline;
   std::string warning;
   const bool renumber = this->OutputOrder == LocalityOrder && !this->ComputeBezierExtraction;
-  error = BuildSpline(in, options, estimation, renumber, order, topology, spline, warning);
+  error = BuildSpline(in, cells, options, estimation, renumber, order, topology, spline, warning);
   if (!error.empty() && !order.IsIdentity())
   {
-    // Messages name triangles and points: built again in the input's numbering for them.
+    // The kernel reports the lowest failing triangle of its numbering: built again in the
+    // input's, the message is the one the input's order gives.
     in.Renumber(order, true);
-    error = BuildSpline(in, options, estimation, false, order, topology, spline, warning);
+    error = BuildSpline(in, cells, options, estimation, false, order, topology, spline, warning);
   }
   if (!error.empty())
   {
@@ -858,7 +880,7 @@ int vtkCloughTocherSplineFilter::RequestData(
       ctk::BuildBezierExtraction(data, topology, options, extraction, ctsplines::SMPFor);
     if (!ex.Ok)
     {
-      vtkErrorMacro(<< ex.Message);
+      vtkErrorMacro(<< InInputIds(ex, cells, order));
       return 0;
     }
     AddBezierExtraction(output, data, topology, extraction, anyGhost ? &owned : nullptr);
