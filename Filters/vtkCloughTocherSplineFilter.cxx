@@ -665,15 +665,20 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
   {
     return kept;
   }
-  const ctk::Id nT = in.NumberOfTriangles();
+  const ctk::Id nT = in.NumberOfTriangles(), nV = in.NumberOfVertices();
   const unsigned char* flag = ghosts->GetPointer(0);
   auto isGhost = [&](ctk::Id t) { return (flag[t] & vtkDataSetAttributes::DUPLICATECELL) != 0; };
+  // A triangle with a point out of range is neither read nor dropped: the topology names it.
+  auto inRange = [&](ctk::Id t) {
+    const ctk::Id* p = &in.Triangles[3 * t];
+    return std::all_of(p, p + 3, [nV](ctk::Id v) { return v >= 0 && v < nV; });
+  };
   // Only a triangle whose points all belong to ghost triangles can equal a ghost: the set holds
   // the thin band along the piece's border, not the piece.
-  std::vector<char> ghostPoint(static_cast<size_t>(in.NumberOfVertices()), 0);
+  std::vector<char> ghostPoint(static_cast<size_t>(nV), 0);
   for (ctk::Id t = 0; t < nT; ++t)
   {
-    for (int a = 0; a < 3 && isGhost(t); ++a)
+    for (int a = 0; a < 3 && isGhost(t) && inRange(t); ++a)
     {
       ghostPoint[in.Triangles[3 * t + a]] = 1;
     }
@@ -695,7 +700,8 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
     for (ctk::Id t = 0; t < nT; ++t)
     {
       const ctk::Id* p = &in.Triangles[3 * t];
-      if (isGhost(t) != ghostPass || !(ghostPoint[p[0]] && ghostPoint[p[1]] && ghostPoint[p[2]]))
+      if (isGhost(t) != ghostPass || !inRange(t) ||
+        !(ghostPoint[p[0]] && ghostPoint[p[1]] && ghostPoint[p[2]]))
       {
         continue;
       }

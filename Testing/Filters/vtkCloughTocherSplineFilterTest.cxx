@@ -1333,16 +1333,23 @@ TEST(vtkCloughTocherSplineFilter, ErrorsAfterDroppedGhostsNameInputCells)
   msg = ExpectFailure(flat, F::CTi, F::Midpoint, [](F* f) { f->SetDerivativeEstimationToMinimumEnergy(); });
   EXPECT_NE(msg.find("parameter triangle 31 is degenerate"), std::string::npos) << msg;
 
-  // A triangle that repeats a vertex, added last (cell 34, the kernel's 32).
-  vtkSmartPointer<vtkPolyData> repeats = piece();
-  const vtkIdType tri[3] = { 2, 2, 5 };
-  repeats->GetPolys()->InsertNextCell(3, tri);
-  vtkCellData* cd = repeats->GetCellData();
-  vtkUnsignedCharArray::SafeDownCast(cd->GetArray(vtkDataSetAttributes::GhostArrayName()))
-    ->InsertNextValue(0);
-  vtkIdTypeArray::SafeDownCast(cd->GetGlobalIds())->InsertNextValue(1000);
-  msg = ExpectFailure(repeats);
-  EXPECT_NE(msg.find("triangle 34 repeats a vertex (2, 2, 5)"), std::string::npos) << msg;
+  // A triangle that repeats a vertex, added last (cell 34, the kernel's 32), and an owned and a
+  // ghost one whose point is out of range (the search for repeats, which reads the points of
+  // both, leaves them to the topology's check).
+  const vtkIdType repeatsVertex[3] = { 2, 2, 5 }, outOfRange[3] = { 2, 5, 1000000 };
+  for (const int c : { 0, 1, 2 })
+  {
+    vtkSmartPointer<vtkPolyData> bad = piece();
+    bad->GetPolys()->InsertNextCell(3, c == 0 ? repeatsVertex : outOfRange);
+    vtkCellData* cd = bad->GetCellData();
+    vtkUnsignedCharArray::SafeDownCast(cd->GetArray(vtkDataSetAttributes::GhostArrayName()))
+      ->InsertNextValue(c == 2 ? vtkDataSetAttributes::DUPLICATECELL : 0);
+    vtkIdTypeArray::SafeDownCast(cd->GetGlobalIds())->InsertNextValue(1000);
+    msg = ExpectFailure(bad);
+    const char* expected = c == 0 ? "triangle 34 repeats a vertex (2, 2, 5)"
+                                  : "triangle 34 references point 1000000 outside [0, 25)";
+    EXPECT_NE(msg.find(expected), std::string::npos) << "case " << c << ": " << msg;
+  }
 
   // A fold: the same cell's third point moved just across its first edge. The two cells named
   // both have the edge named.
