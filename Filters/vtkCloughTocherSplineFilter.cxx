@@ -8,6 +8,7 @@
 #include "BezierExtraction.h"
 #include "CloughTocherSpline.h"
 #include "DerivativeEstimation.h"
+#include "MessageIds.h"
 #include "SplineInput.h"
 
 #include "vtkCellArray.h"
@@ -591,19 +592,38 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
 
 namespace
 {
+// A kernel message (status: BuildStatus or TopologyStatus) naming the input's cells and points.
+// The kernel numbers its triangles and vertices: kernel triangle t is input cell
+// cells[order.Triangles[t]] (repeated ghosts dropped, then renumbered; either map empty: the
+// identity) and kernel vertex v is input point order.Vertices[v] (points are never dropped).
+template <typename Status>
+std::string InInputIds(const Status& status, const std::vector<ctk::Id>& cells,
+  const ctk::LocalityRenumbering& order)
+{
+  auto map = [](const std::vector<ctk::Id>& m, ctk::Id id) {
+    return id >= 0 && static_cast<size_t>(id) < m.size() ? m[id] : id;
+  };
+  return ctk::RenameIds(status.Message, status.Ids, [&](ctk::IdKind kind, ctk::Id id) {
+    return kind == ctk::IdKind::Vertex ? map(order.Vertices, id)
+                                       : map(cells, map(order.Triangles, id));
+  });
+}
+
 // 2. The topology, the estimated derivatives (estimation: NoEstimation or the method; in the
 // input's numbering, so that their bits do not depend on the order) and the kernel's spline,
 // built in the locality order when renumber is set and the mesh large enough (in is then left
-// renumbered by order). An error message, or empty.
-std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options, int estimation,
-  bool renumber, ctk::LocalityRenumbering& order, ctk::MeshTopology& topology,
-  ctk::CloughTocherSpline& spline, std::string& warning)
+// renumbered by order). An error message naming input cells and points (cells: the input cell
+// of each triangle of in, see InInputIds), or empty.
+std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
+  const ctk::SplineOptions& options, int estimation, bool renumber,
+  ctk::LocalityRenumbering& order, ctk::MeshTopology& topology, ctk::CloughTocherSpline& spline,
+  std::string& warning)
 {
   order = ctk::LocalityRenumbering();
   auto buildTopology = [&]() -> std::string {
     const ctk::TopologyStatus topo = ctk::BuildMeshTopology(
       in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology);
-    return topo.Ok ? std::string() : "invalid mesh: " + topo.Message;
+    return topo.Ok ? std::string() : "invalid mesh: " + InInputIds(topo, cells, order);
   };
   std::string error;
   if (estimation != vtkCloughTocherSplineFilter::NoEstimation)
@@ -619,7 +639,7 @@ std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options,
       ctsplines::SMPFor);
     if (!est.Ok)
     {
-      return est.Message;
+      return InInputIds(est, cells, order);
     }
   }
   if (renumber)
@@ -640,8 +660,9 @@ std::string BuildSpline(ctk::SplineInput& in, const ctk::SplineOptions& options,
   }
   const ctk::BuildStatus built =
     ctk::BuildCloughTocher(in.View(), topology, options, spline, ctsplines::SMPFor);
-  warning = built.Ok ? built.Message : std::string();
-  return built.Ok ? std::string() : built.Message;
+  const std::string message = InInputIds(built, cells, order);
+  warning = built.Ok ? message : std::string();
+  return built.Ok ? std::string() : message;
 }
 
 // Distributed runs: the n kernel triangles that are not ghosts (duplicates of another piece's),
@@ -680,15 +701,20 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
   {
     return kept;
   }
-  const ctk::Id nT = in.NumberOfTriangles();
+  const ctk::Id nT = in.NumberOfTriangles(), nV = in.NumberOfVertices();
   const unsigned char* flag = ghosts->GetPointer(0);
   auto isGhost = [&](ctk::Id t) { return (flag[t] & vtkDataSetAttributes::DUPLICATECELL) != 0; };
+  // A triangle with a point out of range is neither read nor dropped: the topology names it.
+  auto inRange = [&](ctk::Id t) {
+    const ctk::Id* p = &in.Triangles[3 * t];
+    return std::all_of(p, p + 3, [nV](ctk::Id v) { return v >= 0 && v < nV; });
+  };
   // Only a triangle whose points all belong to ghost triangles can equal a ghost: the set holds
   // the thin band along the piece's border, not the piece.
-  std::vector<char> ghostPoint(static_cast<size_t>(in.NumberOfVertices()), 0);
+  std::vector<char> ghostPoint(static_cast<size_t>(nV), 0);
   for (ctk::Id t = 0; t < nT; ++t)
   {
-    for (int a = 0; a < 3 && isGhost(t); ++a)
+    for (int a = 0; a < 3 && isGhost(t) && inRange(t); ++a)
     {
       ghostPoint[in.Triangles[3 * t + a]] = 1;
     }
@@ -710,7 +736,8 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
     for (ctk::Id t = 0; t < nT; ++t)
     {
       const ctk::Id* p = &in.Triangles[3 * t];
-      if (isGhost(t) != ghostPass || !(ghostPoint[p[0]] && ghostPoint[p[1]] && ghostPoint[p[2]]))
+      if (isGhost(t) != ghostPass || !inRange(t) ||
+        !(ghostPoint[p[0]] && ghostPoint[p[1]] && ghostPoint[p[2]]))
       {
         continue;
       }
@@ -842,12 +869,13 @@ int vtkCloughTocherSplineFilter::RequestData(
   ctk::CloughTocherSpline spline;
   std::string warning;
   const bool renumber = this->OutputOrder == LocalityOrder && !this->ComputeBezierExtraction;
-  error = BuildSpline(in, options, estimation, renumber, order, topology, spline, warning);
+  error = BuildSpline(in, cells, options, estimation, renumber, order, topology, spline, warning);
   if (!error.empty() && !order.IsIdentity())
   {
-    // Messages name triangles and points: built again in the input's numbering for them.
+    // The kernel reports the lowest failing triangle of its numbering: built again in the
+    // input's, the message is the one the input's order gives.
     in.Renumber(order, true);
-    error = BuildSpline(in, options, estimation, false, order, topology, spline, warning);
+    error = BuildSpline(in, cells, options, estimation, false, order, topology, spline, warning);
   }
   if (!error.empty())
   {
@@ -894,7 +922,7 @@ int vtkCloughTocherSplineFilter::RequestData(
       ctk::BuildBezierExtraction(data, topology, options, extraction, ctsplines::SMPFor);
     if (!ex.Ok)
     {
-      vtkErrorMacro(<< ex.Message);
+      vtkErrorMacro(<< InInputIds(ex, cells, order));
       return 0;
     }
     AddBezierExtraction(output, data, topology, extraction, anyGhost ? &owned : nullptr);

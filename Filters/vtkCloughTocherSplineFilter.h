@@ -25,7 +25,8 @@
  * it; KaG and MGi use GradientToSplitPoint unless a gradient mode is chosen), and Kashyap's cubic
  * fairing scheme and the quartic scheme from "A Quartic Clough-Tocher Interpolant" (Fang, Mann). Bad input (non-triangles, missing or wrong-sized arrays,
  * NaN/Inf, zero-area parameter triangles, non-manifold edges, empty input) is reported with
- * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0.
+ * vtkErrorMacro naming the offending cell, point or array, and RequestData returns 0. Cells and
+ * points are the input's ids whatever the filter dropped (repeated ghost cells) or renumbered.
  *
  * Output order (OutputOrder): by default, a mesh of at least 2^15 triangles is built and output
  * in a locality order, the Morton order of its triangles' centroids in (u, v): the cells of

@@ -275,9 +275,10 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
   });
   if (firstFailure.Get() >= 0)
   {
-    status.Ok = false;
-    status.Message = "Bezier extraction: the local construction around triangle " +
-      std::to_string(firstFailure.Get()) + " failed (its neighbourhood is not a valid mesh)";
+    MessageBuilder os;
+    os << "Bezier extraction: the local construction around triangle "
+       << TriangleId{ firstFailure.Get() } << " failed (its neighbourhood is not a valid mesh)";
+    status = os.Failure<BuildStatus>();
   }
   return status;
 }

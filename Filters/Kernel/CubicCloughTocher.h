@@ -124,6 +124,7 @@ struct BuildStatus
 {
   bool Ok = true;
   std::string Message;
+  std::vector<MessageId> Ids; // the triangles and vertices Message names
 };
 
 /// Builds the spline. topology must come from BuildMeshTopology on data.Triangles. Results are

@@ -37,11 +37,11 @@ BuildStatus Failure(std::string message)
   return BuildStatus{ false, std::move(message) };
 }
 
-std::string VertexMessage(Id v, const std::string& what)
+BuildStatus VertexFailure(Id v, const std::string& what)
 {
-  std::ostringstream os;
-  os << "cannot estimate the derivatives at vertex " << v << ": " << what;
-  return os.str();
+  MessageBuilder os;
+  os << "cannot estimate the derivatives at vertex " << VertexId{ v } << ": " << what;
+  return os.Failure<BuildStatus>();
 }
 
 /// The neighbours of every vertex (sorted), from the unique edges: CSR.
@@ -94,7 +94,7 @@ BuildStatus CheckEstimationInput(const SplineData& data)
     if (!IsUsableValue(uv[0]) || !IsUsableValue(uv[1]) || !IsUsableValue(f[0]) ||
       !IsUsableValue(f[1]) || !IsUsableValue(f[2]))
     {
-      return Failure(VertexMessage(v, "its parameter values or position are not finite (or beyond 1e100)"));
+      return VertexFailure(v, "its parameter values or position are not finite (or beyond 1e100)");
     }
   }
   return {};
@@ -337,7 +337,7 @@ BuildStatus EstimateLocalQuadratic(const SplineData& data, const VertexNeighbour
     std::ostringstream os;
     os << "its neighbours (up to " << MaxEstimationRings
        << " rings) do not span the parameter plane (collinear (u, v))";
-    return Failure(VertexMessage(failed.Get(), os.str()));
+    return VertexFailure(failed.Get(), os.str());
   }
   return {};
 }
@@ -505,10 +505,11 @@ BuildStatus AssembleEnergy(const SplineData& data, GradientSystem& system, const
     });
     if (degenerate.Get() >= 0)
     {
-      std::ostringstream os;
+      MessageBuilder os;
       os << "cannot estimate derivatives by minimum energy: parameter triangle "
-         << degenerate.Get() << " is degenerate (zero area), its bending energy is undefined";
-      return Failure(os.str());
+         << TriangleId{ degenerate.Get() }
+         << " is degenerate (zero area), its bending energy is undefined";
+      return os.Failure<BuildStatus>();
     }
     for (Id k = 0; k < count; ++k)
     {
@@ -542,7 +543,7 @@ BuildStatus EstimateMinimumEnergy(const SplineData& data, const VertexNeighbours
     if (!(D[k] > 1e-14 * scale))
     {
       const Id unknown = ldlt.permutationPinv().indices()[k];
-      return Failure(VertexMessage(unknown / 2, "the minimum-energy system is singular there"));
+      return VertexFailure(unknown / 2, "the minimum-energy system is singular there");
     }
   }
   if (ldlt.info() != Eigen::Success)
@@ -659,7 +660,7 @@ BuildStatus EstimateDerivatives(const SplineData& data, const MeshTopology& topo
   {
     if (!IsUsableValue(fu[k]) || !IsUsableValue(fv[k]))
     {
-      return Failure(VertexMessage(k / 3, "the estimate is not finite (or beyond 1e100)"));
+      return VertexFailure(k / 3, "the estimate is not finite (or beyond 1e100)");
     }
   }
   return status;

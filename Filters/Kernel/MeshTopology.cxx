@@ -4,7 +4,6 @@
 #include "LargeArrays.h"
 
 #include <algorithm>
-#include <sstream>
 
 namespace ctk
 {
@@ -18,10 +17,9 @@ TopologyStatus BuildMeshTopology(
   Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology)
 {
   TopologyStatus status;
-  auto fail = [&](Id t, const std::string& msg) {
-    status.Ok = false;
+  auto fail = [&](Id t, const MessageBuilder& msg) {
+    status = msg.Failure<TopologyStatus>();
     status.Triangle = t;
-    status.Message = msg;
     return status;
   };
   for (Id t = 0; t < numTriangles; ++t)
@@ -31,18 +29,19 @@ TopologyStatus BuildMeshTopology(
     {
       if (p[l] < 0 || p[l] >= numPoints)
       {
-        std::ostringstream os;
-        os << "triangle " << t << " references point " << p[l] << " outside [0, " << numPoints
-           << ")";
-        return fail(t, os.str());
+        // p[l] names no vertex (it is out of range): plain text, never renamed.
+        MessageBuilder os;
+        os << "triangle " << TriangleId{ t } << " references point " << p[l] << " outside [0, "
+           << numPoints << ")";
+        return fail(t, os);
       }
     }
     if (p[0] == p[1] || p[1] == p[2] || p[2] == p[0])
     {
-      std::ostringstream os;
-      os << "triangle " << t << " repeats a vertex (" << p[0] << ", " << p[1] << ", " << p[2]
-         << ")";
-      return fail(t, os.str());
+      MessageBuilder os;
+      os << "triangle " << TriangleId{ t } << " repeats a vertex (" << VertexId{ p[0] } << ", "
+         << VertexId{ p[1] } << ", " << VertexId{ p[2] } << ")";
+      return fail(t, os);
     }
   }
 
@@ -115,20 +114,20 @@ TopologyStatus BuildMeshTopology(
         const Id t2 = h2 / 3;
         if (topology.EdgeTriangles[e][1] >= 0)
         {
-          std::ostringstream os;
-          os << "non-manifold edge (" << v << ", " << other << ") shared by triangles "
-             << topology.EdgeTriangles[e][0] << ", " << topology.EdgeTriangles[e][1] << " and "
-             << t2;
-          return fail(t2, os.str());
+          MessageBuilder os;
+          os << "non-manifold edge (" << VertexId{ v } << ", " << VertexId{ other }
+             << ") shared by triangles " << TriangleId{ topology.EdgeTriangles[e][0] } << ", "
+             << TriangleId{ topology.EdgeTriangles[e][1] } << " and " << TriangleId{ t2 };
+          return fail(t2, os);
         }
         const Id opposite = triangles[3 * t + (l + 2) % 3];
         if (triangles[3 * t2 + (h2 % 3 + 2) % 3] == opposite)
         {
-          std::ostringstream os;
-          os << "duplicate triangles " << std::min(t, t2) << " and " << std::max(t, t2)
-             << " have the same vertices (" << v
-             << ", " << other << ", " << opposite << ")";
-          return fail(std::max(t, t2), os.str());
+          MessageBuilder os;
+          os << "duplicate triangles " << TriangleId{ std::min(t, t2) } << " and "
+             << TriangleId{ std::max(t, t2) } << " have the same vertices (" << VertexId{ v }
+             << ", " << VertexId{ other } << ", " << VertexId{ opposite } << ")";
+          return fail(std::max(t, t2), os);
         }
         topology.EdgeTriangles[e][1] = t2;
         topology.EdgeLocalIndex[e][1] = static_cast<signed char>(h2 % 3);

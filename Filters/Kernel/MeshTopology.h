@@ -4,6 +4,8 @@
 #ifndef CTSplines_Kernel_MeshTopology_h
 #define CTSplines_Kernel_MeshTopology_h
 
+#include "MessageIds.h" // for Id
+
 #include <array>
 #include <cstdint>
 #include <string>
@@ -11,8 +13,6 @@
 
 namespace ctk
 {
-using Id = std::int64_t;
-
 /// Local edge l of a triangle joins its vertices l and (l + 1) % 3; it is opposite vertex
 /// (l + 2) % 3.
 struct MeshTopology
@@ -42,6 +42,7 @@ struct TopologyStatus
 {
   bool Ok = true;
   std::string Message;
+  std::vector<MessageId> Ids; // the triangles and vertices Message names
   Id Triangle = -1;
 };
 

@@ -53,25 +53,35 @@ BuildStatus CheckValues(const SplineData& data)
     const double* Values;
     Id Rows;
     int Columns, NanGroup;
-    const char *Name, *Element;
+    const char* Name;
+    IdKind Element;
   };
   const Id nV = data.NumberOfVertices, nT = data.NumberOfTriangles;
-  const Array arrays[] = { { data.UV, nV, 2, 0, "parameter coordinates (u, v)", "vertex" },
-    { data.F, nV, 3, 0, "positions", "vertex" }, { data.Fu, nV, 3, 0, "derivatives d/du", "vertex" },
-    { data.Fv, nV, 3, 0, "derivatives d/dv", "vertex" },
-    { data.EdgeGradients, nT, 18, 0, "mid-edge gradients", "triangle" },
-    { data.BoundaryCurvePoints, nT, 18, 6, "boundary curve points", "triangle" } };
+  constexpr IdKind V = IdKind::Vertex, T = IdKind::Triangle;
+  const Array arrays[] = { { data.UV, nV, 2, 0, "parameter coordinates (u, v)", V },
+    { data.F, nV, 3, 0, "positions", V }, { data.Fu, nV, 3, 0, "derivatives d/du", V },
+    { data.Fv, nV, 3, 0, "derivatives d/dv", V },
+    { data.EdgeGradients, nT, 18, 0, "mid-edge gradients", T },
+    { data.BoundaryCurvePoints, nT, 18, 6, "boundary curve points", T } };
   for (const Array& a : arrays)
   {
     const Id k = FirstBadValue(a.Values, a.Rows, a.Columns, a.NanGroup);
     if (k >= 0)
     {
-      std::ostringstream os;
-      os << "the " << a.Name << " of " << a.Element << " " << k / a.Columns << " include "
-         << a.Values[k];
+      MessageBuilder os;
+      os << "the " << a.Name << " of ";
+      if (a.Element == V)
+      {
+        os << "vertex " << VertexId{ k / a.Columns };
+      }
+      else
+      {
+        os << "triangle " << TriangleId{ k / a.Columns };
+      }
+      os << " include " << a.Values[k];
       os << (std::isfinite(a.Values[k]) ? "; magnitudes must stay below 1e100 (rescale the data)"
                                         : ": values must be finite");
-      return Failure(os.str());
+      return os.Failure<BuildStatus>();
     }
   }
   return {};
@@ -86,10 +96,10 @@ BuildStatus CheckSplitPoints(const SplineData& data)
     const Vec3& tau = data.SplitTau[t];
     if (!(tau.minCoeff() > 0 && tau.allFinite() && std::abs(tau.sum() - 1) < 1e-9))
     {
-      std::ostringstream os;
-      os << "the split point of triangle " << t << " has barycentric coordinates ("
+      MessageBuilder os;
+      os << "the split point of triangle " << TriangleId{ t } << " has barycentric coordinates ("
          << tau.transpose() << "): they must be positive and sum to 1";
-      return Failure(os.str());
+      return os.Failure<BuildStatus>();
     }
   }
   return {};
@@ -131,10 +141,11 @@ BuildStatus CheckAreas(const SplineData& data, const std::vector<Id>& order)
   {
     const Id t = first;
     const Id* p = data.Triangles + 3 * t;
-    std::ostringstream os;
-    os << "degenerate parameter triangle: cell " << t << " (points " << p[0] << ", " << p[1]
-       << ", " << p[2] << ") has zero area in (u, v)";
-    return Failure(os.str());
+    MessageBuilder os;
+    os << "degenerate parameter triangle: cell " << TriangleId{ t } << " (points "
+       << VertexId{ p[0] } << ", " << VertexId{ p[1] } << ", " << VertexId{ p[2] }
+       << ") has zero area in (u, v)";
+    return os.Failure<BuildStatus>();
   }
   return {};
 }
@@ -166,11 +177,12 @@ BuildStatus CheckFolds(
   if (first < nE)
   {
     const Id e = first;
-    std::ostringstream os;
-    os << "folded parameterisation: triangles " << topology.EdgeTriangles[e][0] << " and "
-       << topology.EdgeTriangles[e][1] << " lie on the same side of their shared edge ("
-       << topology.Edges[e][0] << ", " << topology.Edges[e][1] << ") in (u, v)";
-    return Failure(os.str());
+    MessageBuilder os;
+    os << "folded parameterisation: triangles " << TriangleId{ topology.EdgeTriangles[e][0] }
+       << " and " << TriangleId{ topology.EdgeTriangles[e][1] }
+       << " lie on the same side of their shared edge (" << VertexId{ topology.Edges[e][0] }
+       << ", " << VertexId{ topology.Edges[e][1] } << ") in (u, v)";
+    return os.Failure<BuildStatus>();
   }
   return {};
 }
@@ -231,11 +243,11 @@ BuildStatus CheckFiniteControlPoints(const std::vector<Vec3>& points, const Mesh
   {
     t = (i - numberOfVertices - pointsPerEdge * nE) / pointsPerTriangle;
   }
-  std::ostringstream os;
+  MessageBuilder os;
   os << "the construction produced a non-finite control point (" << bad->transpose()
-     << ") in the macro-element of triangle " << t
+     << ") in the macro-element of triangle " << TriangleId{ t }
      << ": the data there is degenerate or too large";
-  return Failure(os.str());
+  return os.Failure<BuildStatus>();
 }
 
 } // namespace ctk

@@ -29,7 +29,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <limits>
@@ -56,14 +58,19 @@ vtkSmartPointer<vtkUnstructuredGrid> Convert(vtkPolyData* input, int constructio
   return out;
 }
 
-// Runs the filter expecting failure; returns the error text.
+// Runs the filter (setup: further settings) expecting failure; returns the error text.
 std::string ExpectFailure(vtkPolyData* input, int construction = vtkCloughTocherSplineFilter::CTi,
-  int boundary = vtkCloughTocherSplineFilter::Midpoint)
+  int boundary = vtkCloughTocherSplineFilter::Midpoint,
+  const std::function<void(vtkCloughTocherSplineFilter*)>& setup = nullptr)
 {
   vtkNew<vtkCloughTocherSplineFilter> f;
   f->SetInputData(input);
   f->SetConstruction(construction);
   f->SetBoundaryMode(boundary);
+  if (setup)
+  {
+    setup(f);
+  }
   auto capture = ErrorCapture::Attach(f);
   auto pipelineCapture = ErrorCapture::Attach(f->GetExecutive());
   f->Update();
@@ -1156,34 +1163,45 @@ TEST(vtkCloughTocherSplineFilter, LocalityOutputOrderKeepsGhostsAndGlobalIds)
   EXPECT_GT(unordered, 0); // not the input's order
 }
 
-TEST(vtkCloughTocherSplineFilter, LocalityOutputOrderNamesInputIdsInErrors)
+// Makes cell flat in (u, v): its third point moves to the midpoint of the other two (on a grid of
+// dyadic (u, v) exactly).
+void FlattenCell(vtkPolyData* input, vtkIdType cell)
 {
-  // A flat parameter triangle (found by the kernel, after the renumbering) is named by its
-  // input id: the same message as in the input's order.
-  vtkSmartPointer<vtkPolyData> input = ShuffledFranke(128, 5u);
   vtkNew<vtkIdList> ids;
-  input->GetCellPoints(777, ids);
+  input->GetCellPoints(cell, ids);
   vtkDataArray* uv = input->GetPointData()->GetArray("UV");
   for (int c = 0; c < 2; ++c)
   {
     uv->SetComponent(ids->GetId(2), c,
       0.5 * (uv->GetComponent(ids->GetId(0), c) + uv->GetComponent(ids->GetId(1), c)));
   }
-  std::string messages[2];
+}
+
+// The error text of the filter on input in both output orders, from the kernel's message on
+// (VTK's prefix names the object's address), which must contain `expected`.
+std::array<std::string, 2> ErrorsInBothOrders(vtkPolyData* input, const std::string& expected)
+{
+  std::array<std::string, 2> messages;
   for (int order : { vtkCloughTocherSplineFilter::InputOrder, vtkCloughTocherSplineFilter::LocalityOrder })
   {
-    vtkNew<vtkCloughTocherSplineFilter> f;
-    f->SetInputData(input);
-    f->SetOutputOrder(order);
-    auto capture = ErrorCapture::Attach(f);
-    auto pipelineCapture = ErrorCapture::Attach(f->GetExecutive());
-    f->Update();
-    EXPECT_EQ(f->GetOutput()->GetNumberOfCells(), 0);
-    // The text from the kernel's message on (VTK's prefix names the object's address).
-    const size_t at = capture->Message.find("degenerate parameter triangle: cell ");
-    EXPECT_NE(at, std::string::npos) << capture->Message;
-    messages[order] = capture->Message.substr(std::min(at, capture->Message.size()));
+    const std::string msg = ExpectFailure(input, vtkCloughTocherSplineFilter::CTi,
+      vtkCloughTocherSplineFilter::Midpoint,
+      [order](vtkCloughTocherSplineFilter* f) { f->SetOutputOrder(order); });
+    const size_t at = msg.find(expected);
+    EXPECT_NE(at, std::string::npos) << "order " << order << ": " << msg;
+    messages[order] = msg.substr(std::min(at, msg.size()));
   }
+  return messages;
+}
+
+TEST(vtkCloughTocherSplineFilter, LocalityOutputOrderNamesInputIdsInErrors)
+{
+  // A flat parameter triangle (found by the kernel, after the renumbering) is named by its
+  // input id: the same message as in the input's order.
+  vtkSmartPointer<vtkPolyData> input = ShuffledFranke(128, 5u);
+  FlattenCell(input, 777);
+  const std::array<std::string, 2> messages =
+    ErrorsInBothOrders(input, "degenerate parameter triangle: cell 777 (");
   EXPECT_EQ(messages[1], messages[0]);
 }
 
@@ -1280,4 +1298,100 @@ TEST(vtkCloughTocherSplineFilter, RepeatedGhostTrianglesAreDropped)
     }
     EXPECT_EQ(differing, 0) << "order " << order;
   }
+}
+
+namespace
+{
+// The last cell of piece that is no ghost: past the repeated ghosts of PieceWithGhosts (the
+// first ghost and owned triangles come early in a grid's numbering), so that the kernel, which
+// drops the two repeats, numbers it two lower.
+vtkIdType LastOwnedCell(vtkPolyData* piece)
+{
+  vtkDataArray* ghosts = piece->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName());
+  vtkIdType last = piece->GetNumberOfCells() - 1;
+  while (last >= 0 && ghosts->GetTuple1(last) != 0)
+  {
+    --last;
+  }
+  return last;
+}
+} // namespace
+
+TEST(vtkCloughTocherSplineFilter, ErrorsAfterDroppedGhostsNameInputCells)
+{
+  // Errors found after the repeated ghosts are dropped name the input's cell, not the kernel's
+  // triangle (two lower): a validation error, a topology error and an estimation error.
+  using F = vtkCloughTocherSplineFilter;
+  auto piece = [] { return PieceWithGhosts(Franke(4), true); };
+  vtkSmartPointer<vtkPolyData> flat = piece();
+  const vtkIdType cell = LastOwnedCell(flat);
+  ASSERT_EQ(flat->GetNumberOfCells(), 34);
+  ASSERT_EQ(cell, 31); // the kernel's triangle 29
+  FlattenCell(flat, cell);
+  std::string msg = ExpectFailure(flat);
+  EXPECT_NE(msg.find("degenerate parameter triangle: cell 31 ("), std::string::npos) << msg;
+
+  // The same cell, met by the minimum-energy estimation before the validation.
+  flat->GetPointData()->RemoveArray("dFdu");
+  flat->GetPointData()->RemoveArray("dFdv");
+  msg = ExpectFailure(flat, F::CTi, F::Midpoint, [](F* f) { f->SetDerivativeEstimationToMinimumEnergy(); });
+  EXPECT_NE(msg.find("parameter triangle 31 is degenerate"), std::string::npos) << msg;
+
+  // A triangle that repeats a vertex, added last (cell 34, the kernel's 32), and an owned and a
+  // ghost one whose point is out of range (the search for repeats, which reads the points of
+  // both, leaves them to the topology's check).
+  const vtkIdType repeatsVertex[3] = { 2, 2, 5 }, outOfRange[3] = { 2, 5, 1000000 };
+  for (const int c : { 0, 1, 2 })
+  {
+    vtkSmartPointer<vtkPolyData> bad = piece();
+    bad->GetPolys()->InsertNextCell(3, c == 0 ? repeatsVertex : outOfRange);
+    vtkCellData* cd = bad->GetCellData();
+    vtkUnsignedCharArray::SafeDownCast(cd->GetArray(vtkDataSetAttributes::GhostArrayName()))
+      ->InsertNextValue(c == 2 ? vtkDataSetAttributes::DUPLICATECELL : 0);
+    vtkIdTypeArray::SafeDownCast(cd->GetGlobalIds())->InsertNextValue(1000);
+    msg = ExpectFailure(bad);
+    const char* expected = c == 0 ? "triangle 34 repeats a vertex (2, 2, 5)"
+                                  : "triangle 34 references point 1000000 outside [0, 25)";
+    EXPECT_NE(msg.find(expected), std::string::npos) << "case " << c << ": " << msg;
+  }
+
+  // A fold: the same cell's third point moved just across its first edge. The two cells named
+  // both have the edge named.
+  vtkSmartPointer<vtkPolyData> folded = piece();
+  vtkNew<vtkIdList> ids;
+  folded->GetCellPoints(cell, ids);
+  vtkDataArray* uv = folded->GetPointData()->GetArray("UV");
+  for (int c = 0; c < 2; ++c)
+  {
+    const double mid = 0.5 * (uv->GetComponent(ids->GetId(0), c) + uv->GetComponent(ids->GetId(1), c));
+    uv->SetComponent(ids->GetId(2), c, mid + 0.1 * (mid - uv->GetComponent(ids->GetId(2), c)));
+  }
+  msg = ExpectFailure(folded);
+  long long named[2] = { -1, -1 }, edge[2] = { -1, -1 };
+  const size_t at = msg.find("folded parameterisation: ");
+  ASSERT_NE(at, std::string::npos) << msg;
+  ASSERT_EQ(std::sscanf(msg.c_str() + at,
+              "folded parameterisation: triangles %lld and %lld lie on the same side of their "
+              "shared edge (%lld, %lld)",
+              &named[0], &named[1], &edge[0], &edge[1]), 4) << msg;
+  EXPECT_TRUE(named[0] == cell || named[1] == cell) << msg;
+  for (const long long c : named)
+  {
+    ASSERT_TRUE(c >= 0 && c < folded->GetNumberOfCells()) << msg;
+    folded->GetCellPoints(c, ids);
+    EXPECT_TRUE(ids->IsId(edge[0]) >= 0 && ids->IsId(edge[1]) >= 0) << "cell " << c << ": " << msg;
+  }
+}
+
+TEST(vtkCloughTocherSplineFilter, LocalityOrderErrorsAfterDroppedGhostsNameInputCells)
+{
+  // A large piece (built in the locality order) with repeated ghosts before a flat triangle: the
+  // message names its input cell, in both output orders alike.
+  vtkSmartPointer<vtkPolyData> piece = PieceWithGhosts(ShuffledFranke(128, 7u), true);
+  ASSERT_GE(piece->GetNumberOfCells(), ctk::MinTrianglesForLocalityOrder);
+  const vtkIdType cell = LastOwnedCell(piece);
+  FlattenCell(piece, cell);
+  const std::array<std::string, 2> messages = ErrorsInBothOrders(
+    piece, "degenerate parameter triangle: cell " + std::to_string(cell) + " (");
+  EXPECT_EQ(messages[1], messages[0]);
 }
