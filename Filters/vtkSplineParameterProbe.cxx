@@ -221,6 +221,35 @@ struct SplineArrays
   vtkIdType MacroId(vtkIdType c) const { return this->MacroIds ? this->MacroIds[c] : c; }
 };
 
+// Whether the cells come in the spline filter's layout, macro-triangle by macro-triangle: cells
+// 3 i, 3 i + 1, 3 i + 2 (and no others) share a macro-triangle id. The locator then lists
+// macro-triangles, whose fat boxes cover fewer buckets than their three thin micro-triangles':
+// on 3e6 cells 13.9e6 bucket entries instead of 25.7e6, a third of the ranges to keep (results
+// are the same in any layout; this only decides what is cheaper). Vectorised: no early exit.
+bool MacroTriples(const vtkIdType* macroIds, vtkIdType nCells)
+{
+  if (!macroIds || nCells % 3 != 0)
+  {
+    return false;
+  }
+  vtkIdType differ = 0;
+  for (vtkIdType c = 0; c < nCells; c += 3)
+  {
+    const vtkIdType m = macroIds[c];
+    differ |= (m ^ macroIds[c + 1]) | (m ^ macroIds[c + 2]);
+  }
+  if (differ != 0)
+  {
+    return false;
+  }
+  vtkIdType same = 0;
+  for (vtkIdType c = 3; c < nCells; c += 3)
+  {
+    same |= macroIds[c] == macroIds[c - 3];
+  }
+  return same == 0;
+}
+
 // The spline the queries read and its locator, a grid of cell ids over the parameter
 // triangles: the arrays are the source's own (held here) or a copy (Copy*).
 struct ProbeSpline
@@ -234,13 +263,15 @@ struct ProbeSpline
   ctk::TriangleBucketGrid Grid;
 
   /// Reads the valid spline `arrays`, whose parameter triangles span [lo, hi]: builds the grid
-  /// over them.
+  /// over them, over macro-triangles (cells 3 i .. 3 i + 2) when the cells are in the spline
+  /// filter's layout (MacroTriples).
   template <typename OffsetT, typename IdT>
   std::string Adopt(const SplineArrays<OffsetT, IdT>& arrays, const ctk::Vec2& lo, const ctk::Vec2& hi)
   {
     this->Arrays = arrays;
     auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
-    if (!(arrays.NCells > 0 ? this->Grid.Build(arrays.NCells, corners, lo, hi)
+    const ctk::Id group = MacroTriples(arrays.MacroIds, arrays.NCells) ? 3 : 1;
+    if (!(arrays.NCells > 0 ? this->Grid.Build(arrays.NCells, corners, lo, hi, group)
                             : this->Grid.Build(0, corners)))
     {
       return "the source spline has too many cells for the probe's locator (at most 2^32 - 1 "
@@ -755,6 +786,13 @@ int vtkSplineParameterProbe::RequestData(
   return 1;
 }
 
+int vtkSplineParameterProbe::GetNumberOfCellsPerLocatorEntry() const
+{
+  return this->Cache && this->Cache->Source
+    ? static_cast<int>(this->Cache->Data.Grid.GetGroupSize())
+    : 0;
+}
+
 void vtkSplineParameterProbe::PrintSelf(ostream& os, vtkIndent indent)
 {
   this->Superclass::PrintSelf(os, indent);
@@ -762,4 +800,6 @@ void vtkSplineParameterProbe::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
   os << indent << "ComputeDerivatives: " << this->ComputeDerivatives << "\n";
   os << indent << "NumberOfSplineBuilds: " << this->NumberOfSplineBuilds << "\n";
+  os << indent << "NumberOfCellsPerLocatorEntry: " << this->GetNumberOfCellsPerLocatorEntry()
+     << "\n";
 }

@@ -22,7 +22,8 @@
  * MacroTriangleId is -1.
  *
  * Points are located with a bucket grid over the parameter triangles (constant expected time per
- * query) holding only cell ids, built once per source and reused while the source is unchanged.
+ * query) holding only cell ids (of macro-triangles for a spline in the spline filter's layout),
+ * built once per source and reused while the source is unchanged.
  * The spline is read where it is: the source's own arrays for an unstructured grid with double
  * points, UV and weights (checked, not copied), a checked copy otherwise; nothing is renumbered.
  * Queries are processed in the Morton order of their buckets and the results scattered back:
@@ -79,6 +80,12 @@ public:
   /// ReleaseSpline() frees them (the next update rebuilds).
   vtkGetMacro(NumberOfSplineBuilds, int);
   void ReleaseSpline();
+
+  /// Source cells per entry of the locator of the last update (0 before one): 3 when the
+  /// source's cells come in vtkCloughTocherSplineFilter's layout, cells 3 i, 3 i + 1, 3 i + 2
+  /// (and no others) sharing a `MacroTriangleId` (the locator then lists macro-triangles: a
+  /// third of the entries, the same results), else 1.
+  int GetNumberOfCellsPerLocatorEntry() const;
 
 protected:
   vtkSplineParameterProbe();

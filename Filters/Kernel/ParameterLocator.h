@@ -15,6 +15,7 @@
 #include "BezierTriangle.h"
 #include "MeshTopology.h" // for Id
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -50,12 +51,18 @@ public:
     return this->BuildFrom(numTriangles, &CallCorners<Corners>, &corners, nullptr);
   }
   /// The same for a caller that has checked every triangle (finite corners, nonzero area) and
-  /// knows the box [lo, hi] of all corners: one pass fewer.
+  /// knows the box [lo, hi] of all corners: one pass fewer. With groupSize k > 1 the grid lists
+  /// groups of k consecutive triangles (triangles k g .. k g + k - 1, e.g. the micro-triangles
+  /// of macro-triangle g), each in the buckets of the box of its triangles, and a query tests a
+  /// group's triangles in id order: the same results as k = 1 (a group's box holds its
+  /// triangles'), and for compact groups fewer entries to build (still about one bucket per
+  /// triangle: one per group made queries test 2.3x as many triangles).
   template <typename Corners>
-  bool Build(Id numTriangles, const Corners& corners, const Vec2& lo, const Vec2& hi)
+  bool Build(
+    Id numTriangles, const Corners& corners, const Vec2& lo, const Vec2& hi, Id groupSize = 1)
   {
     const Vec2 box[2] = { lo, hi };
-    return this->BuildFrom(numTriangles, &CallCorners<Corners>, &corners, box);
+    return this->BuildFrom(numTriangles, &CallCorners<Corners>, &corners, box, groupSize);
   }
 
   /// The triangle containing (u, v). Among several candidates (shared edges and vertices), the
@@ -72,6 +79,10 @@ public:
   Id GetNumberOfBuckets() const { return this->NX * this->NY; }
   Id GetNumberOfColumns() const { return this->NX; }
   Id GetNumberOfRows() const { return this->NY; }
+  /// Triangles per grid entry (the groupSize of the last Build).
+  Id GetGroupSize() const { return this->GroupSize; }
+  /// Entries over all buckets.
+  Id GetNumberOfEntries() const { return static_cast<Id>(this->Items.size()); }
 
 private:
   // Writes the corners of triangles first .. first + count - 1 to c[3 i + a]: one indirect call
@@ -85,13 +96,16 @@ private:
       (*static_cast<const Corners*>(corners))(first + i, c + 3 * i);
     }
   }
-  bool BuildFrom(Id numTriangles, CornerFunction corners, const void* context, const Vec2* box);
-  bool BucketRange(const Vec2* c, Id range[4]) const;
+  bool BuildFrom(Id numTriangles, CornerFunction corners, const void* context, const Vec2* box,
+    Id groupSize = 1);
+  void SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets);
+  bool BucketRange(const Vec2* c, Id count, Id range[4]) const;
 
   double Origin[2] = { 0.0, 0.0 };
   double InverseSpacing[2] = { 1.0, 1.0 };
   Id NX = 0, NY = 0;
-  /// Compressed rows: triangles of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
+  Id NumTriangles = 0, GroupSize = 1;
+  /// Compressed rows: groups of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
   /// id.
   std::vector<std::uint32_t> Offsets;
   std::vector<std::uint32_t> Items;
@@ -141,17 +155,21 @@ LocatorHit TriangleBucketGrid::Locate(double u, double v, const Corners& corners
   double bestMin = -Tolerance;
   for (std::uint32_t i = this->Offsets[b]; i < this->Offsets[b + 1]; ++i)
   {
-    const Id t = this->Items[i];
-    Vec2 c[3];
-    corners(t, c);
-    const Vec3 bary = Barycentric(c[0], c[1], c[2], X);
-    const double m = bary.minCoeff();
-    // Rows are sorted by id, so a strict comparison keeps the lowest id among ties.
-    if (m > bestMin || (m == bestMin && hit.Triangle < 0))
+    const Id first = this->Items[i] * this->GroupSize;
+    const Id last = std::min(first + this->GroupSize, this->NumTriangles);
+    for (Id t = first; t < last; ++t)
     {
-      bestMin = m;
-      hit.Triangle = t;
-      hit.Barycentric = bary;
+      Vec2 c[3];
+      corners(t, c);
+      const Vec3 bary = Barycentric(c[0], c[1], c[2], X);
+      const double m = bary.minCoeff();
+      // Rows are sorted by id, so a strict comparison keeps the lowest id among ties.
+      if (m > bestMin || (m == bestMin && hit.Triangle < 0))
+      {
+        bestMin = m;
+        hit.Triangle = t;
+        hit.Barycentric = bary;
+      }
     }
   }
   return hit;

@@ -16,6 +16,7 @@
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkIdList.h"
+#include "vtkIdTypeArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkPointData.h"
@@ -40,16 +41,24 @@ const ctk::ParameterMesh& Grid()
   return m;
 }
 
-vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(ctk::AnalyticSurface surface,
-  const Eigen::Matrix2d& A = Eigen::Matrix2d::Identity(), const ctk::Vec2& t = ctk::Vec2::Zero())
+// The CTi spline of `surface` sampled on `mesh` mapped by A u + t.
+vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(const ctk::ParameterMesh& mesh,
+  ctk::AnalyticSurface surface, const Eigen::Matrix2d& A = Eigen::Matrix2d::Identity(),
+  const ctk::Vec2& t = ctk::Vec2::Zero())
 {
   vtkNew<vtkCloughTocherSplineFilter> spline;
-  spline->SetInputData(ctsplines_test::MakeSampledPolyData(Grid(), surface, A, t));
+  spline->SetInputData(ctsplines_test::MakeSampledPolyData(mesh, surface, A, t));
   spline->SetConstructionToCTi();
   spline->Update();
   auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
   out->ShallowCopy(spline->GetOutput());
   return out;
+}
+
+vtkSmartPointer<vtkUnstructuredGrid> MakeSpline(ctk::AnalyticSurface surface,
+  const Eigen::Matrix2d& A = Eigen::Matrix2d::Identity(), const ctk::Vec2& t = ctk::Vec2::Zero())
+{
+  return MakeSpline(Grid(), surface, A, t);
 }
 
 vtkSmartPointer<vtkPolyData> QueryPoints(const std::vector<ctk::Vec2>& uv)
@@ -315,6 +324,30 @@ void ExpectBruteForceBits(vtkUnstructuredGrid* spline, const std::vector<ctk::Ve
     << "query " << k;
 }
 
+// Every query of `out` (at uv) against ExpectBruteForceBits over the cells of `spline`.
+void ExpectBruteForceBits(vtkUnstructuredGrid* spline, const std::vector<ctk::Vec2>& uv, vtkDataSet* out)
+{
+  std::vector<ctk::Vec2> corners; // of every cell, in the source's order
+  vtkDataArray* uvArray = spline->GetPointData()->GetArray("UV");
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < spline->GetNumberOfCells(); ++c)
+  {
+    spline->GetCellPoints(c, ids);
+    for (int a = 0; a < 3; ++a)
+    {
+      corners.emplace_back(uvArray->GetComponent(ids->GetId(a), 0), uvArray->GetComponent(ids->GetId(a), 1));
+    }
+  }
+  for (size_t k = 0; k < uv.size(); ++k)
+  {
+    ExpectBruteForceBits(spline, corners, out, uv[k], static_cast<vtkIdType>(k));
+    if (testing::Test::HasFatalFailure())
+    {
+      return;
+    }
+  }
+}
+
 // The usual source (64-bit cells, double arrays) is read in place; 32-bit cells too; a source
 // with a float array goes through the copying reader. All give the bits of a brute-force
 // search in the source's own order, although the probe works in the locality order from the
@@ -322,12 +355,7 @@ void ExpectBruteForceBits(vtkUnstructuredGrid* spline, const std::vector<ctk::Ve
 TEST(vtkSplineParameterProbe, InPlaceAndCopiedSourcesKeepTheBits)
 {
   const ctk::ParameterMesh mesh = ctk::RegularGridMesh(80, ctk::GridDiagonal::Alternating);
-  vtkNew<vtkCloughTocherSplineFilter> filter;
-  filter->SetInputData(ctsplines_test::MakeSampledPolyData(mesh, ctk::AnalyticSurface::Franke));
-  filter->SetConstructionToCTi();
-  filter->Update();
-  auto spline = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  spline->ShallowCopy(filter->GetOutput());
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(mesh, ctk::AnalyticSurface::Franke);
   ASSERT_GE(spline->GetNumberOfCells(), ctk::MinTrianglesForLocalityOrder);
   ASSERT_FALSE(spline->GetCells()->IsStorage64Bit()); // the filter writes 32-bit ids
   std::mt19937 rng(7);
@@ -344,24 +372,10 @@ TEST(vtkSplineParameterProbe, InPlaceAndCopiedSourcesKeepTheBits)
     uv.push_back(0.5 * (a + mesh.UV[mesh.Triangles[3 * t + 1]]));
   }
   vtkSmartPointer<vtkDataSet> reference = Probe(QueryPoints(uv), spline);
-  std::vector<ctk::Vec2> corners; // of every cell, in the source's order
-  vtkDataArray* uvArray = spline->GetPointData()->GetArray("UV");
-  vtkNew<vtkIdList> ids;
-  for (vtkIdType c = 0; c < spline->GetNumberOfCells(); ++c)
+  ExpectBruteForceBits(spline, uv, reference);
+  if (testing::Test::HasFatalFailure())
   {
-    spline->GetCellPoints(c, ids);
-    for (int a = 0; a < 3; ++a)
-    {
-      corners.emplace_back(uvArray->GetComponent(ids->GetId(a), 0), uvArray->GetComponent(ids->GetId(a), 1));
-    }
-  }
-  for (size_t k = 0; k < uv.size(); ++k)
-  {
-    ExpectBruteForceBits(spline, corners, reference, uv[k], static_cast<vtkIdType>(k));
-    if (testing::Test::HasFatalFailure())
-    {
-      return;
-    }
+    return;
   }
 
   // 64-bit cell storage: read in place as well.
@@ -389,6 +403,92 @@ TEST(vtkSplineParameterProbe, InPlaceAndCopiedSourcesKeepTheBits)
     weighted[copied] = Probe(QueryPoints(uv), rational);
   }
   ExpectSameBits(weighted[0], weighted[1]);
+}
+
+// A copy of `spline` whose cell j is cell order[j] of `spline` (its MacroTriangleId with it).
+vtkSmartPointer<vtkUnstructuredGrid> ReorderCells(
+  vtkUnstructuredGrid* spline, const std::vector<vtkIdType>& order)
+{
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->SetPoints(spline->GetPoints());
+  out->GetPointData()->ShallowCopy(spline->GetPointData());
+  out->Allocate(static_cast<vtkIdType>(order.size()));
+  vtkNew<vtkIdTypeArray> macro;
+  macro->SetName("MacroTriangleId");
+  vtkDataArray* in = spline->GetCellData()->GetArray("MacroTriangleId");
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c : order)
+  {
+    spline->GetCellPoints(c, ids);
+    out->InsertNextCell(spline->GetCellType(c), ids);
+    macro->InsertNextValue(static_cast<vtkIdType>(in->GetComponent(c, 0)));
+  }
+  out->GetCellData()->AddArray(macro);
+  return out;
+}
+
+// A spline in the spline filter's layout (cells 3 i .. 3 i + 2 of macro-triangle i), also in
+// reverse cell order (whole triples still), is located by macro-triangles; with its cells
+// shuffled or the first one moved to the end, or without MacroTriangleId, by cells. Every one
+// gives the bits of a brute-force search in its own cell order, ties at vertices, split points
+// and the midpoints of macro and micro edges included.
+TEST(vtkSplineParameterProbe, MacroTriangleLocatorKeepsTheBits)
+{
+  const ctk::ParameterMesh mesh = ctk::RegularGridMesh(24, ctk::GridDiagonal::Alternating);
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(mesh, ctk::AnalyticSurface::Franke);
+  const vtkIdType n = spline->GetNumberOfCells();
+  ASSERT_EQ(n, 3 * mesh.NumberOfTriangles());
+  std::mt19937 rng(29);
+  std::vector<ctk::Vec2> uv = DomainPoints(rng, 300);
+  vtkDataArray* uvArray = spline->GetPointData()->GetArray("UV");
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < n; c += 7)
+  {
+    spline->GetCellPoints(c, ids);
+    for (int a = 0; a < 3; ++a)
+    {
+      const ctk::Vec2 A(uvArray->GetComponent(ids->GetId(a), 0), uvArray->GetComponent(ids->GetId(a), 1));
+      const ctk::Vec2 B(uvArray->GetComponent(ids->GetId((a + 1) % 3), 0),
+        uvArray->GetComponent(ids->GetId((a + 1) % 3), 1));
+      uv.push_back(A);
+      uv.push_back(0.5 * (A + B));
+    }
+  }
+  std::vector<vtkIdType> order(n);
+  std::iota(order.begin(), order.end(), vtkIdType(0));
+  std::vector<vtkIdType> reversed(order.rbegin(), order.rend()), shuffled = order,
+                                                               rotated = order;
+  std::shuffle(shuffled.begin(), shuffled.end(), rng);
+  std::rotate(rotated.begin(), rotated.begin() + 1, rotated.end());
+  const std::pair<const std::vector<vtkIdType>*, int> cases[] = { { &order, 3 },
+    { &reversed, 3 }, { &shuffled, 1 }, { &rotated, 1 } };
+  for (const auto& [cellOrder, perEntry] : cases)
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> source = ReorderCells(spline, *cellOrder);
+    vtkNew<vtkSplineParameterProbe> probe;
+    probe->SetSourceData(source);
+    probe->SetInputData(QueryPoints(uv));
+    probe->Update();
+    EXPECT_EQ(probe->GetNumberOfCellsPerLocatorEntry(), perEntry);
+    ExpectBruteForceBits(source, uv, vtkDataSet::SafeDownCast(probe->GetOutput()));
+    if (testing::Test::HasFatalFailure())
+    {
+      return;
+    }
+  }
+  auto noMacroIds = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  noMacroIds->ShallowCopy(spline);
+  noMacroIds->GetCellData()->RemoveArray("MacroTriangleId");
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetSourceData(noMacroIds);
+  probe->SetInputData(QueryPoints(uv));
+  probe->Update();
+  EXPECT_EQ(probe->GetNumberOfCellsPerLocatorEntry(), 1);
+  vtkSmartPointer<vtkDataSet> grouped = Probe(QueryPoints(uv), spline);
+  for (size_t k = 0; k < uv.size(); ++k)
+  {
+    ASSERT_EQ(Point(vtkDataSet::SafeDownCast(probe->GetOutput()), k), Point(grouped, k)) << k;
+  }
 }
 
 // ComputeDerivatives off: the same positions, no derivative arrays.
@@ -702,4 +802,5 @@ TEST(vtkSplineParameterProbe, PrintSelfAndDefaults)
   std::ostringstream os;
   probe->Print(os);
   EXPECT_NE(os.str().find("UVArrayName: UV"), std::string::npos);
+  EXPECT_EQ(probe->GetNumberOfCellsPerLocatorEntry(), 0);
 }

@@ -291,3 +291,69 @@ TEST(TriangleBucketGrid, CornersReadInPlace)
   EXPECT_EQ(grid.Locate(0.2, 0.8, squareCorners).Triangle, 1);
   EXPECT_FALSE(grid.Locate(1.5, 0.5, squareCorners).Found());
 }
+
+// Groups of micro-triangles (each macro-triangle of a jittered grid split at a point, outside it
+// for every fifth one, as a Clough-Tocher spline's cells come): the grid over groups locates
+// exactly as the grid over single triangles and the brute-force rule, barycentric coordinates
+// included, ties (shared vertices, edges and split points) to the lowest id; with fewer
+// entries. A last, incomplete group and groups that are not macro-triangles (k = 4) are still
+// right.
+TEST(TriangleBucketGrid, GroupsLocateAsSingleTriangles)
+{
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> U(0.1, 1.0);
+  const ParameterMesh m = RandomMesh(rng, 12, GridDiagonal::Alternating);
+  std::vector<Vec2> micro, splits;
+  for (Id t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    const Vec2* A[3] = { &m.UV[m.Triangles[3 * t]], &m.UV[m.Triangles[3 * t + 1]],
+      &m.UV[m.Triangles[3 * t + 2]] };
+    Vec3 w(U(rng), U(rng), U(rng));
+    w /= w.sum();
+    if (t % 5 == 0)
+    {
+      w = Vec3(1.4, -0.15, -0.25); // outside, beyond corner 0
+    }
+    const Vec2 S = w[0] * *A[0] + w[1] * *A[1] + w[2] * *A[2];
+    splits.push_back(S);
+    for (int l = 0; l < 3; ++l)
+    {
+      micro.insert(micro.end(), { *A[l], *A[(l + 1) % 3], S });
+    }
+  }
+  Vec2 lo = micro[0], hi = micro[0];
+  for (const Vec2& p : micro)
+  {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  std::vector<Vec2> queries = QueryPoints(m, rng, 400);
+  for (size_t i = 0; i < micro.size(); i += 3)
+  {
+    queries.push_back(micro[i + 2]);                     // split point: 3 micro-triangles
+    queries.push_back(0.5 * (micro[i] + micro[i + 2]));  // micro edge: 2
+  }
+  for (const Id n : { Id(micro.size() / 3), Id(micro.size() / 3 - 1) })
+  {
+    auto corners = [&micro](Id t, Vec2* c) { std::copy_n(&micro[3 * t], 3, c); };
+    const std::vector<Vec2> used(micro.begin(), micro.begin() + 3 * n);
+    TriangleBucketGrid single, grouped, fours;
+    ASSERT_TRUE(single.Build(n, corners, lo, hi));
+    ASSERT_TRUE(grouped.Build(n, corners, lo, hi, 3));
+    ASSERT_TRUE(fours.Build(n, corners, lo, hi, 4));
+    EXPECT_EQ(grouped.GetGroupSize(), 3);
+    EXPECT_LT(grouped.GetNumberOfEntries(), single.GetNumberOfEntries() / 2);
+    for (size_t i = 0; i < queries.size(); ++i)
+    {
+      const Vec2& X = queries[i];
+      const LocatorHit expected = BruteForce(used, X);
+      for (const TriangleBucketGrid* grid : { &single, &grouped, &fours })
+      {
+        const LocatorHit hit = grid->Locate(X.x(), X.y(), corners);
+        ASSERT_EQ(hit.Triangle, expected.Triangle)
+          << "group size " << grid->GetGroupSize() << ", " << n << " triangles, query " << i;
+        ASSERT_EQ(hit.Barycentric, expected.Barycentric) << "query " << i;
+      }
+    }
+  }
+}
