@@ -56,22 +56,36 @@ BuildStatus CheckValues(const SplineData& data)
     const char *Name, *Element;
   };
   const Id nV = data.NumberOfVertices, nT = data.NumberOfTriangles;
+  auto failure = [](const char* name, const char* element, Id row, double value) {
+    std::ostringstream os;
+    os << "the " << name << " of " << element << " " << row << " include " << value;
+    os << (std::isfinite(value) ? "; magnitudes must stay below 1e100 (rescale the data)"
+                                : ": values must be finite");
+    return Failure(os.str());
+  };
+  const char* gradients = "mid-edge gradients";
+  // Mid-edge gradients through a row map are checked row by row below.
+  const double* directGradients = data.EdgeGradientRows ? nullptr : data.EdgeGradients;
   const Array arrays[] = { { data.UV, nV, 2, 0, "parameter coordinates (u, v)", "vertex" },
     { data.F, nV, 3, 0, "positions", "vertex" }, { data.Fu, nV, 3, 0, "derivatives d/du", "vertex" },
     { data.Fv, nV, 3, 0, "derivatives d/dv", "vertex" },
-    { data.EdgeGradients, nT, 18, 0, "mid-edge gradients", "triangle" },
+    { directGradients, nT, 18, 0, gradients, "triangle" },
     { data.BoundaryCurvePoints, nT, 18, 6, "boundary curve points", "triangle" } };
   for (const Array& a : arrays)
   {
     const Id k = FirstBadValue(a.Values, a.Rows, a.Columns, a.NanGroup);
     if (k >= 0)
     {
-      std::ostringstream os;
-      os << "the " << a.Name << " of " << a.Element << " " << k / a.Columns << " include "
-         << a.Values[k];
-      os << (std::isfinite(a.Values[k]) ? "; magnitudes must stay below 1e100 (rescale the data)"
-                                        : ": values must be finite");
-      return Failure(os.str());
+      return failure(a.Name, a.Element, k / a.Columns, a.Values[k]);
+    }
+  }
+  for (Id t = 0; data.EdgeGradients && !directGradients && t < nT; ++t)
+  {
+    const double* row = EdgeGradientsOf(data, t);
+    const Id k = FirstBadValue(row, 1, 18);
+    if (k >= 0)
+    {
+      return failure(gradients, "triangle", t, row[k]);
     }
   }
   return {};
