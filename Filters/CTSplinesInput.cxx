@@ -40,26 +40,52 @@ std::string CheckTuples(
   return os.str();
 }
 
-std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup)
+namespace
+{
+// CheckTuples and the component count.
+std::string CheckShape(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element)
 {
   std::string error = CheckTuples(array, what, tuples, element);
-  if (!error.empty())
+  if (error.empty() && array->GetNumberOfComponents() != components)
   {
-    return error;
+    error = what + " has " + std::to_string(array->GetNumberOfComponents()) +
+      " components, expected " + std::to_string(components);
   }
+  return error;
+}
+
+// The value checks of CopyArray on an array of the right shape, copying into out unless it is
+// null (then the values are only checked).
+std::string ReadValues(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element, double* out, int nanGroup)
+{
   std::ostringstream os;
-  if (array->GetNumberOfComponents() != components)
-  {
-    os << what << " has " << array->GetNumberOfComponents() << " components, expected "
-       << components;
-    return os.str();
-  }
-  const vtkIdType n = tuples;
-  ctk::ResizeForOverwrite(out, static_cast<size_t>(n) * components);
-  // Values in (tuple, component) order, so the first bad one is reported.
-  auto copy = [&](auto get) {
-    const size_t count = static_cast<size_t>(n) * components;
+  const size_t count = static_cast<size_t>(tuples) * components;
+  auto read = [&](auto get) {
+    // One pass without an early exit, flagging a bad value by a select (which compilers
+    // vectorize, unlike a branch or an integer reduction); only a bad value or a NaN calls for
+    // the second, which reports the first bad value in (tuple, component) order.
+    double bad = 0;
+    if (out)
+    {
+      for (size_t k = 0; k < count; ++k)
+      {
+        out[k] = get(k);
+        bad = ctk::IsUsableValue(out[k]) ? bad : 1.0;
+      }
+    }
+    else
+    {
+      for (size_t k = 0; k < count; ++k)
+      {
+        bad = ctk::IsUsableValue(get(k)) ? bad : 1.0;
+      }
+    }
+    if (bad == 0)
+    {
+      return true;
+    }
     for (size_t k = 0; k < count; ++k)
     {
       const double x = get(k);
@@ -73,7 +99,22 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
         }
         return false;
       }
-      out[k] = x;
+    }
+    // Only NaNs, which nanGroup allows for whole groups.
+    for (size_t g = 0; g < count; g += nanGroup)
+    {
+      int nans = 0;
+      for (int i = 0; i < nanGroup; ++i)
+      {
+        nans += std::isnan(get(g + i)) ? 1 : 0;
+      }
+      if (nans != 0 && nans != nanGroup)
+      {
+        os << what << " has a partly NaN group (components " << g % components << " to "
+           << g % components + nanGroup - 1 << ") at " << element << " "
+           << static_cast<vtkIdType>(g / components) << ": give all or none";
+        return false;
+      }
     }
     return true;
   };
@@ -82,36 +123,54 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
   if (auto* d = vtkDoubleArray::FastDownCast(array))
   {
     const double* src = d->GetPointer(0);
-    ok = copy([src](size_t k) { return src[k]; });
+    ok = read([src](size_t k) { return src[k]; });
   }
   else if (auto* f = vtkFloatArray::FastDownCast(array))
   {
     const float* src = f->GetPointer(0);
-    ok = copy([src](size_t k) { return static_cast<double>(src[k]); });
+    ok = read([src](size_t k) { return static_cast<double>(src[k]); });
   }
   else
   {
-    ok = copy([array, components](size_t k) {
+    ok = read([array, components](size_t k) {
       return array->GetComponent(
         static_cast<vtkIdType>(k / components), static_cast<int>(k % components));
     });
   }
-  if (ok && nanGroup > 0)
-  {
-    for (size_t g = 0; g < out.size(); g += nanGroup)
-    {
-      const auto nans = std::count_if(
-        out.begin() + g, out.begin() + g + nanGroup, [](double x) { return std::isnan(x); });
-      if (nans != 0 && nans != nanGroup)
-      {
-        os << what << " has a partly NaN group (components " << g % components << " to "
-           << g % components + nanGroup - 1 << ") at " << element << " "
-           << static_cast<vtkIdType>(g / components) << ": give all or none";
-        return os.str();
-      }
-    }
-  }
   return ok ? std::string() : os.str();
+}
+} // namespace
+
+std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup)
+{
+  std::string error = CheckShape(array, what, components, tuples, element);
+  if (!error.empty())
+  {
+    return error;
+  }
+  ctk::ResizeForOverwrite(out, static_cast<size_t>(tuples) * components);
+  return ReadValues(array, what, components, tuples, element, out.data(), nanGroup);
+}
+
+std::string ShareOrCopyArray(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element, std::vector<double>& copy, const double*& values)
+{
+  values = nullptr;
+  auto* d = vtkDoubleArray::FastDownCast(array);
+  if (!d)
+  {
+    std::string error = CopyArray(array, what, components, tuples, element, copy);
+    values = error.empty() ? copy.data() : nullptr;
+    return error;
+  }
+  std::string error = CheckShape(array, what, components, tuples, element);
+  if (error.empty())
+  {
+    error = ReadValues(array, what, components, tuples, element, nullptr, 0);
+  }
+  values = error.empty() ? d->GetPointer(0) : nullptr;
+  return error;
 }
 
 std::string CopyIdArray(vtkDataArray* array, const std::string& what, vtkIdType tuples,

@@ -34,6 +34,12 @@ std::string CheckTuples(
 std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup = 0);
 
+/// CopyArray's checks, without the copy when `array` stores row-major doubles (vtkDoubleArray):
+/// values then points at its storage, which the caller reads in place while the array lives;
+/// otherwise at `copy`, filled as by CopyArray. nullptr with an error.
+std::string ShareOrCopyArray(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element, std::vector<double>& copy, const double*& values);
+
 /// Copies a one-component id array (MacroTriangleId, GlobalIds, ...) after checking its size and
 /// that every value is an integer in [0, limit) (limit < 0: any non-negative integer).
 std::string CopyIdArray(vtkDataArray* array, const std::string& what, vtkIdType tuples,

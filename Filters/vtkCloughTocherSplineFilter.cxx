@@ -312,8 +312,10 @@ std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* sel
     const std::string what = "cell data array '" + egName + "' (mid-edge gradients, needed by " +
       info.Name + " with boundary mode " +
       vtkCloughTocherSplineFilter::GetBoundaryModeName(self->GetBoundaryMode()) + ")";
-    error = ctsplines::CopyArray(ctsplines::FindArray(input->GetCellData(), egName), what, 18,
-      nCells, "cell", in.EdgeGradients);
+    // Read in place: the construction reads them through a row map (SplineInput::Renumber).
+    error = ctsplines::ShareOrCopyArray(ctsplines::FindArray(input->GetCellData(), egName), what,
+      18, nCells, "cell", in.EdgeGradients, in.SharedEdgeGradients);
+    in.SharedEdgeGradients = in.EdgeGradients.empty() ? in.SharedEdgeGradients : nullptr;
   }
   const std::string curves = self->GetBoundaryCurvePointsArrayName();
   if (error.empty() && !curves.empty())
@@ -762,8 +764,11 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
     ctk::PermuteRows(v, width, kept, false);
     v.resize(v.empty() ? 0 : width * kept.size());
   };
+  if (in.HasEdgeGradients())
+  {
+    keepRows(in.EdgeGradientRowMap(), 1); // its rows are the input cells'
+  }
   keepRows(in.Triangles, 3);
-  keepRows(in.EdgeGradients, 18);
   keepRows(in.BoundaryCurvePoints, 18);
   keepRows(in.SplitTau, 1);
   return kept;
@@ -796,6 +801,8 @@ void ReleaseBuildOnlyData(int degree, ctk::SplineInput& in, ctk::MeshTopology& t
     std::vector<double>().swap(*a);
   }
   std::vector<ctk::Vec3>().swap(in.SplitTau);
+  std::vector<ctk::Id>().swap(in.EdgeGradientRows);
+  in.SharedEdgeGradients = nullptr;
   if (degree == 3)
   {
     std::vector<std::array<ctk::Id, 2>>().swap(topology.Edges);

@@ -62,7 +62,7 @@ std::vector<Vec3> DegreesOfFreedom(
       const Id t = topo.EdgeTriangles[e][s];
       if (t >= 0)
       {
-        const double* eg = data.EdgeGradients + 18 * t + 6 * topo.EdgeLocalIndex[e][s];
+        const double* eg = EdgeGradientsOf(data, t) + 6 * topo.EdgeLocalIndex[e][s];
         g += w.x() * Vec3(eg) + w.y() * Vec3(eg + 3);
         ++count;
       }

@@ -305,7 +305,7 @@ void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const
     {
       continue;
     }
-    const double* g = this->Data.EdgeGradients + 18 * t + 6 * this->Topo.EdgeLocalIndex[e][s];
+    const double* g = EdgeGradientsOf(this->Data, t) + 6 * this->Topo.EdgeLocalIndex[e][s];
     gu += Vec3(g[0], g[1], g[2]);
     gv += Vec3(g[3], g[4], g[5]);
     ++count;

@@ -47,6 +47,9 @@ struct SplineData
   /// Optional #T by 18: for local edges (p0,p1), (p1,p2), (p2,p0), f_u then f_v at the edge
   /// midpoint. Where both triangles of an edge give one, their mean is used on both sides.
   const double* EdgeGradients = nullptr;
+  /// Optional #T: triangle t's row of EdgeGradients (default t), so that a renumbered mesh can
+  /// read its caller's rows in place (the VTK filter's cell data, never copied nor permuted).
+  const Id* EdgeGradientRows = nullptr;
   /// Optional #T barycentric coordinates of the split points; when given they replace
   /// SplineOptions::SplitPoint (the Bézier extraction probes data with the split points of the
   /// real data, since Inc3 depends on positions).
@@ -64,6 +67,12 @@ struct SplineData
   /// its input): the values are then not read a second time, serially, before the construction.
   bool ValuesChecked = false;
 };
+
+/// The 18 mid-edge gradient values of triangle t (SplineData::EdgeGradients must be set).
+inline const double* EdgeGradientsOf(const SplineData& d, Id t)
+{
+  return d.EdgeGradients + 18 * (d.EdgeGradientRows ? d.EdgeGradientRows[t] : t);
+}
 
 struct SplineOptions
 {

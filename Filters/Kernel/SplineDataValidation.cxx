@@ -57,31 +57,45 @@ BuildStatus CheckValues(const SplineData& data)
     IdKind Element;
   };
   const Id nV = data.NumberOfVertices, nT = data.NumberOfTriangles;
+  auto failure = [](const char* name, IdKind element, Id row, double value) {
+    MessageBuilder os;
+    os << "the " << name << " of ";
+    if (element == IdKind::Vertex)
+    {
+      os << "vertex " << VertexId{ row };
+    }
+    else
+    {
+      os << "triangle " << TriangleId{ row };
+    }
+    os << " include " << value;
+    os << (std::isfinite(value) ? "; magnitudes must stay below 1e100 (rescale the data)"
+                                : ": values must be finite");
+    return os.Failure<BuildStatus>();
+  };
   constexpr IdKind V = IdKind::Vertex, T = IdKind::Triangle;
+  const char* gradients = "mid-edge gradients";
+  // Mid-edge gradients through a row map are checked row by row below.
+  const double* directGradients = data.EdgeGradientRows ? nullptr : data.EdgeGradients;
   const Array arrays[] = { { data.UV, nV, 2, 0, "parameter coordinates (u, v)", V },
     { data.F, nV, 3, 0, "positions", V }, { data.Fu, nV, 3, 0, "derivatives d/du", V },
-    { data.Fv, nV, 3, 0, "derivatives d/dv", V },
-    { data.EdgeGradients, nT, 18, 0, "mid-edge gradients", T },
+    { data.Fv, nV, 3, 0, "derivatives d/dv", V }, { directGradients, nT, 18, 0, gradients, T },
     { data.BoundaryCurvePoints, nT, 18, 6, "boundary curve points", T } };
   for (const Array& a : arrays)
   {
     const Id k = FirstBadValue(a.Values, a.Rows, a.Columns, a.NanGroup);
     if (k >= 0)
     {
-      MessageBuilder os;
-      os << "the " << a.Name << " of ";
-      if (a.Element == V)
-      {
-        os << "vertex " << VertexId{ k / a.Columns };
-      }
-      else
-      {
-        os << "triangle " << TriangleId{ k / a.Columns };
-      }
-      os << " include " << a.Values[k];
-      os << (std::isfinite(a.Values[k]) ? "; magnitudes must stay below 1e100 (rescale the data)"
-                                        : ": values must be finite");
-      return os.Failure<BuildStatus>();
+      return failure(a.Name, a.Element, k / a.Columns, a.Values[k]);
+    }
+  }
+  for (Id t = 0; data.EdgeGradients && !directGradients && t < nT; ++t)
+  {
+    const double* row = EdgeGradientsOf(data, t);
+    const Id k = FirstBadValue(row, 1, 18);
+    if (k >= 0)
+    {
+      return failure(gradients, T, t, row[k]);
     }
   }
   return {};

@@ -3,6 +3,8 @@
 
 #include "SplineDataValidation.h"
 
+#include <numeric>
+
 namespace ctk
 {
 namespace
@@ -36,7 +38,8 @@ SplineData SplineInput::View() const
   d.F = OrNull(this->F);
   d.Fu = OrNull(this->Fu);
   d.Fv = OrNull(this->Fv);
-  d.EdgeGradients = OrNull(this->EdgeGradients);
+  d.EdgeGradients = this->SharedEdgeGradients ? this->SharedEdgeGradients : OrNull(this->EdgeGradients);
+  d.EdgeGradientRows = OrNull(this->EdgeGradientRows);
   d.BoundaryCurvePoints = OrNull(this->BoundaryCurvePoints);
   d.SplitTau = OrNull(this->SplitTau);
   d.ValuesChecked = this->ValuesChecked;
@@ -53,11 +56,25 @@ BuildStatus SplineInput::Validate(const MeshTopology& topology) const
     !SizeIs(status, "F", this->F.size(), 3 * nV, false) ||
     !SizeIs(status, "Fu", this->Fu.size(), 3 * nV, false) ||
     !SizeIs(status, "Fv", this->Fv.size(), 3 * nV, false) ||
-    !SizeIs(status, "EdgeGradients", this->EdgeGradients.size(), 18 * nT, true) ||
+    (this->EdgeGradientRows.empty() && !this->SharedEdgeGradients &&
+      !SizeIs(status, "EdgeGradients", this->EdgeGradients.size(), 18 * nT, true)) ||
+    !SizeIs(status, "EdgeGradientRows", this->EdgeGradientRows.size(), nT, true) ||
     !SizeIs(status, "BoundaryCurvePoints", this->BoundaryCurvePoints.size(), 18 * nT, true) ||
     !SizeIs(status, "SplitTau", this->SplitTau.size(), nT, true))
   {
     return status;
+  }
+  const size_t ownedRows = this->EdgeGradients.size() / 18;
+  for (size_t t = 0; t < this->EdgeGradientRows.size(); ++t)
+  {
+    const Id row = this->EdgeGradientRows[t];
+    if (row < 0 || (!this->SharedEdgeGradients && static_cast<size_t>(row) >= ownedRows))
+    {
+      status.Ok = false;
+      status.Message = "EdgeGradientRows gives triangle " + std::to_string(t) + " the row " +
+        std::to_string(row) + ", outside the " + std::to_string(ownedRows) + " rows of EdgeGradients";
+      return status;
+    }
   }
   if (topology.TriangleEdges.size() != nT)
   {
@@ -67,6 +84,16 @@ BuildStatus SplineInput::Validate(const MeshTopology& topology) const
     return status;
   }
   return ValidateSplineData(this->View(), topology);
+}
+
+std::vector<Id>& SplineInput::EdgeGradientRowMap()
+{
+  if (this->EdgeGradientRows.empty())
+  {
+    this->EdgeGradientRows.resize(static_cast<size_t>(this->NumberOfTriangles()));
+    std::iota(this->EdgeGradientRows.begin(), this->EdgeGradientRows.end(), Id(0));
+  }
+  return this->EdgeGradientRows;
 }
 
 void SplineInput::Renumber(const LocalityRenumbering& r, bool back)
@@ -101,7 +128,10 @@ void SplineInput::Renumber(const LocalityRenumbering& r, bool back)
   {
     PermuteRows(*a, 3, r.Vertices, back);
   }
-  PermuteRows(this->EdgeGradients, 18, r.Triangles, back);
+  if (this->HasEdgeGradients())
+  {
+    PermuteRows(this->EdgeGradientRowMap(), 1, r.Triangles, back);
+  }
   PermuteRows(this->BoundaryCurvePoints, 18, r.Triangles, back);
   PermuteRows(this->SplitTau, 1, r.Triangles, back);
 }

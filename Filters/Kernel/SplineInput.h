@@ -16,7 +16,11 @@ struct SplineInput
   std::vector<Id> Triangles;     // #T by 3
   std::vector<double> UV;        // #V by 2
   std::vector<double> F, Fu, Fv; // #V by 3 each
-  std::vector<double> EdgeGradients;       // empty or #T by 18
+  std::vector<double> EdgeGradients;       // empty or #T by 18 (rows: EdgeGradientRows)
+  /// Instead of EdgeGradients: the caller's rows, read in place (it keeps them alive).
+  const double* SharedEdgeGradients = nullptr;
+  /// Empty, or #T: triangle t's row of the edge gradients (SplineData::EdgeGradientRows).
+  std::vector<Id> EdgeGradientRows;
   std::vector<double> BoundaryCurvePoints; // empty or #T by 18
   std::vector<Vec3> SplitTau;              // empty or #T
   bool ValuesChecked = false;              // see SplineData::ValuesChecked
@@ -29,8 +33,17 @@ struct SplineInput
   /// then ValidateSplineData: finite values, no zero-area or folded triangle.
   BuildStatus Validate(const MeshTopology& topology) const;
   /// Puts the mesh and every array in the numbering of r (triangles' vertex order kept), or back
-  /// in the input's numbering (back = true).
+  /// in the input's numbering (back = true). The edge gradients stay in place: their row map is
+  /// renumbered (18 values per triangle are not worth moving; most constructions read few).
   void Renumber(const LocalityRenumbering& r, bool back = false);
+  /// Whether there are edge gradients, owned or shared.
+  bool HasEdgeGradients() const
+  {
+    return !this->EdgeGradients.empty() || this->SharedEdgeGradients;
+  }
+  /// EdgeGradientRows, made explicit (triangle t at row t) when empty, for a caller that
+  /// renumbers or drops triangles.
+  std::vector<Id>& EdgeGradientRowMap();
 };
 
 } // namespace ctk

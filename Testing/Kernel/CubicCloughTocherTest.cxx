@@ -284,7 +284,8 @@ TEST(CubicCloughTocher, RenumberedMeshGivesEveryTriangleTheSameBits)
       ASSERT_EQ(renumbered.UV[2 * v], mesh.UV[2 * r.Vertices[v]]);
       ASSERT_EQ(renumbered.Fu[3 * v + 2], mesh.Fu[3 * r.Vertices[v] + 2]);
     }
-    ASSERT_EQ(renumbered.EdgeGradients[18 * k + 17], mesh.EdgeGradients[18 * r.Triangles[k] + 17]);
+    // The edge gradients stay in place, reached through the row map.
+    ASSERT_EQ(EdgeGradientsOf(renumbered.View(), k)[17], mesh.EdgeGradients[18 * r.Triangles[k] + 17]);
   }
   ASSERT_TRUE(BuildMeshTopology(renumbered.NumberOfVertices(), renumbered.NumberOfTriangles(),
     renumbered.Triangles.data(), renumbered.Topology).Ok);
@@ -295,6 +296,10 @@ TEST(CubicCloughTocher, RenumberedMeshGivesEveryTriangleTheSameBits)
   EXPECT_EQ(back.Triangles, mesh.Triangles);
   EXPECT_EQ(back.UV, mesh.UV);
   EXPECT_EQ(back.EdgeGradients, mesh.EdgeGradients);
+  for (Id t = 0; t < mesh.NumberOfTriangles(); ++t)
+  {
+    ASSERT_EQ(back.EdgeGradientRows[t], t);
+  }
 
   for (int c = 0; c < NumberOfConstructions; ++c)
   {
