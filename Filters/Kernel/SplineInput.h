@@ -29,8 +29,9 @@ struct SplineInput
   /// then ValidateSplineData: finite values, no zero-area or folded triangle.
   BuildStatus Validate(const MeshTopology& topology) const;
   /// Puts the mesh and every array in the numbering of r (triangles' vertex order kept), or back
-  /// in the input's numbering (back = true).
-  void Renumber(const LocalityRenumbering& r, bool back = false);
+  /// in the input's numbering (back = true), chunked by parallelFor over the rows.
+  void Renumber(
+    const LocalityRenumbering& r, bool back = false, const ParallelFor& parallelFor = SerialFor);
 };
 
 } // namespace ctk
