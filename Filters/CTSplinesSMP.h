@@ -247,6 +247,13 @@ inline void SMPFor(ctk::Id n, const std::function<void(ctk::Id, ctk::Id)>& body)
     0, n, GrainForEvaluations, [&body](vtkIdType begin, vtkIdType end) { body(begin, end); });
 }
 
+/// Runs the kernel's loops of a few words per element (renumbering, topology, locality order)
+/// through ParallelFor.
+inline void SMPCopyFor(ctk::Id n, const std::function<void(ctk::Id, ctk::Id)>& body)
+{
+  ParallelFor(0, n, GrainForCopies, [&body](vtkIdType begin, vtkIdType end) { body(begin, end); });
+}
+
 /// SetNumberOfTuples for an output array (contiguous storage) that is then written in parallel
 /// loops: its storage is advised for huge pages before the first touch (see LargeArrays.h).
 inline void AllocateTuples(vtkDataArray* array, vtkIdType tuples)

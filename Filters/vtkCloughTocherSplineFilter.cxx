@@ -624,7 +624,8 @@ std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
   order = ctk::LocalityRenumbering();
   auto buildTopology = [&]() -> std::string {
     const ctk::TopologyStatus topo = ctk::BuildMeshTopology(
-      in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology);
+      in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology,
+      ctsplines::SMPCopyFor);
     return topo.Ok ? std::string() : "invalid mesh: " + InInputIds(topo, cells, order);
   };
   std::string error;
@@ -646,9 +647,9 @@ std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
   }
   if (renumber)
   {
-    order = ctk::MakeLocalityRenumbering(
-      in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), in.UV.data());
-    in.Renumber(order);
+    order = ctk::MakeLocalityRenumbering(in.NumberOfVertices(), in.NumberOfTriangles(),
+      in.Triangles.data(), in.UV.data(), ctsplines::SMPCopyFor);
+    in.Renumber(order, false, ctsplines::SMPCopyFor);
   }
   if ((estimation == vtkCloughTocherSplineFilter::NoEstimation || !order.IsIdentity()) &&
     !(error = buildTopology()).empty())
@@ -658,7 +659,7 @@ std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
   if (!order.IsIdentity())
   {
     // Each edge's triangles in the input's order, as the constructions read them: same bits.
-    ctk::OrderEdgeTrianglesByRank(order.Triangles.data(), topology);
+    ctk::OrderEdgeTrianglesByRank(order.Triangles.data(), topology, ctsplines::SMPCopyFor);
   }
   const ctk::BuildStatus built =
     ctk::BuildCloughTocher(in.View(), topology, options, spline, ctsplines::SMPFor);
@@ -881,7 +882,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   {
     // The kernel reports the lowest failing triangle of its numbering: built again in the
     // input's, the message is the one the input's order gives.
-    in.Renumber(order, true);
+    in.Renumber(order, true, ctsplines::SMPCopyFor);
     error = BuildSpline(in, cells, options, estimation, false, order, topology, spline, warning);
   }
   if (!error.empty())

@@ -508,9 +508,10 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
   const bool ordered = options.LocalityOrder && data.Triangles && data.UV &&
     static_cast<Id>(topo.TriangleEdges.size()) == data.NumberOfTriangles;
   const std::vector<Id> order = ordered
-    ? TriangleLocalityOrder(data.NumberOfVertices, data.NumberOfTriangles, data.Triangles, data.UV)
+    ? TriangleLocalityOrder(
+        data.NumberOfVertices, data.NumberOfTriangles, data.Triangles, data.UV, parallelFor)
     : std::vector<Id>();
-  status = ValidateSplineData(data, topo, order);
+  status = ValidateSplineData(data, topo, order, parallelFor);
   if (!status.Ok)
   {
     return status;

@@ -13,6 +13,7 @@
 #include "Constructions.h"
 #include "CubicMacroElement.h"
 #include "MeshTopology.h"
+#include "ParallelFor.h"
 #include "SplitPoint.h"
 
 #include <atomic>
@@ -93,33 +94,6 @@ BoundaryMode EffectiveBoundaryMode(const SplineOptions& options);
 
 /// Whether the options read SplineData::EdgeGradients (on all edges or on boundary edges).
 bool UsesEdgeGradients(const SplineOptions& options);
-
-/// Runs body(begin, end) over the chunks of [0, n); the caller may run chunks concurrently.
-using ParallelFor = std::function<void(Id n, const std::function<void(Id, Id)>& body)>;
-void SerialFor(Id n, const std::function<void(Id, Id)>& body);
-
-/// The lowest id reported from concurrent chunks, so that an error names the same element
-/// whatever the thread count.
-class LowestId
-{
-public:
-  void Report(Id id)
-  {
-    Id seen = this->Value.load(std::memory_order_relaxed);
-    while (id < seen && !this->Value.compare_exchange_weak(seen, id))
-    {
-    }
-  }
-  /// The lowest reported id, or -1 when none was reported.
-  Id Get() const
-  {
-    const Id v = this->Value.load();
-    return v == std::numeric_limits<Id>::max() ? -1 : v;
-  }
-
-private:
-  std::atomic<Id> Value{ std::numeric_limits<Id>::max() };
-};
 
 struct CubicSpline
 {

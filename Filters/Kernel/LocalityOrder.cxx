@@ -4,6 +4,8 @@
 #include "LargeArrays.h"
 
 #include <algorithm>
+#include <atomic>
+#include <mutex>
 #include <array>
 #include <cstdint>
 #include <limits>
@@ -69,8 +71,33 @@ void SortByUpperHalf(std::vector<std::uint64_t>& values)
   }
 }
 
-std::vector<Id> TriangleLocalityOrder(
-  Id numVertices, Id numTriangles, const Id* triangles, const double* uv)
+void BoundingBoxUV(Id n, const double* uv, double lo[2], double hi[2], const ParallelFor& parallelFor)
+{
+  std::mutex merge;
+  lo[0] = hi[0] = uv[0];
+  lo[1] = hi[1] = uv[1];
+  parallelFor(n, [&](Id begin, Id end) {
+    double chunkLo[2] = { uv[2 * begin], uv[2 * begin + 1] };
+    double chunkHi[2] = { chunkLo[0], chunkLo[1] };
+    for (Id v = begin + 1; v < end; ++v)
+    {
+      for (int c = 0; c < 2; ++c)
+      {
+        chunkLo[c] = std::min(chunkLo[c], uv[2 * v + c]);
+        chunkHi[c] = std::max(chunkHi[c], uv[2 * v + c]);
+      }
+    }
+    std::lock_guard<std::mutex> lock(merge);
+    for (int c = 0; c < 2; ++c)
+    {
+      lo[c] = std::min(lo[c], chunkLo[c]);
+      hi[c] = std::max(hi[c], chunkHi[c]);
+    }
+  });
+}
+
+std::vector<Id> TriangleLocalityOrder(Id numVertices, Id numTriangles, const Id* triangles,
+  const double* uv, const ParallelFor& parallelFor)
 {
   std::vector<Id> order;
   if (numTriangles < MinTrianglesForLocalityOrder ||
@@ -78,58 +105,63 @@ std::vector<Id> TriangleLocalityOrder(
   {
     return order;
   }
-  double lo[2] = { uv[0], uv[1] }, hi[2] = { uv[0], uv[1] };
-  for (Id v = 1; v < numVertices; ++v)
-  {
-    for (int c = 0; c < 2; ++c)
-    {
-      lo[c] = std::min(lo[c], uv[2 * v + c]);
-      hi[c] = std::max(hi[c], uv[2 * v + c]);
-    }
-  }
+  double lo[2], hi[2];
+  BoundingBoxUV(numVertices, uv, lo, hi, parallelFor);
   const double scale[2] = { hi[0] > lo[0] ? 65535.0 / (hi[0] - lo[0]) : 0.0,
     hi[1] > lo[1] ? 65535.0 / (hi[1] - lo[1]) : 0.0 };
   std::vector<std::uint64_t> keyed;
   ResizeForOverwrite(keyed, static_cast<std::size_t>(numTriangles));
-  for (Id t = 0; t < numTriangles; ++t)
-  {
-    if (t + PrefetchDistance < numTriangles)
+  std::uint64_t* keys = keyed.data();
+  parallelFor(numTriangles, [&](Id begin, Id end) {
+    for (Id t = begin; t < end; ++t)
     {
-      for (int l = 0; l < 3; ++l)
+      if (t + PrefetchDistance < end)
       {
-        PrefetchRead(uv + 2 * triangles[3 * (t + PrefetchDistance) + l]);
+        for (int l = 0; l < 3; ++l)
+        {
+          PrefetchRead(uv + 2 * triangles[3 * (t + PrefetchDistance) + l]);
+        }
       }
+      std::uint64_t cell[2];
+      for (int c = 0; c < 2; ++c)
+      {
+        const double x = (uv[2 * triangles[3 * t] + c] + uv[2 * triangles[3 * t + 1] + c] +
+                           uv[2 * triangles[3 * t + 2] + c]) / 3;
+        // Non-finite values (rejected later by the validation) land in cell 0.
+        const double s = (x - lo[c]) * scale[c];
+        cell[c] = s > 0 ? static_cast<std::uint64_t>(std::min(s, 65535.0)) : 0;
+      }
+      keys[t] = (std::uint64_t(MortonKey16(static_cast<std::uint32_t>(cell[0]),
+                    static_cast<std::uint32_t>(cell[1]))) << 32) | std::uint64_t(t);
     }
-    std::uint64_t cell[2];
-    for (int c = 0; c < 2; ++c)
-    {
-      const double x = (uv[2 * triangles[3 * t] + c] + uv[2 * triangles[3 * t + 1] + c] +
-                         uv[2 * triangles[3 * t + 2] + c]) / 3;
-      // Non-finite values (rejected later by the validation) land in cell 0.
-      const double s = (x - lo[c]) * scale[c];
-      cell[c] = s > 0 ? static_cast<std::uint64_t>(std::min(s, 65535.0)) : 0;
-    }
-    keyed[t] = (std::uint64_t(MortonKey16(static_cast<std::uint32_t>(cell[0]),
-                   static_cast<std::uint32_t>(cell[1]))) << 32) | std::uint64_t(t);
-  }
+  });
   SortByUpperHalf(keyed);
   ResizeForOverwrite(order, keyed.size());
-  std::transform(keyed.begin(), keyed.end(), order.begin(),
-    [](std::uint64_t v) { return static_cast<Id>(v & 0xFFFFFFFFu); });
+  parallelFor(numTriangles, [&](Id begin, Id end) {
+    std::transform(keyed.begin() + begin, keyed.begin() + end, order.begin() + begin,
+      [](std::uint64_t v) { return static_cast<Id>(v & 0xFFFFFFFFu); });
+  });
   return order;
 }
 
-LocalityRenumbering MakeLocalityRenumbering(
-  Id numVertices, Id numTriangles, const Id* triangles, const double* uv)
+LocalityRenumbering MakeLocalityRenumbering(Id numVertices, Id numTriangles, const Id* triangles,
+  const double* uv, const ParallelFor& parallelFor)
 {
   LocalityRenumbering r;
   // Ids out of range are left to the topology's validation, in the input's order.
-  if (!std::all_of(triangles, triangles + 3 * numTriangles,
-        [&](Id v) { return v >= 0 && v < numVertices; }))
+  std::atomic<bool> outside{ false };
+  parallelFor(3 * numTriangles, [&](Id begin, Id end) {
+    if (!std::all_of(triangles + begin, triangles + end,
+          [&](Id v) { return v >= 0 && v < numVertices; }))
+    {
+      outside.store(true, std::memory_order_relaxed);
+    }
+  });
+  if (outside.load())
   {
     return r;
   }
-  r.Triangles = TriangleLocalityOrder(numVertices, numTriangles, triangles, uv);
+  r.Triangles = TriangleLocalityOrder(numVertices, numTriangles, triangles, uv, parallelFor);
   if (r.Triangles.empty())
   {
     return r;

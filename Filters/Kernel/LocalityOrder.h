@@ -34,9 +34,15 @@ constexpr Id MinTrianglesForLocalityOrder = Id(1) << 15;
 
 /// The triangles sorted by the Morton key of their centroid in (u, v) (16 bits per axis over
 /// the vertices' bounding box; ties keep the input's order), or empty (the input's order) below
-/// MinTrianglesForLocalityOrder triangles. triangles: #T by 3 vertex ids, uv: #V by 2.
-std::vector<Id> TriangleLocalityOrder(
-  Id numVertices, Id numTriangles, const Id* triangles, const double* uv);
+/// MinTrianglesForLocalityOrder triangles. triangles: #T by 3 vertex ids, uv: #V by 2. The keys
+/// are computed in chunks of parallelFor.
+std::vector<Id> TriangleLocalityOrder(Id numVertices, Id numTriangles, const Id* triangles,
+  const double* uv, const ParallelFor& parallelFor = SerialFor);
+
+/// The bounding box lo, hi of the n points uv (#n by 2, n > 0), the same whatever the split of
+/// parallelFor's chunks (min and max are exact; NaN coordinates may or may not be skipped).
+void BoundingBoxUV(Id n, const double* uv, double lo[2], double hi[2],
+  const ParallelFor& parallelFor = SerialFor);
 
 /// The Morton key of cell (x, y) of a 2^16 by 2^16 grid: the bits of x at the even positions,
 /// those of y at the odd ones.
@@ -57,28 +63,37 @@ struct LocalityRenumbering
 };
 
 /// The locality renumbering of a mesh (empty below MinTrianglesForLocalityOrder triangles).
-LocalityRenumbering MakeLocalityRenumbering(
-  Id numVertices, Id numTriangles, const Id* triangles, const double* uv);
+LocalityRenumbering MakeLocalityRenumbering(Id numVertices, Id numTriangles, const Id* triangles,
+  const double* uv, const ParallelFor& parallelFor = SerialFor);
 
 /// Rows of `width` values of v (renumbered row k = input row from[k]) put in the renumbered
-/// order, or back in the input's order (back = true).
+/// order, or back in the input's order (back = true), chunked by parallelFor over the rows.
 template <typename T>
-void PermuteRows(std::vector<T>& v, std::size_t width, const std::vector<Id>& from, bool back)
+void PermuteRows(std::vector<T>& v, std::size_t width, const std::vector<Id>& from, bool back,
+  const ParallelFor& parallelFor = SerialFor)
 {
   if (v.empty() || from.empty())
   {
     return;
   }
   std::vector<T> out(v.size());
-  for (std::size_t k = 0; k < from.size(); ++k)
-  {
-    if (!back && k + PrefetchDistance < from.size())
+  parallelFor(static_cast<Id>(from.size()), [&](Id begin, Id end) {
+    // Locals: rows of ids could alias the captured sizes and pointers, reloaded per row.
+    const T* source = v.data();
+    T* target = out.data();
+    const Id* row = from.data();
+    const std::size_t n = width;
+    const bool gather = !back;
+    for (Id k = begin; k < end; ++k)
     {
-      PrefetchRead(&v[width * static_cast<std::size_t>(from[k + PrefetchDistance])]);
+      if (gather && k + PrefetchDistance < end)
+      {
+        PrefetchRead(source + n * static_cast<std::size_t>(row[k + PrefetchDistance]));
+      }
+      const std::size_t i = static_cast<std::size_t>(row[k]), j = static_cast<std::size_t>(k);
+      std::copy_n(source + n * (gather ? i : j), n, target + n * (gather ? j : i));
     }
-    const std::size_t i = static_cast<std::size_t>(from[k]);
-    std::copy_n(&v[width * (back ? k : i)], width, &out[width * (back ? i : k)]);
-  }
+  });
   v.swap(out);
 }
 

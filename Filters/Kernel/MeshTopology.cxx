@@ -4,6 +4,7 @@
 #include "LargeArrays.h"
 
 #include <algorithm>
+#include <memory>
 
 namespace ctk
 {
@@ -13,141 +14,276 @@ Id MeshTopology::NumberOfBoundaryEdges() const
     [](const std::array<Id, 2>& et) { return et[1] < 0; }));
 }
 
-TopologyStatus BuildMeshTopology(
-  Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology)
+namespace
 {
-  TopologyStatus status;
-  auto fail = [&](Id t, const MessageBuilder& msg) {
-    status = msg.Failure<TopologyStatus>();
-    status.Triangle = t;
-    return status;
-  };
-  for (Id t = 0; t < numTriangles; ++t)
-  {
-    const Id* p = triangles + 3 * t;
-    for (int l = 0; l < 3; ++l)
-    {
-      if (p[l] < 0 || p[l] >= numPoints)
-      {
-        // p[l] names no vertex (it is out of range): plain text, never renamed.
-        MessageBuilder os;
-        os << "triangle " << TriangleId{ t } << " references point " << p[l] << " outside [0, "
-           << numPoints << ")";
-        return fail(t, os);
-      }
-    }
-    if (p[0] == p[1] || p[1] == p[2] || p[2] == p[0])
-    {
-      MessageBuilder os;
-      os << "triangle " << TriangleId{ t } << " repeats a vertex (" << VertexId{ p[0] } << ", "
-         << VertexId{ p[1] } << ", " << VertexId{ p[2] } << ")";
-      return fail(t, os);
-    }
-  }
+// Half-edge h = 3t + l joins triangles[h] and triangles[NextCorner(h)].
+Id NextCorner(Id h)
+{
+  return h % 3 == 2 ? h - 2 : h + 1;
+}
 
-  // Bucket the 3T half-edges by their smaller vertex (counting sort), then match within buckets.
-  std::vector<Id> start(numPoints + 1, 0);
-  for (Id h = 0; h < 3 * numTriangles; ++h)
+// Edges are numbered by their smaller vertex, then by their first half-edge: the work is cut in
+// blocks of vertices (each block's half-edges bucketed and matched on its own, in cache) and of
+// triangles (the pass that sends each half-edge to its vertex block), at most MaxBlocks each.
+// Vertex blocks are powers of two (no division per half-edge); a half-edge is carried with its
+// smaller vertex's offset in its block, in the bits above HalfEdgeBits (3.6e11 half-edges).
+constexpr int MinVertexBlockBits = 12, MaxVertexBlockBits = 23, HalfEdgeBits = 40;
+constexpr Id HalfEdgeMask = (Id(1) << HalfEdgeBits) - 1;
+constexpr Id MinTriangleBlock = Id(1) << 15;
+constexpr Id MaxBlocks = 256;
+
+Id BlockSize(Id n, Id minimum)
+{
+  return std::max(minimum, (n + MaxBlocks - 1) / MaxBlocks);
+}
+
+int VertexBlockBits(Id numPoints)
+{
+  int bits = MinVertexBlockBits;
+  while (bits < MaxVertexBlockBits && (Id(1) << bits) * MaxBlocks < numPoints)
   {
-    const Id a = triangles[h], b = triangles[h % 3 == 2 ? h - 2 : h + 1];
-    ++start[std::min(a, b) + 1];
+    ++bits;
   }
-  for (Id v = 0; v < numPoints; ++v)
+  return bits;
+}
+
+// The failure of the lowest offending triangle's check (t fails it).
+TopologyStatus TriangleFailure(Id numPoints, const Id* triangles, Id t)
+{
+  const Id* p = triangles + 3 * t;
+  MessageBuilder os;
+  const auto outside = std::find_if(p, p + 3, [numPoints](Id v) { return v < 0 || v >= numPoints; });
+  if (outside != p + 3)
   {
-    start[v + 1] += start[v];
+    os << "triangle " << TriangleId{ t } << " references point " << *outside << " outside [0, "
+       << numPoints << ")";
   }
-  std::vector<Id> bucket;
-  ResizeForOverwrite(bucket, 3 * numTriangles);
+  else
+  {
+    os << "triangle " << TriangleId{ t } << " repeats a vertex (" << VertexId{ p[0] } << ", "
+       << VertexId{ p[1] } << ", " << VertexId{ p[2] } << ")";
+  }
+  TopologyStatus status = os.Failure<TopologyStatus>();
+  status.Triangle = t;
+  return status;
+}
+
+// The n half-edges of one vertex block (with their vertex offsets), bucketed (in `scratch`) by
+// their smaller vertex in half-edge order, are rewritten as the block's edges in order: an
+// interior edge as its two half-edges, a boundary edge as ~h. Returns the number of edges, or
+// -1 with `failure` set.
+Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratch,
+  TopologyStatus& failure)
+{
+  const Id* in = halfEdges;
+  auto high = [triangles](Id h) { return std::max(triangles[h], triangles[NextCorner(h)]); };
+  std::vector<Id> start(static_cast<size_t>(v1 - v0 + 1), 0);
+  for (Id i = 0; i < n; ++i)
+  {
+    ++start[(in[i] >> HalfEdgeBits) + 1];
+  }
+  for (Id v = v0; v < v1; ++v)
+  {
+    start[v - v0 + 1] += start[v - v0];
+  }
+  Id* bucket = scratch;
   {
     std::vector<Id> fill(start.begin(), start.end() - 1);
-    for (Id h = 0; h < 3 * numTriangles; ++h)
+    for (Id i = 0; i < n; ++i)
     {
-      const Id a = triangles[h], b = triangles[h % 3 == 2 ? h - 2 : h + 1];
-      bucket[fill[std::min(a, b)]++] = h;
+      bucket[fill[in[i] >> HalfEdgeBits]++] = in[i] & HalfEdgeMask;
     }
   }
-
-  topology.Edges.clear();
-  topology.EdgeTriangles.clear();
-  topology.EdgeLocalIndex.clear();
-  AssignLarge(topology.TriangleEdges, numTriangles, std::array<Id, 3>{ -1, -1, -1 });
-  // E = (3T + boundary edges)/2 <= 2T + 1; reserved pages that stay unused cost no memory.
-  const size_t edgeGuess = 2 * numTriangles + 1;
-  topology.Edges.reserve(edgeGuess);
-  topology.EdgeTriangles.reserve(edgeGuess);
-  topology.EdgeLocalIndex.reserve(edgeGuess);
-  AdviseHugePages(topology.Edges.data(), edgeGuess * sizeof(topology.Edges[0]));
-  AdviseHugePages(topology.EdgeTriangles.data(), edgeGuess * sizeof(topology.EdgeTriangles[0]));
-  for (Id v = 0; v < numPoints; ++v)
+  Id edges = 0;
+  Id* write = halfEdges; // free: the buckets hold every half-edge
+  std::vector<Id> others; // the other vertex of each half-edge of the bucket, read once
+  for (Id v = v0; v < v1; ++v)
   {
-    const Id begin = start[v], end = start[v + 1];
-    for (Id s = begin; s < end; ++s)
+    const Id begin = start[v - v0], count = start[v - v0 + 1] - begin;
+    Id* h = bucket + begin;
+    others.resize(static_cast<size_t>(count));
+    for (Id i = 0; i < count; ++i)
     {
-      const Id h = bucket[s];
-      const Id t = h / 3;
-      const int l = static_cast<int>(h % 3);
-      if (topology.TriangleEdges[t][l] >= 0)
+      others[i] = high(h[i]);
+    }
+    for (Id i = 0; i < count; ++i)
+    {
+      if (h[i] < 0)
       {
-        continue;
+        continue; // matched to an earlier half-edge
       }
-      const Id other = std::max(triangles[h], triangles[h % 3 == 2 ? h - 2 : h + 1]);
-      const Id e = static_cast<Id>(topology.Edges.size());
-      // Element by element: push_back of a braced pair goes through a stack temporary whose
-      // reload stalls on store forwarding (a third of the topology's time).
-      std::array<Id, 2>& edge = topology.Edges.emplace_back();
-      edge[0] = v;
-      edge[1] = other;
-      std::array<Id, 2>& sides = topology.EdgeTriangles.emplace_back();
-      sides[0] = t;
-      sides[1] = -1;
-      std::array<signed char, 2>& local = topology.EdgeLocalIndex.emplace_back();
-      local[0] = static_cast<signed char>(l);
-      local[1] = -1;
-      topology.TriangleEdges[t][l] = e;
-      for (Id s2 = s + 1; s2 < end; ++s2)
+      const Id other = others[i], t = h[i] / 3, opposite = triangles[3 * t + (h[i] % 3 + 2) % 3];
+      Id partner = -1;
+      for (Id j = i + 1; j < count; ++j)
       {
-        const Id h2 = bucket[s2];
-        if (std::max(triangles[h2], triangles[h2 % 3 == 2 ? h2 - 2 : h2 + 1]) != other)
+        if (h[j] < 0 || others[j] != other)
         {
           continue;
         }
-        const Id t2 = h2 / 3;
-        if (topology.EdgeTriangles[e][1] >= 0)
+        const Id t2 = h[j] / 3;
+        if (partner >= 0)
         {
           MessageBuilder os;
           os << "non-manifold edge (" << VertexId{ v } << ", " << VertexId{ other }
-             << ") shared by triangles " << TriangleId{ topology.EdgeTriangles[e][0] } << ", "
-             << TriangleId{ topology.EdgeTriangles[e][1] } << " and " << TriangleId{ t2 };
-          return fail(t2, os);
+             << ") shared by triangles " << TriangleId{ t } << ", " << TriangleId{ partner / 3 }
+             << " and " << TriangleId{ t2 };
+          failure = os.Failure<TopologyStatus>();
+          failure.Triangle = t2;
+          return -1;
         }
-        const Id opposite = triangles[3 * t + (l + 2) % 3];
-        if (triangles[3 * t2 + (h2 % 3 + 2) % 3] == opposite)
+        if (triangles[3 * t2 + (h[j] % 3 + 2) % 3] == opposite)
         {
           MessageBuilder os;
           os << "duplicate triangles " << TriangleId{ std::min(t, t2) } << " and "
              << TriangleId{ std::max(t, t2) } << " have the same vertices (" << VertexId{ v }
              << ", " << VertexId{ other } << ", " << VertexId{ opposite } << ")";
-          return fail(std::max(t, t2), os);
+          failure = os.Failure<TopologyStatus>();
+          failure.Triangle = std::max(t, t2);
+          return -1;
         }
-        topology.EdgeTriangles[e][1] = t2;
-        topology.EdgeLocalIndex[e][1] = static_cast<signed char>(h2 % 3);
-        topology.TriangleEdges[t2][h2 % 3] = e;
+        partner = h[j];
+        h[j] = -1;
+      }
+      *write++ = partner < 0 ? ~h[i] : h[i];
+      if (partner >= 0)
+      {
+        *write++ = partner;
+      }
+      ++edges;
+    }
+  }
+  return edges;
+}
+} // namespace
+
+TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triangles,
+  MeshTopology& topology, const ParallelFor& parallelFor)
+{
+  LowestId bad;
+  parallelFor(numTriangles, [&](Id begin, Id end) {
+    for (Id t = begin; t < end; ++t)
+    {
+      const Id* p = triangles + 3 * t;
+      if (std::min({ p[0], p[1], p[2] }) < 0 || std::max({ p[0], p[1], p[2] }) >= numPoints ||
+        p[0] == p[1] || p[1] == p[2] || p[2] == p[0])
+      {
+        bad.Report(t);
+        return; // later triangles of the chunk cannot be lower
       }
     }
+  });
+  if (bad.Get() >= 0)
+  {
+    return TriangleFailure(numPoints, triangles, bad.Get());
   }
-  return status;
+
+  // Each half-edge to its vertex block, in half-edge order within the block: counted per
+  // triangle block, then written at the offsets of its triangle block.
+  const Id nH = 3 * numTriangles;
+  const int vertexBits = VertexBlockBits(numPoints);
+  const Id vertexBlock = Id(1) << vertexBits;
+  const Id triangleBlock = BlockSize(numTriangles, MinTriangleBlock);
+  const Id nVB = BlockCount(numPoints, vertexBlock), nTB = BlockCount(numTriangles, triangleBlock);
+  auto low = [triangles](Id h) { return std::min(triangles[h], triangles[NextCorner(h)]); };
+  std::vector<Id> offset(static_cast<size_t>(nTB * nVB), 0); // [triangle block][vertex block]
+  ForBlocks(parallelFor, numTriangles, triangleBlock, [&](Id b) {
+    Id* count = offset.data() + b * nVB;
+    for (Id h = 3 * b * triangleBlock; h < std::min(nH, 3 * (b + 1) * triangleBlock); ++h)
+    {
+      ++count[low(h) >> vertexBits];
+    }
+  });
+  std::vector<Id> blockStart(static_cast<size_t>(nVB + 1), 0);
+  for (Id vb = 0, sum = 0; vb < nVB; ++vb)
+  {
+    blockStart[vb] = sum;
+    for (Id b = 0; b < nTB; ++b)
+    {
+      const Id count = offset[b * nVB + vb];
+      offset[b * nVB + vb] = sum;
+      sum += count;
+    }
+    blockStart[vb + 1] = sum;
+  }
+  // Uninitialised: written in the parallel loops (first touch spread over the threads). The
+  // blocks' buckets are kept in TriangleEdges' storage (3T ids, written only after the matching):
+  // fresh pages cost more than the matching on a guest that returns freed memory to its host.
+  std::unique_ptr<Id[]> byBlock(new Id[nH]);
+  AdviseHugePages(byBlock.get(), nH * sizeof(Id));
+  static_assert(sizeof(topology.TriangleEdges[0]) == 3 * sizeof(Id), "packed rows");
+  ResizeForOverwrite(topology.TriangleEdges, static_cast<size_t>(numTriangles));
+  Id* scratch = topology.TriangleEdges.data()->data();
+  ForBlocks(parallelFor, numTriangles, triangleBlock, [&](Id b) {
+    Id* next = offset.data() + b * nVB;
+    for (Id h = 3 * b * triangleBlock; h < std::min(nH, 3 * (b + 1) * triangleBlock); ++h)
+    {
+      const Id v = low(h);
+      byBlock[next[v >> vertexBits]++] = ((v & (vertexBlock - 1)) << HalfEdgeBits) | h;
+    }
+  });
+
+  // Each vertex block's edges; the lowest failing block names the failure (its first one).
+  std::vector<Id> edgeStart(static_cast<size_t>(nVB + 1), 0);
+  std::vector<TopologyStatus> failures(static_cast<size_t>(nVB));
+  ForBlocks(parallelFor, numPoints, vertexBlock, [&](Id vb) {
+    const Id b = blockStart[vb];
+    edgeStart[vb + 1] = MatchBlock(triangles, vb * vertexBlock,
+      std::min(numPoints, (vb + 1) * vertexBlock), byBlock.get() + b, blockStart[vb + 1] - b,
+      scratch + b, failures[vb]);
+  });
+  for (Id vb = 0; vb < nVB; ++vb)
+  {
+    if (!failures[vb].Ok)
+    {
+      return failures[vb];
+    }
+    edgeStart[vb + 1] += edgeStart[vb];
+  }
+
+  const size_t nE = static_cast<size_t>(edgeStart[nVB]);
+  ResizeForOverwrite(topology.Edges, nE);
+  ResizeForOverwrite(topology.EdgeTriangles, nE);
+  ResizeForOverwrite(topology.EdgeLocalIndex, nE);
+  ForBlocks(parallelFor, numPoints, vertexBlock, [&](Id vb) {
+    const Id* h = byBlock.get() + blockStart[vb];
+    const Id* end = byBlock.get() + blockStart[vb + 1];
+    for (Id e = edgeStart[vb]; h < end; ++e)
+    {
+      const bool boundary = *h < 0;
+      const Id h0 = boundary ? ~*h : *h, h1 = boundary ? -1 : h[1];
+      h += boundary ? 1 : 2;
+      const Id a = triangles[h0], b = triangles[NextCorner(h0)];
+      std::array<Id, 2>& edge = topology.Edges[e];
+      edge[0] = std::min(a, b);
+      edge[1] = std::max(a, b);
+      std::array<Id, 2>& sides = topology.EdgeTriangles[e];
+      sides[0] = h0 / 3;
+      sides[1] = boundary ? -1 : h1 / 3;
+      std::array<signed char, 2>& local = topology.EdgeLocalIndex[e];
+      local[0] = static_cast<signed char>(h0 % 3);
+      local[1] = static_cast<signed char>(boundary ? -1 : h1 % 3);
+      topology.TriangleEdges[h0 / 3][h0 % 3] = e;
+      if (!boundary)
+      {
+        topology.TriangleEdges[h1 / 3][h1 % 3] = e;
+      }
+    }
+  });
+  return {};
 }
 
-void OrderEdgeTrianglesByRank(const Id* rank, MeshTopology& topology)
+void OrderEdgeTrianglesByRank(const Id* rank, MeshTopology& topology, const ParallelFor& parallelFor)
 {
-  for (size_t e = 0; e < topology.EdgeTriangles.size(); ++e)
-  {
-    std::array<Id, 2>& t = topology.EdgeTriangles[e];
-    if (t[1] >= 0 && rank[t[1]] < rank[t[0]])
+  parallelFor(static_cast<Id>(topology.EdgeTriangles.size()), [&](Id begin, Id end) {
+    for (Id e = begin; e < end; ++e)
     {
-      std::swap(t[0], t[1]);
-      std::swap(topology.EdgeLocalIndex[e][0], topology.EdgeLocalIndex[e][1]);
+      std::array<Id, 2>& t = topology.EdgeTriangles[e];
+      if (t[1] >= 0 && rank[t[1]] < rank[t[0]])
+      {
+        std::swap(t[0], t[1]);
+        std::swap(topology.EdgeLocalIndex[e][0], topology.EdgeLocalIndex[e][1]);
+      }
     }
-  }
+  });
 }
 } // namespace ctk

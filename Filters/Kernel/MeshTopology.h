@@ -5,6 +5,7 @@
 #define CTSplines_Kernel_MeshTopology_h
 
 #include "MessageIds.h" // for Id
+#include "ParallelFor.h"
 
 #include <array>
 #include <cstdint>
@@ -48,14 +49,17 @@ struct TopologyStatus
 
 /// Builds the edge adjacency of numTriangles triangles given as triangles[3 t + l] point ids in
 /// [0, numPoints). Fails (with a message) on out-of-range ids, a triangle repeating a vertex,
-/// a non-manifold edge (three or more triangles) or two triangles with the same three vertices.
-TopologyStatus BuildMeshTopology(
-  Id numPoints, Id numTriangles, const Id* triangles, MeshTopology& topology);
+/// a non-manifold edge (three or more triangles) or two triangles with the same three vertices,
+/// naming the same triangle whatever the split of parallelFor's chunks. Edges are numbered by
+/// their smaller vertex, then by their first local edge (3 t + l).
+TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triangles,
+  MeshTopology& topology, const ParallelFor& parallelFor = SerialFor);
 
 /// Orders the two triangles of every interior edge by rank[t] (for a renumbered mesh: the input's
 /// triangle ids), as BuildMeshTopology orders them by id: the constructions that read an edge's
 /// triangles in that order then give the renumbered mesh the input's bits.
-void OrderEdgeTrianglesByRank(const Id* rank, MeshTopology& topology);
+void OrderEdgeTrianglesByRank(
+  const Id* rank, MeshTopology& topology, const ParallelFor& parallelFor = SerialFor);
 
 } // namespace ctk
 

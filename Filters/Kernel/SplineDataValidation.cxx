@@ -124,15 +124,12 @@ Vec2 UVOf(const SplineData& data, Id v)
   return Vec2(data.UV[2 * v], data.UV[2 * v + 1]);
 }
 
-BuildStatus CheckAreas(const SplineData& data, const std::vector<Id>& order)
+BuildStatus CheckAreas(
+  const SplineData& data, const std::vector<Id>& order, const ParallelFor& parallelFor)
 {
-  Vec2 lo = UVOf(data, 0), hi = lo;
-  for (Id v = 1; v < data.NumberOfVertices; ++v)
-  {
-    lo = lo.cwiseMin(UVOf(data, v));
-    hi = hi.cwiseMax(UVOf(data, v));
-  }
-  const double diag2 = (hi - lo).squaredNorm();
+  double lo[2], hi[2]; // the values are finite here
+  BoundingBoxUV(data.NumberOfVertices, data.UV, lo, hi, parallelFor);
+  const double diag2 = (Vec2(hi[0], hi[1]) - Vec2(lo[0], lo[1])).squaredNorm();
   if (!(std::sqrt(diag2) >= MinDomainDiagonal))
   {
     std::ostringstream os;
@@ -141,16 +138,16 @@ BuildStatus CheckAreas(const SplineData& data, const std::vector<Id>& order)
     return Failure(os.str());
   }
   // The lowest degenerate triangle, found in the locality order.
-  Id first = data.NumberOfTriangles;
-  ForTrianglesInOrder(SerialFor, data.NumberOfTriangles, order, [&](Id t) {
+  LowestId degenerate;
+  ForTrianglesInOrder(parallelFor, data.NumberOfTriangles, order, [&](Id t) {
     const Id* p = data.Triangles + 3 * t;
-    if (t < first &&
-      !(std::abs(SignedArea2(UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]))) >
-        1e-13 * diag2))
+    if (!(std::abs(SignedArea2(UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]))) >
+          1e-13 * diag2))
     {
-      first = t;
+      degenerate.Report(t);
     }
   });
+  const Id first = degenerate.Get() < 0 ? data.NumberOfTriangles : degenerate.Get();
   if (first < data.NumberOfTriangles)
   {
     const Id t = first;
@@ -164,14 +161,14 @@ BuildStatus CheckAreas(const SplineData& data, const std::vector<Id>& order)
   return {};
 }
 
-BuildStatus CheckFolds(
-  const SplineData& data, const MeshTopology& topology, const std::vector<Id>& order)
+BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology,
+  const std::vector<Id>& order, const ParallelFor& parallelFor)
 {
   // The lowest folded edge, found in the locality order.
   const Id nE = static_cast<Id>(topology.Edges.size());
-  Id first = nE;
-  ForEdgesInOrder(SerialFor, topology, order, [&](Id e) {
-    if (topology.IsBoundaryEdge(e) || e > first)
+  LowestId folded;
+  ForEdgesInOrder(parallelFor, topology, order, [&](Id e) {
+    if (topology.IsBoundaryEdge(e))
     {
       return;
     }
@@ -185,9 +182,10 @@ BuildStatus CheckFolds(
     }
     if ((side[0] > 0) == (side[1] > 0))
     {
-      first = e;
+      folded.Report(e);
     }
   });
+  const Id first = folded.Get() < 0 ? nE : folded.Get();
   if (first < nE)
   {
     const Id e = first;
@@ -202,8 +200,8 @@ BuildStatus CheckFolds(
 }
 } // namespace
 
-BuildStatus ValidateSplineData(
-  const SplineData& data, const MeshTopology& topology, const std::vector<Id>& order)
+BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology,
+  const std::vector<Id>& order, const ParallelFor& parallelFor)
 {
   if (data.NumberOfVertices <= 0 || data.NumberOfTriangles <= 0 || !data.Triangles || !data.UV ||
     !data.F || !data.Fu || !data.Fv)
@@ -222,11 +220,11 @@ BuildStatus ValidateSplineData(
   }
   if (status.Ok)
   {
-    status = CheckAreas(data, order);
+    status = CheckAreas(data, order, parallelFor);
   }
   if (status.Ok)
   {
-    status = CheckFolds(data, topology, order);
+    status = CheckFolds(data, topology, order, parallelFor);
   }
   return status;
 }

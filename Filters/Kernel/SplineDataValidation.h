@@ -36,9 +36,9 @@ constexpr double MinDomainDiagonal = 1e-100;
 /// - no fold: across every interior edge the two opposite vertices lie on opposite sides of the
 ///   edge in (u, v), whatever the triangles' vertex order.
 /// The triangle checks visit the triangles in `order` (a locality order, LocalityOrder.h; empty:
-/// their own) and report the lowest failing triangle or edge either way.
+/// their own) and report the lowest failing triangle or edge either way, chunked by parallelFor.
 BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology,
-  const std::vector<Id>& order = std::vector<Id>());
+  const std::vector<Id>& order = std::vector<Id>(), const ParallelFor& parallelFor = SerialFor);
 
 /// Checks that every control point is finite; otherwise names the lowest triangle whose
 /// macro-element holds a non-finite point. Layout: #V vertex points, pointsPerEdge per edge,

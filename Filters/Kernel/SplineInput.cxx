@@ -96,7 +96,7 @@ std::vector<Id>& SplineInput::EdgeGradientRowMap()
   return this->EdgeGradientRows;
 }
 
-void SplineInput::Renumber(const LocalityRenumbering& r, bool back)
+void SplineInput::Renumber(const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor)
 {
   if (r.IsIdentity())
   {
@@ -107,32 +107,38 @@ void SplineInput::Renumber(const LocalityRenumbering& r, bool back)
   if (!back)
   {
     newId.resize(r.Vertices.size());
-    for (std::size_t j = 0; j < r.Vertices.size(); ++j)
-    {
-      newId[static_cast<std::size_t>(r.Vertices[j])] = static_cast<Id>(j);
-    }
+    parallelFor(static_cast<Id>(r.Vertices.size()), [&](Id begin, Id end) {
+      const Id* vertex = r.Vertices.data(); // locals: the ids written could alias them
+      Id* to = newId.data();
+      for (Id j = begin; j < end; ++j)
+      {
+        to[vertex[j]] = j;
+      }
+    });
   }
-  const std::vector<Id>& map = back ? r.Vertices : newId;
-  const std::size_t n = this->Triangles.size();
-  for (std::size_t h = 0; h < n; ++h)
-  {
-    if (h + PrefetchDistance < n)
+  const Id* map = back ? r.Vertices.data() : newId.data();
+  Id* triangles = this->Triangles.data();
+  parallelFor(static_cast<Id>(this->Triangles.size()), [map, triangles](Id begin, Id end) {
+    for (Id h = begin; h < end; ++h)
     {
-      PrefetchRead(&map[static_cast<std::size_t>(this->Triangles[h + PrefetchDistance])]);
+      if (h + PrefetchDistance < end)
+      {
+        PrefetchRead(&map[static_cast<std::size_t>(triangles[h + PrefetchDistance])]);
+      }
+      triangles[h] = map[static_cast<std::size_t>(triangles[h])];
     }
-    this->Triangles[h] = map[static_cast<std::size_t>(this->Triangles[h])];
-  }
-  PermuteRows(this->Triangles, 3, r.Triangles, back);
-  PermuteRows(this->UV, 2, r.Vertices, back);
+  });
+  PermuteRows(this->Triangles, 3, r.Triangles, back, parallelFor);
+  PermuteRows(this->UV, 2, r.Vertices, back, parallelFor);
   for (std::vector<double>* a : { &this->F, &this->Fu, &this->Fv })
   {
-    PermuteRows(*a, 3, r.Vertices, back);
+    PermuteRows(*a, 3, r.Vertices, back, parallelFor);
   }
   if (this->HasEdgeGradients())
   {
-    PermuteRows(this->EdgeGradientRowMap(), 1, r.Triangles, back);
+    PermuteRows(this->EdgeGradientRowMap(), 1, r.Triangles, back, parallelFor);
   }
-  PermuteRows(this->BoundaryCurvePoints, 18, r.Triangles, back);
-  PermuteRows(this->SplitTau, 1, r.Triangles, back);
+  PermuteRows(this->BoundaryCurvePoints, 18, r.Triangles, back, parallelFor);
+  PermuteRows(this->SplitTau, 1, r.Triangles, back, parallelFor);
 }
 } // namespace ctk

@@ -33,9 +33,11 @@ struct SplineInput
   /// then ValidateSplineData: finite values, no zero-area or folded triangle.
   BuildStatus Validate(const MeshTopology& topology) const;
   /// Puts the mesh and every array in the numbering of r (triangles' vertex order kept), or back
-  /// in the input's numbering (back = true). The edge gradients stay in place: their row map is
-  /// renumbered (18 values per triangle are not worth moving; most constructions read few).
-  void Renumber(const LocalityRenumbering& r, bool back = false);
+  /// in the input's numbering (back = true), chunked by parallelFor over the rows. The edge
+  /// gradients stay in place: their row map is renumbered (18 values per triangle are not worth
+  /// moving; most constructions read few).
+  void Renumber(
+    const LocalityRenumbering& r, bool back = false, const ParallelFor& parallelFor = SerialFor);
   /// Whether there are edge gradients, owned or shared.
   bool HasEdgeGradients() const
   {

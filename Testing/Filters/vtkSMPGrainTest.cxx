@@ -21,9 +21,11 @@
 #include <dlfcn.h>
 #include <pthread.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cstdlib>
+#include <numeric>
 #include <random>
 #include <string>
 #include <thread>
@@ -254,3 +256,47 @@ TEST_F(SMPGrain, LargeCallsSplitAndMatchSequential)
 }
 
 } // namespace
+
+namespace
+{
+// The spline filter's output with the module's thread count `threads`.
+vtkSmartPointer<vtkDataSet> SplineOn(vtkPolyData* input, int threads, int construction)
+{
+  SetModuleThreads(threads);
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputData(input);
+  spline->SetConstruction(construction);
+  spline->Update();
+  return Copy(spline->GetOutput());
+}
+} // namespace
+
+TEST_F(SMPGrain, SplineStagesMatchOnAnyNumberOfThreads)
+{
+  // Large enough for every stage to split at the copy grain (read, locality order, renumbering,
+  // topology, edge order, validation, construction, cells), triangles in random order.
+  ctk::ParameterMesh mesh = ctk::RegularGridMesh(260, ctk::GridDiagonal::Alternating);
+  const vtkIdType nT = mesh.NumberOfTriangles();
+  ASSERT_GT(nT, 2 * ctsplines::GrainForCopies);
+  std::vector<vtkIdType> order(nT);
+  std::iota(order.begin(), order.end(), 0);
+  std::shuffle(order.begin(), order.end(), std::mt19937(5));
+  const std::vector<ctk::Id> triangles = mesh.Triangles;
+  for (vtkIdType t = 0; t < nT; ++t)
+  {
+    std::copy_n(&triangles[3 * order[t]], 3, &mesh.Triangles[3 * t]);
+  }
+  const vtkSmartPointer<vtkPolyData> input =
+    ctsplines_test::MakeSampledPolyData(mesh, ctk::AnalyticSurface::Franke);
+  for (int construction : { vtkCloughTocherSplineFilter::CTi, vtkCloughTocherSplineFilter::Quartic })
+  {
+    const vtkSmartPointer<vtkDataSet> serial = SplineOn(input, 1, construction);
+    ASSERT_EQ(serial->GetNumberOfCells(), 3 * nT);
+    for (int threads : { 2, 3 })
+    {
+      ExpectIdentical(serial, SplineOn(input, threads, construction),
+        "construction " + std::to_string(construction) + " on " + std::to_string(threads) +
+          " threads");
+    }
+  }
+}

@@ -4,6 +4,7 @@
 #include "CubicCloughTocher.h"
 #include "LocalityOrder.h"
 #include "RuleA.h"
+#include "SplineDataValidation.h"
 #include "SplineMeasures.h"
 #include "TestMeshes.h"
 
@@ -350,4 +351,42 @@ TEST(CubicCloughTocher, ReportsWhatItCannotDo)
   EXPECT_FALSE(BuildCubicCloughTocher(data, mesh.Topology, o, spline).Ok);
   o.Boundary = BoundaryMode::Midpoint;
   EXPECT_TRUE(BuildCubicCloughTocher(data, mesh.Topology, o, spline).Ok);
+}
+
+TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
+{
+  const int n = 128;
+  const SampledMesh mesh =
+    Shuffled(Sample("jittered", JitteredGrid(n, 0.15, 11u), AnalyticSurface::Franke), 7u);
+  const Id nV = mesh.NumberOfVertices(), nT = mesh.NumberOfTriangles();
+  const LocalityRenumbering r =
+    MakeLocalityRenumbering(nV, nT, mesh.Triangles.data(), mesh.UV.data());
+  ASSERT_FALSE(r.IsIdentity());
+  SplineInput renumbered = mesh;
+  renumbered.Renumber(r);
+  // Two zero-area triangles: vertex b moved onto its neighbour a's (u, v).
+  SplineInput degenerate = mesh;
+  const Id a = mesh.Triangles[3 * (nT / 2)], b = mesh.Triangles[3 * (nT / 2) + 1];
+  std::copy_n(&mesh.UV[2 * a], 2, &degenerate.UV[2 * b]);
+  const BuildStatus serialCheck = ValidateSplineData(degenerate.View(), mesh.Topology);
+  ASSERT_FALSE(serialCheck.Ok);
+  for (const auto& [threads, chunk] : { std::pair<int, Id>{ 2, 4999 }, { 3, 777 } })
+  {
+    const ParallelFor split = ThreadedFor(threads, chunk);
+    const LocalityRenumbering s =
+      MakeLocalityRenumbering(nV, nT, mesh.Triangles.data(), mesh.UV.data(), split);
+    EXPECT_EQ(s.Triangles, r.Triangles) << threads << " threads";
+    EXPECT_EQ(s.Vertices, r.Vertices) << threads << " threads";
+    SplineInput there = mesh;
+    there.Renumber(r, false, split);
+    EXPECT_EQ(there.Triangles, renumbered.Triangles);
+    EXPECT_EQ(there.UV, renumbered.UV);
+    EXPECT_EQ(there.Fv, renumbered.Fv);
+    EXPECT_EQ(there.EdgeGradients, renumbered.EdgeGradients);
+    there.Renumber(r, true, split);
+    EXPECT_EQ(there.Triangles, mesh.Triangles);
+    EXPECT_EQ(there.F, mesh.F);
+    const BuildStatus check = ValidateSplineData(degenerate.View(), mesh.Topology, {}, split);
+    EXPECT_EQ(check.Message, serialCheck.Message) << threads << " threads";
+  }
 }

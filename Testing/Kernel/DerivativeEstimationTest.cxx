@@ -402,23 +402,7 @@ TEST(DerivativeEstimation, ConvergenceOrders)
 TEST(DerivativeEstimation, ResultsDoNotDependOnTheChunking)
 {
   const SampledMesh mesh = SampleFunction(JitteredGrid(20, 0.35, 5u), SineWave);
-  // Chunks of 7, run on three threads.
-  const ParallelFor threaded = [](Id n, const std::function<void(Id, Id)>& body) {
-    std::vector<std::thread> threads;
-    for (int w = 0; w < 3; ++w)
-    {
-      threads.emplace_back([&, w] {
-        for (Id b = 7 * w; b < n; b += 21)
-        {
-          body(b, std::min(n, b + 7));
-        }
-      });
-    }
-    for (auto& t : threads)
-    {
-      t.join();
-    }
-  };
+  const ParallelFor threaded = ThreadedFor(3, 7);
   for (DerivativeEstimation method : Methods)
   {
     const Estimate serial = RunEstimate(mesh, method), chunked = RunEstimate(mesh, method, threaded);

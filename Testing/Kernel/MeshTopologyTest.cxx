@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "AnalyticSurfaces.h"
 #include "MeshTopology.h"
+#include "TestMeshes.h"
 
 #include <gtest/gtest.h>
 
 using namespace ctk;
+using namespace ctk_test;
 
 TEST(MeshTopology, RegularGridCounts)
 {
@@ -70,4 +72,110 @@ TEST(MeshTopology, RepeatedVertexAndOutOfRangeAreReported)
   s = BuildMeshTopology(4, 1, outside, topo);
   EXPECT_FALSE(s.Ok);
   EXPECT_NE(s.Message.find("point 7"), std::string::npos) << s.Message;
+}
+
+// A grid numbered at random, large enough for several vertex and triangle blocks of
+// BuildMeshTopology's parallel passes.
+struct LargeMesh
+{
+  Id NumberOfVertices, NumberOfTriangles;
+  std::vector<Id> Triangles;
+};
+LargeMesh ShuffledGrid()
+{
+  const ParameterMesh m = RegularGridMesh(300, GridDiagonal::Alternating);
+  const Id nV = static_cast<Id>(m.UV.size());
+  return { nV, m.NumberOfTriangles(), ShuffledTriangles(m.Triangles, nV, 3u) };
+}
+
+TEST(MeshTopology, SameEdgesOnAnyNumberOfThreads)
+{
+  const LargeMesh m = ShuffledGrid();
+  MeshTopology serial;
+  ASSERT_TRUE(BuildMeshTopology(m.NumberOfVertices, m.NumberOfTriangles, m.Triangles.data(), serial).Ok);
+  // Edges numbered by their smaller vertex, then by their first local edge 3 t + l, which is
+  // the edge's first side.
+  auto key = [&serial](size_t e, int side) {
+    return 3 * serial.EdgeTriangles[e][side] + serial.EdgeLocalIndex[e][side];
+  };
+  for (size_t e = 0; e < serial.Edges.size(); ++e)
+  {
+    if (e > 0)
+    {
+      ASSERT_LT(std::make_pair(serial.Edges[e - 1][0], key(e - 1, 0)),
+        std::make_pair(serial.Edges[e][0], key(e, 0))) << "edge " << e;
+    }
+    if (!serial.IsBoundaryEdge(static_cast<Id>(e)))
+    {
+      ASSERT_LT(key(e, 0), key(e, 1)) << "edge " << e;
+    }
+  }
+  for (const auto& [threads, chunk] : { std::pair<int, Id>{ 2, 4999 }, { 3, 7777 }, { 3, 1 << 16 } })
+  {
+    MeshTopology parallel;
+    ASSERT_TRUE(BuildMeshTopology(m.NumberOfVertices, m.NumberOfTriangles, m.Triangles.data(),
+      parallel, ThreadedFor(threads, chunk)).Ok);
+    EXPECT_EQ(serial.Edges, parallel.Edges) << threads << " threads";
+    EXPECT_EQ(serial.TriangleEdges, parallel.TriangleEdges) << threads << " threads";
+    EXPECT_EQ(serial.EdgeTriangles, parallel.EdgeTriangles) << threads << " threads";
+    EXPECT_EQ(serial.EdgeLocalIndex, parallel.EdgeLocalIndex) << threads << " threads";
+    MeshTopology ranked = serial;
+    std::vector<Id> rank(static_cast<size_t>(m.NumberOfTriangles));
+    for (Id t = 0; t < m.NumberOfTriangles; ++t)
+    {
+      rank[t] = (t * 7919) % m.NumberOfTriangles; // a permutation: 7919 is prime
+    }
+    OrderEdgeTrianglesByRank(rank.data(), ranked);
+    OrderEdgeTrianglesByRank(rank.data(), parallel, ThreadedFor(threads, chunk));
+    EXPECT_EQ(ranked.EdgeTriangles, parallel.EdgeTriangles) << threads << " threads";
+    EXPECT_EQ(ranked.EdgeLocalIndex, parallel.EdgeLocalIndex) << threads << " threads";
+  }
+}
+
+TEST(MeshTopology, FailuresNameTheSameTriangleOnAnyNumberOfThreads)
+{
+  const LargeMesh m = ShuffledGrid();
+  // The triangles at the lowest and highest vertex ids.
+  Id low = 0, high = 0;
+  for (Id t = 0; t < m.NumberOfTriangles; ++t)
+  {
+    const Id* p = &m.Triangles[3 * t];
+    low = std::min({ p[0], p[1], p[2] }) == 0 ? t : low;
+    high = std::max({ p[0], p[1], p[2] }) == m.NumberOfVertices - 1 ? t : high;
+  }
+  auto copyOf = [&](Id t) { return std::vector<Id>(&m.Triangles[3 * t], &m.Triangles[3 * t + 3]); };
+  // Copies of both, the one at the high vertex first: the edges are matched in vertex order, so
+  // the copy at vertex 0 (the last triangle) is named (as a duplicate, or a third triangle at
+  // an interior edge), as on one thread.
+  std::vector<Id> duplicated = m.Triangles;
+  for (Id t : { high, low })
+  {
+    const std::vector<Id> copy = copyOf(t);
+    duplicated.insert(duplicated.end(), copy.begin(), copy.end());
+  }
+  std::vector<Id> badIds = m.Triangles;
+  badIds[3 * 150000 + 1] = -1;
+  badIds[3 * 90000 + 2] = badIds[3 * 90000];
+  badIds[3 * 100000] = m.NumberOfVertices;
+  const std::string copyNamed = " and " + std::to_string(m.NumberOfTriangles + 1);
+  const struct
+  {
+    const std::vector<Id>& Triangles;
+    Id Named;
+    std::string Text;
+  } cases[] = { { duplicated, m.NumberOfTriangles + 1, copyNamed },
+    { badIds, 90000, "triangle 90000 repeats a vertex" } };
+  for (const auto& c : cases)
+  {
+    const Id nT = static_cast<Id>(c.Triangles.size() / 3);
+    for (int threads : { 1, 2, 3 })
+    {
+      MeshTopology topo;
+      const TopologyStatus s = BuildMeshTopology(
+        m.NumberOfVertices, nT, c.Triangles.data(), topo, ThreadedFor(threads, 5001));
+      EXPECT_FALSE(s.Ok);
+      EXPECT_EQ(s.Triangle, c.Named) << threads << " threads: " << s.Message;
+      EXPECT_NE(s.Message.find(c.Text), std::string::npos) << s.Message;
+    }
+  }
 }

@@ -10,13 +10,59 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
+#include <functional>
+#include <numeric>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace ctk_test
 {
 using namespace ctk;
+
+/// A ParallelFor that runs chunks of `chunk` elements on `threads` threads at once (chunk c on
+/// thread c % threads), to check that results do not depend on the split.
+inline ParallelFor ThreadedFor(int threads, Id chunk)
+{
+  return [threads, chunk](Id n, const std::function<void(Id, Id)>& body) {
+    std::vector<std::thread> workers;
+    for (int w = 0; w < threads; ++w)
+    {
+      workers.emplace_back([&, w] {
+        for (Id b = chunk * w; b < n; b += chunk * threads)
+        {
+          body(b, std::min(n, b + chunk));
+        }
+      });
+    }
+    for (std::thread& worker : workers)
+    {
+      worker.join();
+    }
+  };
+}
+
+/// The triangles of a mesh with its vertex ids and triangle order shuffled (no locality left).
+inline std::vector<Id> ShuffledTriangles(const std::vector<Id>& triangles, Id numVertices, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::vector<Id> vertex(static_cast<size_t>(numVertices)), order(triangles.size() / 3);
+  std::iota(vertex.begin(), vertex.end(), Id(0));
+  std::iota(order.begin(), order.end(), Id(0));
+  std::shuffle(vertex.begin(), vertex.end(), rng);
+  std::shuffle(order.begin(), order.end(), rng);
+  std::vector<Id> out(triangles.size());
+  for (size_t t = 0; t < order.size(); ++t)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      out[3 * t + l] = vertex[triangles[3 * order[t] + l]];
+    }
+  }
+  return out;
+}
 
 /// A named test input with its topology (SplineInput owns the arrays behind a SplineData).
 struct SampledMesh : SplineInput
