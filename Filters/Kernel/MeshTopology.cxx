@@ -159,40 +159,36 @@ Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratc
 TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triangles,
   MeshTopology& topology, const ParallelFor& parallelFor)
 {
+  // Each half-edge to its vertex block, in half-edge order within the block: counted per
+  // triangle block (the triangles checked in the same pass), then written at the offsets of its
+  // triangle block.
+  const Id nH = 3 * numTriangles;
+  const int vertexBits = VertexBlockBits(numPoints);
+  const Id vertexBlock = Id(1) << vertexBits;
+  const Id triangleBlock = BlockSize(numTriangles, MinTriangleBlock);
+  const Id nVB = BlockCount(numPoints, vertexBlock), nTB = BlockCount(numTriangles, triangleBlock);
+  std::vector<Id> offset(static_cast<size_t>(nTB * nVB), 0); // [triangle block][vertex block]
   LowestId bad;
-  parallelFor(numTriangles, [&](Id begin, Id end) {
-    for (Id t = begin; t < end; ++t)
+  ForBlocks(parallelFor, numTriangles, triangleBlock, [&](Id b) {
+    Id* count = offset.data() + b * nVB;
+    for (Id t = b * triangleBlock; t < std::min(numTriangles, (b + 1) * triangleBlock); ++t)
     {
       const Id* p = triangles + 3 * t;
       if (std::min({ p[0], p[1], p[2] }) < 0 || std::max({ p[0], p[1], p[2] }) >= numPoints ||
         p[0] == p[1] || p[1] == p[2] || p[2] == p[0])
       {
         bad.Report(t);
-        return; // later triangles of the chunk cannot be lower
+        return; // later triangles of the block cannot be lower
       }
+      ++count[std::min(p[0], p[1]) >> vertexBits];
+      ++count[std::min(p[1], p[2]) >> vertexBits];
+      ++count[std::min(p[2], p[0]) >> vertexBits];
     }
   });
   if (bad.Get() >= 0)
   {
     return TriangleFailure(numPoints, triangles, bad.Get());
   }
-
-  // Each half-edge to its vertex block, in half-edge order within the block: counted per
-  // triangle block, then written at the offsets of its triangle block.
-  const Id nH = 3 * numTriangles;
-  const int vertexBits = VertexBlockBits(numPoints);
-  const Id vertexBlock = Id(1) << vertexBits;
-  const Id triangleBlock = BlockSize(numTriangles, MinTriangleBlock);
-  const Id nVB = BlockCount(numPoints, vertexBlock), nTB = BlockCount(numTriangles, triangleBlock);
-  auto low = [triangles](Id h) { return std::min(triangles[h], triangles[NextCorner(h)]); };
-  std::vector<Id> offset(static_cast<size_t>(nTB * nVB), 0); // [triangle block][vertex block]
-  ForBlocks(parallelFor, numTriangles, triangleBlock, [&](Id b) {
-    Id* count = offset.data() + b * nVB;
-    for (Id h = 3 * b * triangleBlock; h < std::min(nH, 3 * (b + 1) * triangleBlock); ++h)
-    {
-      ++count[low(h) >> vertexBits];
-    }
-  });
   std::vector<Id> blockStart(static_cast<size_t>(nVB + 1), 0);
   for (Id vb = 0, sum = 0; vb < nVB; ++vb)
   {
@@ -215,10 +211,14 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   Id* scratch = topology.TriangleEdges.data()->data();
   ForBlocks(parallelFor, numTriangles, triangleBlock, [&](Id b) {
     Id* next = offset.data() + b * nVB;
-    for (Id h = 3 * b * triangleBlock; h < std::min(nH, 3 * (b + 1) * triangleBlock); ++h)
+    for (Id t = b * triangleBlock; t < std::min(numTriangles, (b + 1) * triangleBlock); ++t)
     {
-      const Id v = low(h);
-      byBlock[next[v >> vertexBits]++] = ((v & (vertexBlock - 1)) << HalfEdgeBits) | h;
+      const Id* p = triangles + 3 * t;
+      for (int l = 0; l < 3; ++l)
+      {
+        const Id v = std::min(p[l], p[l == 2 ? 0 : l + 1]);
+        byBlock[next[v >> vertexBits]++] = ((v & (vertexBlock - 1)) << HalfEdgeBits) | (3 * t + l);
+      }
     }
   });
 
