@@ -208,7 +208,7 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   AdviseHugePages(byBlock.get(), nH * sizeof(Id));
   static_assert(sizeof(topology.TriangleEdges[0]) == 3 * sizeof(Id), "packed rows");
   ResizeForOverwrite(topology.TriangleEdges, static_cast<size_t>(numTriangles));
-  Id* scratch = topology.TriangleEdges.data()->data();
+  Id* scratch = numTriangles > 0 ? topology.TriangleEdges.front().data() : nullptr;
   ForBlocks(parallelFor, numTriangles, triangleBlock, [&](Id b) {
     Id* next = offset.data() + b * nVB;
     for (Id t = b * triangleBlock; t < std::min(numTriangles, (b + 1) * triangleBlock); ++t)
