@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CTSplinesInput.h"
 
+#include "CTSplinesSMP.h"
 #include "LargeArrays.h"
 #include "SplineDataValidation.h"
 
@@ -19,6 +20,7 @@
 #include "vtkPolyData.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <sstream>
 
@@ -62,14 +64,16 @@ std::string ReadValues(vtkDataArray* array, const std::string& what, int compone
 {
   std::ostringstream os;
   const size_t count = static_cast<size_t>(tuples) * components;
-  auto read = [&](auto get) {
-    // One pass without an early exit, flagging a bad value by a select (which compilers
-    // vectorize, unlike a branch or an integer reduction); only a bad value or a NaN calls for
-    // the second, which reports the first bad value in (tuple, component) order.
+  // One pass without an early exit, flagging a bad value by a select (which compilers
+  // vectorize, unlike a branch or an integer reduction), in chunks on the module's pool when
+  // values are read through a pointer (GetComponent is not safe to call concurrently on every
+  // array); only a bad value or a NaN calls for the second pass, which reports the first bad
+  // value in (tuple, component) order.
+  auto anyBad = [out](auto get, size_t begin, size_t end) {
     double bad = 0;
     if (out)
     {
-      for (size_t k = 0; k < count; ++k)
+      for (size_t k = begin; k < end; ++k)
       {
         out[k] = get(k);
         bad = ctk::IsUsableValue(out[k]) ? bad : 1.0;
@@ -77,12 +81,29 @@ std::string ReadValues(vtkDataArray* array, const std::string& what, int compone
     }
     else
     {
-      for (size_t k = 0; k < count; ++k)
+      for (size_t k = begin; k < end; ++k)
       {
         bad = ctk::IsUsableValue(get(k)) ? bad : 1.0;
       }
     }
-    if (bad == 0)
+    return bad != 0;
+  };
+  auto read = [&](auto get, bool concurrent) {
+    std::atomic<bool> bad{ false };
+    if (concurrent)
+    {
+      ParallelFor(0, static_cast<vtkIdType>(count), GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+        if (anyBad(get, static_cast<size_t>(b), static_cast<size_t>(e)))
+        {
+          bad.store(true, std::memory_order_relaxed);
+        }
+      });
+    }
+    else
+    {
+      bad = anyBad(get, 0, count);
+    }
+    if (!bad.load())
     {
       return true;
     }
@@ -100,8 +121,9 @@ std::string ReadValues(vtkDataArray* array, const std::string& what, int compone
         return false;
       }
     }
-    // Only NaNs, which nanGroup allows for whole groups.
-    for (size_t g = 0; g < count; g += nanGroup)
+    // Only NaNs, which nanGroup allows for whole groups (so nanGroup > 0 here: without groups
+    // the loop above returned at the first bad value).
+    for (size_t g = 0; nanGroup > 0 && g < count; g += nanGroup)
     {
       int nans = 0;
       for (int i = 0; i < nanGroup; ++i)
@@ -123,19 +145,21 @@ std::string ReadValues(vtkDataArray* array, const std::string& what, int compone
   if (auto* d = vtkDoubleArray::FastDownCast(array))
   {
     const double* src = d->GetPointer(0);
-    ok = read([src](size_t k) { return src[k]; });
+    ok = read([src](size_t k) { return src[k]; }, true);
   }
   else if (auto* f = vtkFloatArray::FastDownCast(array))
   {
     const float* src = f->GetPointer(0);
-    ok = read([src](size_t k) { return static_cast<double>(src[k]); });
+    ok = read([src](size_t k) { return static_cast<double>(src[k]); }, true);
   }
   else
   {
-    ok = read([array, components](size_t k) {
-      return array->GetComponent(
-        static_cast<vtkIdType>(k / components), static_cast<int>(k % components));
-    });
+    ok = read(
+      [array, components](size_t k) {
+        return array->GetComponent(
+          static_cast<vtkIdType>(k / components), static_cast<int>(k % components));
+      },
+      false);
   }
   return ok ? std::string() : os.str();
 }
@@ -221,37 +245,49 @@ std::string CopyPoints(vtkPoints* points, std::vector<double>& out)
 
 namespace
 {
-// Triangles straight from a cell array's offsets and connectivity (32- or 64-bit storage).
+// Triangles straight from a cell array's offsets and connectivity (32- or 64-bit storage), in
+// chunks on the module's pool; the error names the lowest bad cell on any thread count.
 std::string TrianglesOfCellArray(
   vtkCellArray* cells, const char* what, std::vector<ctk::Id>& triangles)
 {
-  std::ostringstream os;
   const vtkIdType n = cells->GetNumberOfCells();
   ctk::ResizeForOverwrite(triangles, static_cast<size_t>(n) * 3);
   const vtkIdType connectivitySize = cells->GetNumberOfConnectivityIds();
+  std::ostringstream os;
   auto extract = [&](const auto* offsets, const auto* connectivity) {
-    for (vtkIdType cellId = 0; cellId < n; ++cellId)
+    auto size = [offsets](vtkIdType c) {
+      return static_cast<vtkIdType>(offsets[c + 1]) - static_cast<vtkIdType>(offsets[c]);
+    };
+    auto outside = [&](vtkIdType c) {
+      return offsets[c] < 0 || static_cast<vtkIdType>(offsets[c + 1]) > connectivitySize;
+    };
+    ctk::LowestId bad;
+    ParallelFor(0, n, GrainForCopies, [&](vtkIdType begin, vtkIdType end) {
+      for (vtkIdType c = begin; c < end; ++c)
+      {
+        if (outside(c) || size(c) != 3)
+        {
+          bad.Report(c);
+          return; // later cells of the chunk cannot be lower
+        }
+        const vtkIdType first = static_cast<vtkIdType>(offsets[c]);
+        for (int l = 0; l < 3; ++l)
+        {
+          triangles[3 * c + l] = static_cast<ctk::Id>(connectivity[first + l]);
+        }
+      }
+    });
+    const vtkIdType c = bad.Get();
+    if (c >= 0 && outside(c))
     {
-      const vtkIdType begin = static_cast<vtkIdType>(offsets[cellId]);
-      const vtkIdType npts = static_cast<vtkIdType>(offsets[cellId + 1]) - begin;
-      if (begin < 0 || begin + npts > connectivitySize)
-      {
-        os << "cell " << cellId << " has offsets outside the connectivity array (corrupt cell "
-           << "array)";
-        return false;
-      }
-      if (npts != 3)
-      {
-        os << "cell " << cellId << " is " << what << " with " << npts
-           << " points; only triangles are accepted (apply vtkTriangleFilter first)";
-        return false;
-      }
-      for (int l = 0; l < 3; ++l)
-      {
-        triangles[3 * cellId + l] = static_cast<ctk::Id>(connectivity[begin + l]);
-      }
+      os << "cell " << c << " has offsets outside the connectivity array (corrupt cell array)";
     }
-    return true;
+    else if (c >= 0)
+    {
+      os << "cell " << c << " is " << what << " with " << size(c)
+         << " points; only triangles are accepted (apply vtkTriangleFilter first)";
+    }
+    return c < 0;
   };
   const bool ok = cells->IsStorage64Bit()
     ? extract(cells->GetOffsetsArray64()->GetPointer(0), cells->GetConnectivityArray64()->GetPointer(0))

@@ -576,7 +576,7 @@ std::vector<std::uint64_t> LocalityOrder(
       keyed[i] = (std::uint64_t(key) << 32) | std::uint64_t(i);
     }
   });
-  ctk::SortByUpperHalf(keyed);
+  ctk::SortByUpperHalf(keyed, ctsplines::SMPCopyFor);
   return keyed;
 }
 

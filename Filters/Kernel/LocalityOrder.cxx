@@ -30,43 +30,54 @@ std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y)
 }
 
 // Sorts values by their upper 32 bits (the key; the lower 32 hold the triangle), stable: LSD
-// radix sort, 11 + 11 + 10 bits, the three histograms counted in one read.
-void SortByUpperHalf(std::vector<std::uint64_t>& values)
+// radix sort, 11 + 11 + 10 bits. Each pass counts and scatters in blocks of a size set by n
+// alone (digit-major, block-minor positions), so the blocks run in parallel and the result is
+// the same on any thread count.
+void SortByUpperHalf(std::vector<std::uint64_t>& values, const ParallelFor& parallelFor)
 {
   constexpr int shifts[3] = { 32, 43, 54 };
   constexpr std::uint64_t mask = 0x7FF;
-  std::vector<std::array<std::size_t, 2048>> start(3);
-  for (auto& s : start)
-  {
-    s.fill(0);
-  }
-  for (const std::uint64_t v : values)
-  {
-    for (int p = 0; p < 3; ++p)
-    {
-      ++start[p][(v >> shifts[p]) & mask];
-    }
-  }
+  constexpr std::size_t radix = 2048;
+  const Id n = static_cast<Id>(values.size());
+  const Id block = std::max(Id(1) << 16, BlockCount(n, 64));
+  const Id nB = BlockCount(n, block);
+  std::vector<std::size_t> position(static_cast<std::size_t>(nB) * radix); // [block][digit]
   std::vector<std::uint64_t> other;
-  for (int p = 0; p < 3; ++p)
+  for (const int shift : shifts)
   {
-    std::array<std::size_t, 2048>& s = start[p];
-    if (*std::max_element(s.begin(), s.end()) == values.size())
-    {
-      continue; // one bucket: the pass would not move anything
-    }
+    ForBlocks(parallelFor, n, block, [&](Id b) {
+      std::size_t* count = position.data() + b * radix;
+      std::fill_n(count, radix, 0);
+      for (Id i = b * block; i < std::min(n, (b + 1) * block); ++i)
+      {
+        ++count[(values[i] >> shift) & mask];
+      }
+    });
     std::size_t sum = 0;
-    for (std::size_t& c : s)
+    bool oneDigit = false;
+    for (std::size_t d = 0; d < radix; ++d)
     {
-      const std::size_t count = c;
-      c = sum;
-      sum += count;
+      const std::size_t first = sum;
+      for (Id b = 0; b < nB; ++b)
+      {
+        const std::size_t count = position[b * radix + d];
+        position[b * radix + d] = sum;
+        sum += count;
+      }
+      oneDigit = oneDigit || sum - first == values.size();
+    }
+    if (oneDigit)
+    {
+      continue; // the pass would not move anything
     }
     ResizeForOverwrite(other, values.size());
-    for (const std::uint64_t v : values)
-    {
-      other[s[(v >> shifts[p]) & mask]++] = v;
-    }
+    ForBlocks(parallelFor, n, block, [&](Id b) {
+      std::size_t* next = position.data() + b * radix;
+      for (Id i = b * block; i < std::min(n, (b + 1) * block); ++i)
+      {
+        other[next[(values[i] >> shift) & mask]++] = values[i];
+      }
+    });
     values.swap(other);
   }
 }
@@ -135,7 +146,7 @@ std::vector<Id> TriangleLocalityOrder(Id numVertices, Id numTriangles, const Id*
                     static_cast<std::uint32_t>(cell[1]))) << 32) | std::uint64_t(t);
     }
   });
-  SortByUpperHalf(keyed);
+  SortByUpperHalf(keyed, parallelFor);
   ResizeForOverwrite(order, keyed.size());
   parallelFor(numTriangles, [&](Id begin, Id end) {
     std::transform(keyed.begin() + begin, keyed.begin() + end, order.begin() + begin,

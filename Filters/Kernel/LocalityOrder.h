@@ -7,6 +7,7 @@
 #ifndef CTSplines_Kernel_LocalityOrder_h
 #define CTSplines_Kernel_LocalityOrder_h
 
+#include "LargeArrays.h"
 #include "MeshTopology.h"
 
 #include <algorithm>
@@ -49,8 +50,10 @@ void BoundingBoxUV(Id n, const double* uv, double lo[2], double hi[2],
 std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y);
 
 /// Sorts values by their upper 32 bits (a key; the lower 32 typically hold an index), stable:
-/// LSD radix sort, one byte per pass (bytes that all values share are skipped).
-void SortByUpperHalf(std::vector<std::uint64_t>& values);
+/// LSD radix sort, 11 + 11 + 10 bits per pass (digits that all values share are skipped), each
+/// pass in blocks on parallelFor; the same result on any thread count.
+void SortByUpperHalf(
+  std::vector<std::uint64_t>& values, const ParallelFor& parallelFor = SerialFor);
 
 /// A renumbering of a mesh into its locality order (issue #12), for building and writing a spline
 /// in that order: renumbered triangle k is input triangle Triangles[k] (TriangleLocalityOrder),
@@ -76,7 +79,8 @@ void PermuteRows(std::vector<T>& v, std::size_t width, const std::vector<Id>& fr
   {
     return;
   }
-  std::vector<T> out(v.size());
+  std::vector<T> out;
+  ResizeForOverwrite(out, v.size()); // huge pages for the fresh copy
   parallelFor(static_cast<Id>(from.size()), [&](Id begin, Id end) {
     // Locals: rows of ids could alias the captured sizes and pointers, reloaded per row.
     const T* source = v.data();

@@ -47,15 +47,41 @@ int VertexBlockBits(Id numPoints)
   return bits;
 }
 
+// What is wrong with triangle p: a vertex id outside [0, numPoints) (*outside set to it), a
+// repeated vertex, or nothing. The counting pass tests every triangle with it; the failure's
+// message is written from the same answer.
+enum class TriangleFault
+{
+  None,
+  Outside,
+  Repeat
+};
+TriangleFault CheckTriangle(Id numPoints, const Id* p, Id* outside = nullptr)
+{
+  for (int l = 0; l < 3; ++l)
+  {
+    if (p[l] < 0 || p[l] >= numPoints)
+    {
+      if (outside)
+      {
+        *outside = p[l];
+      }
+      return TriangleFault::Outside;
+    }
+  }
+  return p[0] == p[1] || p[1] == p[2] || p[2] == p[0] ? TriangleFault::Repeat
+                                                      : TriangleFault::None;
+}
+
 // The failure of the lowest offending triangle's check (t fails it).
 TopologyStatus TriangleFailure(Id numPoints, const Id* triangles, Id t)
 {
   const Id* p = triangles + 3 * t;
   MessageBuilder os;
-  const auto outside = std::find_if(p, p + 3, [numPoints](Id v) { return v < 0 || v >= numPoints; });
-  if (outside != p + 3)
+  Id outside = 0;
+  if (CheckTriangle(numPoints, p, &outside) == TriangleFault::Outside)
   {
-    os << "triangle " << TriangleId{ t } << " references point " << *outside << " outside [0, "
+    os << "triangle " << TriangleId{ t } << " references point " << outside << " outside [0, "
        << numPoints << ")";
   }
   else
@@ -174,8 +200,7 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
     for (Id t = b * triangleBlock; t < std::min(numTriangles, (b + 1) * triangleBlock); ++t)
     {
       const Id* p = triangles + 3 * t;
-      if (std::min({ p[0], p[1], p[2] }) < 0 || std::max({ p[0], p[1], p[2] }) >= numPoints ||
-        p[0] == p[1] || p[1] == p[2] || p[2] == p[0])
+      if (CheckTriangle(numPoints, p) != TriangleFault::None)
       {
         bad.Report(t);
         return; // later triangles of the block cannot be lower

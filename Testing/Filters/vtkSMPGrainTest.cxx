@@ -4,6 +4,7 @@
 // on the module's pool, which starts threads only when its size changes, and results are
 // bit-identical to the Sequential backend for any thread count. Threads are counted by
 // interposing pthread_create in this executable.
+#include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
 #include "CTSplinesSMP.h"
 #include "vtkBezierTriangleTessellator.h"
@@ -24,6 +25,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <limits>
 #include <cstdlib>
 #include <numeric>
 #include <random>
@@ -297,6 +299,51 @@ TEST_F(SMPGrain, SplineStagesMatchOnAnyNumberOfThreads)
       ExpectIdentical(serial, SplineOn(input, threads, construction),
         "construction " + std::to_string(construction) + " on " + std::to_string(threads) +
           " threads");
+    }
+  }
+}
+
+TEST_F(SMPGrain, ReadErrorsNameTheLowestCellOrPointOnAnyNumberOfThreads)
+{
+  // Reading the input splits at the copy grain: two bad cells (quads) or two bad values in
+  // different chunks, the lower one is named on every thread count.
+  const ctk::ParameterMesh mesh = ctk::RegularGridMesh(260, ctk::GridDiagonal::Alternating);
+  const vtkIdType nT = mesh.NumberOfTriangles(), lowCell = 70001, highCell = 130003;
+  ASSERT_GT(nT, highCell);
+  const vtkSmartPointer<vtkPolyData> good =
+    ctsplines_test::MakeSampledPolyData(mesh, ctk::AnalyticSurface::Franke);
+  auto quads = vtkSmartPointer<vtkPolyData>::New();
+  quads->ShallowCopy(good);
+  vtkNew<vtkCellArray> cells;
+  for (vtkIdType t = 0; t < nT; ++t)
+  {
+    const ctk::Id* p = &mesh.Triangles[3 * t];
+    const vtkIdType quad[4] = { p[0], p[1], p[2], p[0] };
+    cells->InsertNextCell(t == lowCell || t == highCell ? 4 : 3, quad);
+  }
+  quads->SetPolys(cells);
+  const vtkIdType lowPoint = 30001, highPoint = 60001; // 3 values per point: 2 grains apart
+  auto infinite = vtkSmartPointer<vtkPolyData>::New();
+  infinite->DeepCopy(good);
+  vtkDataArray* du = infinite->GetPointData()->GetArray("dFdu");
+  ASSERT_LT(highPoint, du->GetNumberOfTuples());
+  du->SetComponent(highPoint, 0, std::numeric_limits<double>::infinity());
+  du->SetComponent(lowPoint, 2, std::numeric_limits<double>::infinity());
+  const std::pair<vtkPolyData*, std::string> cases[] = {
+    { quads, "cell " + std::to_string(lowCell) + " is a polygon with 4 points" },
+    { infinite, "non-finite value (inf) at point " + std::to_string(lowPoint) },
+  };
+  for (const auto& [input, expected] : cases)
+  {
+    for (int threads : { 1, 2, 3 })
+    {
+      SetModuleThreads(threads);
+      vtkNew<vtkCloughTocherSplineFilter> spline;
+      int result = 1;
+      const std::string errors = ctsplines_test::RunCapturingErrors(spline, input, result);
+      EXPECT_EQ(result, 0);
+      EXPECT_NE(errors.find(expected), std::string::npos)
+        << threads << " threads: " << errors;
     }
   }
 }

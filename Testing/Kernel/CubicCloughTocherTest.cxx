@@ -390,3 +390,30 @@ TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
     EXPECT_EQ(check.Message, serialCheck.Message) << threads << " threads";
   }
 }
+
+TEST(LocalityOrder, RadixSortIsStableOnEveryThreadCount)
+{
+  // Five blocks of the sort's 2^16 values; keys from a few values (ties keep the input order)
+  // to the full 32 bits (every pass moves values), and keys below 2^11 (two passes skipped).
+  std::mt19937_64 random(5u);
+  for (const std::uint64_t keyRange : { std::uint64_t(7), std::uint64_t(2048), std::uint64_t(1) << 32 })
+  {
+    std::vector<std::uint64_t> values(300001);
+    for (std::size_t i = 0; i < values.size(); ++i)
+    {
+      values[i] = ((random() % keyRange) << 32) | i;
+    }
+    std::vector<std::uint64_t> expected = values;
+    std::stable_sort(expected.begin(), expected.end(),
+      [](std::uint64_t a, std::uint64_t b) { return (a >> 32) < (b >> 32); });
+    std::vector<std::uint64_t> serial = values;
+    SortByUpperHalf(serial);
+    EXPECT_EQ(serial, expected) << "keys below " << keyRange;
+    for (const auto& [threads, chunk] : { std::pair<int, Id>{ 2, 4999 }, { 3, 70001 } })
+    {
+      std::vector<std::uint64_t> split = values;
+      SortByUpperHalf(split, ThreadedFor(threads, chunk));
+      EXPECT_EQ(split, expected) << "keys below " << keyRange << ", " << threads << " threads";
+    }
+  }
+}
