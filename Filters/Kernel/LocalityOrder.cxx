@@ -32,39 +32,41 @@ std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y)
 // Sorts values by their upper 32 bits (the key; the lower 32 hold the triangle), stable: LSD
 // radix sort, 11 + 11 + 10 bits. Each pass counts and scatters in blocks of a size set by n
 // alone (digit-major, block-minor positions), so the blocks run in parallel and the result is
-// the same on any thread count.
+// the same on any thread count. Positions are 32-bit (fewer than 2^32 values), which also
+// tells the compiler that the scatter's stores do not alias them.
 void SortByUpperHalf(std::vector<std::uint64_t>& values, const ParallelFor& parallelFor)
 {
   constexpr int shifts[3] = { 32, 43, 54 };
   constexpr std::uint64_t mask = 0x7FF;
-  constexpr std::size_t radix = 2048;
+  constexpr Id radix = 2048;
   const Id n = static_cast<Id>(values.size());
   const Id block = std::max(Id(1) << 16, BlockCount(n, 64));
   const Id nB = BlockCount(n, block);
-  std::vector<std::size_t> position(static_cast<std::size_t>(nB) * radix); // [block][digit]
+  std::vector<std::uint32_t> position(static_cast<std::size_t>(nB * radix)); // [block][digit]
   std::vector<std::uint64_t> other;
   for (const int shift : shifts)
   {
     ForBlocks(parallelFor, n, block, [&](Id b) {
-      std::size_t* count = position.data() + b * radix;
+      std::uint32_t* count = position.data() + b * radix;
       std::fill_n(count, radix, 0);
-      for (Id i = b * block; i < std::min(n, (b + 1) * block); ++i)
+      const std::uint64_t* v = values.data() + b * block;
+      for (Id i = 0, end = std::min(block, n - b * block); i < end; ++i)
       {
-        ++count[(values[i] >> shift) & mask];
+        ++count[(v[i] >> shift) & mask];
       }
     });
-    std::size_t sum = 0;
+    std::uint32_t sum = 0;
     bool oneDigit = false;
-    for (std::size_t d = 0; d < radix; ++d)
+    for (Id d = 0; d < radix; ++d)
     {
-      const std::size_t first = sum;
+      const std::uint32_t first = sum;
       for (Id b = 0; b < nB; ++b)
       {
-        const std::size_t count = position[b * radix + d];
+        const std::uint32_t count = position[b * radix + d];
         position[b * radix + d] = sum;
         sum += count;
       }
-      oneDigit = oneDigit || sum - first == values.size();
+      oneDigit = oneDigit || Id(sum - first) == n;
     }
     if (oneDigit)
     {
@@ -72,10 +74,12 @@ void SortByUpperHalf(std::vector<std::uint64_t>& values, const ParallelFor& para
     }
     ResizeForOverwrite(other, values.size());
     ForBlocks(parallelFor, n, block, [&](Id b) {
-      std::size_t* next = position.data() + b * radix;
-      for (Id i = b * block; i < std::min(n, (b + 1) * block); ++i)
+      std::uint32_t* next = position.data() + b * radix;
+      const std::uint64_t* v = values.data() + b * block;
+      std::uint64_t* out = other.data();
+      for (Id i = 0, end = std::min(block, n - b * block); i < end; ++i)
       {
-        other[next[(values[i] >> shift) & mask]++] = values[i];
+        out[next[(v[i] >> shift) & mask]++] = v[i];
       }
     });
     values.swap(other);

@@ -51,7 +51,7 @@ std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y);
 
 /// Sorts values by their upper 32 bits (a key; the lower 32 typically hold an index), stable:
 /// LSD radix sort, 11 + 11 + 10 bits per pass (digits that all values share are skipped), each
-/// pass in blocks on parallelFor; the same result on any thread count.
+/// pass in blocks on parallelFor; the same result on any thread count. Fewer than 2^32 values.
 void SortByUpperHalf(
   std::vector<std::uint64_t>& values, const ParallelFor& parallelFor = SerialFor);
 
