@@ -263,6 +263,18 @@ std::string TrianglesOfCellArray(
     };
     ctk::LowestId bad;
     ParallelFor(0, n, GrainForCopies, [&](vtkIdType begin, vtkIdType end) {
+      // Usually every cell is a triangle: one vectorised check of the chunk, one copy.
+      bool triangles3 = true;
+      for (vtkIdType c = begin; c < end; ++c)
+      {
+        triangles3 &= size(c) == 3;
+      }
+      if (triangles3 && offsets[begin] >= 0 &&
+        static_cast<vtkIdType>(offsets[end]) <= connectivitySize)
+      {
+        std::copy(connectivity + offsets[begin], connectivity + offsets[end], &triangles[3 * begin]);
+        return;
+      }
       for (vtkIdType c = begin; c < end; ++c)
       {
         if (outside(c) || size(c) != 3)
