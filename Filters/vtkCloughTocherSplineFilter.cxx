@@ -806,9 +806,9 @@ void ReleaseBuildOnlyData(int degree, ctk::SplineInput& in, ctk::MeshTopology& t
   in.SharedEdgeGradients = nullptr;
   if (degree == 3)
   {
-    std::vector<std::array<ctk::Id, 2>>().swap(topology.Edges);
-    std::vector<std::array<ctk::Id, 2>>().swap(topology.EdgeTriangles);
-    std::vector<std::array<signed char, 2>>().swap(topology.EdgeLocalIndex);
+    decltype(topology.Edges)().swap(topology.Edges);
+    decltype(topology.EdgeTriangles)().swap(topology.EdgeTriangles);
+    decltype(topology.EdgeLocalIndex)().swap(topology.EdgeLocalIndex);
   }
 }
 

@@ -9,6 +9,10 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <new>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #if defined(__linux__)
@@ -40,14 +44,58 @@ inline void AdviseHugePages(const void* p, std::size_t bytes)
 #endif
 }
 
-/// Resizes v to n elements that the caller then overwrites: when v must grow, its old contents
-/// are dropped and the new storage is advised for huge pages before resize() touches it.
+/// std::allocator, except that construct() without arguments default-initialises: resize() of
+/// trivial elements leaves them unwritten. For arrays filled in parallel loops after resize():
+/// value-initialisation would write every page first, serially, on the calling thread.
 template <typename T>
-void ResizeForOverwrite(std::vector<T>& v, std::size_t n)
+struct OverwriteAllocator : std::allocator<T>
+{
+  using value_type = T;
+  template <typename U>
+  struct rebind
+  {
+    using other = OverwriteAllocator<U>;
+  };
+  OverwriteAllocator() = default;
+  template <typename U>
+  OverwriteAllocator(const OverwriteAllocator<U>&) noexcept
+  {
+  }
+  template <typename U>
+  void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value)
+  {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args)
+  {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+template <typename T, typename U>
+bool operator==(const OverwriteAllocator<T>&, const OverwriteAllocator<U>&)
+{
+  return true;
+}
+template <typename T, typename U>
+bool operator!=(const OverwriteAllocator<T>&, const OverwriteAllocator<U>&)
+{
+  return false;
+}
+
+/// A vector whose resize(n) leaves trivial elements unwritten (see OverwriteAllocator).
+template <typename T>
+using OverwriteVector = std::vector<T, OverwriteAllocator<T>>;
+
+/// Resizes v to n elements that the caller then overwrites: when v must grow, its old contents
+/// are dropped and the new storage is advised for huge pages before resize() touches it (which
+/// writes it, unless v is an OverwriteVector).
+template <typename T, typename A>
+void ResizeForOverwrite(std::vector<T, A>& v, std::size_t n)
 {
   if (v.capacity() < n)
   {
-    std::vector<T>().swap(v);
+    std::vector<T, A>().swap(v);
     v.reserve(n);
     AdviseHugePages(v.data(), n * sizeof(T));
   }

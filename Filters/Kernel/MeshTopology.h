@@ -5,6 +5,7 @@
 #define CTSplines_Kernel_MeshTopology_h
 
 #include "MessageIds.h" // for Id
+#include "LargeArrays.h"
 #include "ParallelFor.h"
 
 #include <array>
@@ -19,13 +20,13 @@ namespace ctk
 struct MeshTopology
 {
   /// Unique edges, each as (a, b) with a < b. #E by 2.
-  std::vector<std::array<Id, 2>> Edges;
+  OverwriteVector<std::array<Id, 2>> Edges;
   /// Edge id of each local edge of each triangle. #T by 3.
-  std::vector<std::array<Id, 3>> TriangleEdges;
+  OverwriteVector<std::array<Id, 3>> TriangleEdges;
   /// The triangles at each edge (second is -1 on a boundary edge). #E by 2.
-  std::vector<std::array<Id, 2>> EdgeTriangles;
+  OverwriteVector<std::array<Id, 2>> EdgeTriangles;
   /// Local edge index of the edge in each of EdgeTriangles. #E by 2.
-  std::vector<std::array<signed char, 2>> EdgeLocalIndex;
+  OverwriteVector<std::array<signed char, 2>> EdgeLocalIndex;
 
   bool IsBoundaryEdge(Id e) const { return EdgeTriangles[e][1] < 0; }
   Id NumberOfBoundaryEdges() const;
