@@ -42,9 +42,6 @@ std::string CheckTuples(
   return os.str();
 }
 
-namespace
-{
-// CheckTuples and the component count.
 std::string CheckShape(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element)
 {
@@ -57,8 +54,6 @@ std::string CheckShape(vtkDataArray* array, const std::string& what, int compone
   return error;
 }
 
-// The value checks of CopyArray on an array of the right shape, copying into out unless it is
-// null (then the values are only checked).
 std::string ReadValues(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element, double* out, int nanGroup)
 {
@@ -163,19 +158,6 @@ std::string ReadValues(vtkDataArray* array, const std::string& what, int compone
   }
   return ok ? std::string() : os.str();
 }
-} // namespace
-
-std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup)
-{
-  std::string error = CheckShape(array, what, components, tuples, element);
-  if (!error.empty())
-  {
-    return error;
-  }
-  ctk::ResizeForOverwrite(out, static_cast<size_t>(tuples) * components);
-  return ReadValues(array, what, components, tuples, element, out.data(), nanGroup);
-}
 
 std::string ShareOrCopyArray(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element, std::vector<double>& copy, const double*& values)
@@ -233,22 +215,12 @@ vtkDataArray* FindArray(vtkDataSetAttributes* attributes, const std::string& nam
   return name.empty() ? nullptr : attributes->GetArray(name.c_str());
 }
 
-std::string CopyPoints(vtkPoints* points, std::vector<double>& out)
-{
-  if (!points)
-  {
-    return "the input has no points";
-  }
-  return CopyArray(
-    points->GetData(), "the point coordinates", 3, points->GetNumberOfPoints(), "point", out);
-}
-
 namespace
 {
 // Triangles straight from a cell array's offsets and connectivity (32- or 64-bit storage), in
 // chunks on the module's pool; the error names the lowest bad cell on any thread count.
-std::string TrianglesOfCellArray(
-  vtkCellArray* cells, const char* what, std::vector<ctk::Id>& triangles)
+template <typename IdVector>
+std::string TrianglesOfCellArray(vtkCellArray* cells, const char* what, IdVector& triangles)
 {
   const vtkIdType n = cells->GetNumberOfCells();
   ctk::ResizeForOverwrite(triangles, static_cast<size_t>(n) * 3);
@@ -306,9 +278,8 @@ std::string TrianglesOfCellArray(
     : extract(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
   return ok ? std::string() : os.str();
 }
-} // namespace
-
-std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles)
+template <typename IdVector>
+std::string TrianglesOfPolyData(vtkPolyData* input, IdVector& triangles)
 {
   std::ostringstream os;
   const vtkIdType nVerts = input->GetNumberOfVerts(), nLines = input->GetNumberOfLines();
@@ -333,7 +304,19 @@ std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles
   return TrianglesOfCellArray(input->GetPolys(), "a polygon", triangles);
 }
 
-std::string ExtractTriangles(vtkUnstructuredGrid* input, std::vector<ctk::Id>& triangles)
+} // namespace
+
+std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles)
+{
+  return TrianglesOfPolyData(input, triangles);
+}
+
+std::string ExtractTriangles(vtkPolyData* input, ctk::OverwriteVector<ctk::Id>& triangles)
+{
+  return TrianglesOfPolyData(input, triangles);
+}
+
+std::string ExtractTriangles(vtkUnstructuredGrid* input, ctk::OverwriteVector<ctk::Id>& triangles)
 {
   const vtkIdType n = input->GetNumberOfCells();
   vtkUnsignedCharArray* typeArray = input->GetCellTypesArray();

@@ -7,6 +7,7 @@
 
 #include "MeshTopology.h" // for ctk::Id
 
+#include "vtkPoints.h"
 #include "vtkType.h" // for vtkIdType
 
 #include <string>
@@ -27,12 +28,32 @@ namespace ctsplines
 std::string CheckTuples(
   vtkAbstractArray* array, const std::string& what, vtkIdType tuples, const char* element);
 
+/// CheckTuples and the component count.
+std::string CheckShape(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element);
+
+/// The value checks of CopyArray on an array of the right shape, copying into out unless it is
+/// null (then the values are only checked).
+std::string ReadValues(vtkDataArray* array, const std::string& what, int components,
+  vtkIdType tuples, const char* element, double* out, int nanGroup);
+
 /// Copies `array` (any numeric type) into row-major doubles after checking that it exists, has
 /// `tuples` tuples of `components` components and only finite values of magnitude below
 /// ctk::MaxInputMagnitude (far from overflow in the constructions' products). With nanGroup > 0, NaN marks "no value" for whole aligned groups of nanGroup
 /// components (a partly NaN group is an error).
+/// (The copy is written without zeroing first when `out` is a ctk::OverwriteVector.)
+template <typename Allocator>
 std::string CopyArray(vtkDataArray* array, const std::string& what, int components,
-  vtkIdType tuples, const char* element, std::vector<double>& out, int nanGroup = 0);
+  vtkIdType tuples, const char* element, std::vector<double, Allocator>& out, int nanGroup = 0)
+{
+  std::string error = CheckShape(array, what, components, tuples, element);
+  if (error.empty())
+  {
+    ctk::ResizeForOverwrite(out, static_cast<size_t>(tuples) * components);
+    error = ReadValues(array, what, components, tuples, element, out.data(), nanGroup);
+  }
+  return error;
+}
 
 /// CopyArray's checks, without the copy when `array` stores row-major doubles (vtkDoubleArray):
 /// values then points at its storage, which the caller reads in place while the array lives;
@@ -49,13 +70,23 @@ std::string CopyIdArray(vtkDataArray* array, const std::string& what, vtkIdType 
 vtkDataArray* FindArray(vtkDataSetAttributes* attributes, const std::string& name);
 
 /// Copies the points of a data set (checking finiteness) into row-major doubles.
-std::string CopyPoints(vtkPoints* points, std::vector<double>& out);
+template <typename Allocator>
+std::string CopyPoints(vtkPoints* points, std::vector<double, Allocator>& out)
+{
+  if (!points)
+  {
+    return "the input has no points";
+  }
+  return CopyArray(
+    points->GetData(), "the point coordinates", 3, points->GetNumberOfPoints(), "point", out);
+}
 
 /// Extracts the triangles of a poly data as #T by 3 point ids. Fails on vertices, lines,
 /// strips or polygons that are not triangles, naming the first offending cell id.
+std::string ExtractTriangles(vtkPolyData* input, ctk::OverwriteVector<ctk::Id>& triangles);
 std::string ExtractTriangles(vtkPolyData* input, std::vector<ctk::Id>& triangles);
 /// The same for an unstructured grid of VTK_TRIANGLE cells (as redistribution filters output).
-std::string ExtractTriangles(vtkUnstructuredGrid* input, std::vector<ctk::Id>& triangles);
+std::string ExtractTriangles(vtkUnstructuredGrid* input, ctk::OverwriteVector<ctk::Id>& triangles);
 
 } // namespace ctsplines
 

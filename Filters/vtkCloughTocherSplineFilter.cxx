@@ -290,7 +290,8 @@ std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* sel
   }
   const std::string du = self->GetDuArrayName(), dv = self->GetDvArrayName();
   const bool estimate = EstimatesDerivatives(pd, self);
-  auto readDerivative = [&](const std::string& name, const char* what, std::vector<double>& values) {
+  auto readDerivative = [&](const std::string& name, const char* what,
+                          ctk::OverwriteVector<double>& values) {
     if (!error.empty() || estimate)
     {
       return;
@@ -796,8 +797,11 @@ std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, const std::ve
 // topology's per-edge arrays). The cells still need the triangles.
 void ReleaseBuildOnlyData(int degree, ctk::SplineInput& in, ctk::MeshTopology& topology)
 {
-  for (std::vector<double>* a : { &in.UV, &in.F, &in.Fu, &in.Fv, &in.EdgeGradients,
-         &in.BoundaryCurvePoints })
+  for (ctk::OverwriteVector<double>* a : { &in.UV, &in.F, &in.Fu, &in.Fv })
+  {
+    ctk::OverwriteVector<double>().swap(*a);
+  }
+  for (std::vector<double>* a : { &in.EdgeGradients, &in.BoundaryCurvePoints })
   {
     std::vector<double>().swap(*a);
   }

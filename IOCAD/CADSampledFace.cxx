@@ -70,17 +70,17 @@ std::string ReadArrays(vtkPolyData* block, const ctk::SplineOptions& options, Sa
   auto cell = [&](const char* name) { return std::string("cell data array '") + name + "'"; };
   std::string error = CopyIds(pd->GetArray(names::GlobalNodeId), names::GlobalNodeId, 1, nV,
     "point", face.GlobalNode);
-  const std::pair<const char*, std::vector<double>*> pointArrays[] = { { names::UV, &in.UV },
-    { names::StitchDu, &in.Fu }, { names::StitchDv, &in.Fv }, { names::Du, &face.SurfaceFu },
-    { names::Dv, &face.SurfaceFv } };
-  for (const auto& a : pointArrays)
-  {
+  auto pointArray = [&](const char* name, int components, auto& values) {
     if (error.empty())
     {
-      const int components = a.second == &in.UV ? 2 : 3;
-      error = CopyArray(pd->GetArray(a.first), point(a.first), components, nV, "point", *a.second);
+      error = CopyArray(pd->GetArray(name), point(name), components, nV, "point", values);
     }
-  }
+  };
+  pointArray(names::UV, 2, in.UV);
+  pointArray(names::StitchDu, 3, in.Fu);
+  pointArray(names::StitchDv, 3, in.Fv);
+  pointArray(names::Du, 3, face.SurfaceFu);
+  pointArray(names::Dv, 3, face.SurfaceFv);
   if (error.empty())
   {
     error = CopyIds(cd->GetArray(names::BRepEdgeId), names::BRepEdgeId, 3, nT, "cell",

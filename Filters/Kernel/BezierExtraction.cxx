@@ -137,8 +137,8 @@ bool ExtractTriangle(const SplineData& data, const MeshTopology& topo, const Spl
   probe.Fv.resize(3 * nLocal);
   probe.EdgeGradients.resize(boundaryEdges ? 18 * nPatch : 0);
   probe.SplitTau.resize(nPatch);
-  std::vector<Id>& tris = probe.Triangles;
-  std::vector<double>&uv = probe.UV, &F = probe.F, &Fu = probe.Fu, &Fv = probe.Fv;
+  OverwriteVector<Id>& tris = probe.Triangles;
+  OverwriteVector<double>&uv = probe.UV, &F = probe.F, &Fu = probe.Fu, &Fv = probe.Fv;
   std::vector<double>& eg = probe.EdgeGradients;
   std::vector<Vec3>& tau = probe.SplitTau;
   for (int a = 0; a < nLocal; ++a)
@@ -170,7 +170,7 @@ bool ExtractTriangle(const SplineData& data, const MeshTopology& topo, const Spl
       if (dof < 3 * nV)
       {
         const int a = static_cast<int>(std::find(vertices, vertices + nLocal, dof / 3) - vertices);
-        std::vector<double>& target = dof % 3 == 0 ? F : (dof % 3 == 1 ? Fu : Fv);
+        OverwriteVector<double>& target = dof % 3 == 0 ? F : (dof % 3 == 1 ? Fu : Fv);
         target[3 * a + c] = 1.0;
         continue;
       }

@@ -71,16 +71,16 @@ LocalityRenumbering MakeLocalityRenumbering(Id numVertices, Id numTriangles, con
 
 /// Rows of `width` values of v (renumbered row k = input row from[k]) put in the renumbered
 /// order, or back in the input's order (back = true), chunked by parallelFor over the rows.
-template <typename T>
-void PermuteRows(std::vector<T>& v, std::size_t width, const std::vector<Id>& from, bool back,
+template <typename T, typename A>
+void PermuteRows(std::vector<T, A>& v, std::size_t width, const std::vector<Id>& from, bool back,
   const ParallelFor& parallelFor = SerialFor)
 {
   if (v.empty() || from.empty())
   {
     return;
   }
-  std::vector<T> out;
-  ResizeForOverwrite(out, v.size()); // huge pages for the fresh copy
+  std::vector<T, A> out;
+  ResizeForOverwrite(out, v.size()); // huge pages; unwritten for an OverwriteVector
   parallelFor(static_cast<Id>(from.size()), [&](Id begin, Id end) {
     // Locals: rows of ids could alias the captured sizes and pointers, reloaded per row.
     const T* source = v.data();

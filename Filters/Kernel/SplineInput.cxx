@@ -9,8 +9,8 @@ namespace ctk
 {
 namespace
 {
-template <typename T>
-const T* OrNull(const std::vector<T>& v)
+template <typename T, typename A>
+const T* OrNull(const std::vector<T, A>& v)
 {
   return v.empty() ? nullptr : v.data();
 }
@@ -130,7 +130,7 @@ void SplineInput::Renumber(const LocalityRenumbering& r, bool back, const Parall
   });
   PermuteRows(this->Triangles, 3, r.Triangles, back, parallelFor);
   PermuteRows(this->UV, 2, r.Vertices, back, parallelFor);
-  for (std::vector<double>* a : { &this->F, &this->Fu, &this->Fv })
+  for (OverwriteVector<double>* a : { &this->F, &this->Fu, &this->Fv })
   {
     PermuteRows(*a, 3, r.Vertices, back, parallelFor);
   }

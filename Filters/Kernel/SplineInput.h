@@ -13,9 +13,10 @@ namespace ctk
 {
 struct SplineInput
 {
-  std::vector<Id> Triangles;     // #T by 3
-  std::vector<double> UV;        // #V by 2
-  std::vector<double> F, Fu, Fv; // #V by 3 each
+  // The large arrays are OverwriteVectors: filled in parallel loops after resize.
+  OverwriteVector<Id> Triangles;     // #T by 3
+  OverwriteVector<double> UV;        // #V by 2
+  OverwriteVector<double> F, Fu, Fv; // #V by 3 each
   std::vector<double> EdgeGradients;       // empty or #T by 18 (rows: EdgeGradientRows)
   /// Instead of EdgeGradients: the caller's rows, read in place (it keeps them alive).
   const double* SharedEdgeGradients = nullptr;

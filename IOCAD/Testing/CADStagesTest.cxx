@@ -185,7 +185,7 @@ TEST(CADStages, FaceSplineFailureNamesTheLowestFace)
   ASSERT_EQ(s.Faces.size(), 6u);
   for (const int f : { 4, 2 })
   {
-    std::vector<double>& uv = s.Faces[f].Input.UV;
+    auto& uv = s.Faces[f].Input.UV;
     const ctk::Id* tri = s.Faces[f].Input.Triangles.data();
     uv[2 * tri[1]] = uv[2 * tri[0]]; // triangle 0 loses its area in the parameter plane
     uv[2 * tri[1] + 1] = uv[2 * tri[0] + 1];
@@ -365,7 +365,7 @@ TEST(CADStages, SeamSpansFromAPoleAreSplitByTheTurn)
   for (int f = 0; f < static_cast<int>(s.Faces.size()); ++f)
   {
     const ctcad::SampledFace& face = s.Faces[f];
-    const std::vector<double>& uv = face.Input.UV;
+    const auto& uv = face.Input.UV;
     ForEachTangentEdge(face, [&](ctk::Id i, ctk::Id j) {
       const ctk::Vec2 p(uv[2 * i], uv[2 * i + 1]), q(uv[2 * j], uv[2 * j + 1]);
       ctk::Vec3 a = normal(f, p), b = normal(f, q);
@@ -410,7 +410,7 @@ TEST(CADStages, TangentSpansAcrossAFastCurvatureAreSplitByTheSkew)
     ForEachTangentEdge(face, [&](ctk::Id p, ctk::Id q) {
       const ctk::Vec3 a = normal(p), b = normal(q);
       const double turn = std::atan2(a.cross(b).norm(), a.dot(b));
-      const std::vector<double>& F = face.Input.F;
+      const auto& F = face.Input.F;
       const double length = (ctk::Vec3(F[3 * p], F[3 * p + 1], F[3 * p + 2]) -
         ctk::Vec3(F[3 * q], F[3 * q + 1], F[3 * q + 2]))
                               .norm();

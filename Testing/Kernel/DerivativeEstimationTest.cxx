@@ -25,7 +25,7 @@ using Function = std::function<SurfacePoint(double, double)>;
 SampledMesh SampleFunction(const ParameterMesh& m, const Function& f, const Affine& affine = {})
 {
   SampledMesh out;
-  out.Triangles = m.Triangles;
+  out.Triangles.assign(m.Triangles.begin(), m.Triangles.end());
   const Eigen::Matrix2d Ainv = affine.A.inverse();
   for (const Vec2& U : m.UV)
   {
@@ -92,7 +92,8 @@ Estimate RunOrFail(const SampledMesh& mesh, DerivativeEstimation method)
   return e;
 }
 
-Jacobian At(const std::vector<double>& fu, const std::vector<double>& fv, Id v)
+template <typename Values>
+Jacobian At(const Values& fu, const Values& fv, Id v)
 {
   Jacobian J;
   J << Vec3(fu[3 * v], fu[3 * v + 1], fu[3 * v + 2]), Vec3(fv[3 * v], fv[3 * v + 1], fv[3 * v + 2]);
@@ -240,10 +241,11 @@ TEST(DerivativeEstimation, MinimumEnergyIsSimilarityInvariantOnly)
 
 /// Bending energy of the kernel's CTo spline of the mesh with derivatives (fu, fv), integrated
 /// per micro-triangle by the degree-2 rule at interior points (exact: f'' is linear there).
-double SplineEnergy(SampledMesh mesh, const std::vector<double>& fu, const std::vector<double>& fv)
+template <typename Values>
+double SplineEnergy(SampledMesh mesh, const Values& fu, const Values& fv)
 {
-  mesh.Fu = fu;
-  mesh.Fv = fv;
+  mesh.Fu.assign(fu.begin(), fu.end());
+  mesh.Fv.assign(fv.begin(), fv.end());
   SplineOptions o;
   o.Method = Construction::CTo;
   const CubicSpline spline = BuildOrFail(mesh, o);

@@ -147,10 +147,9 @@ TEST(InputValidation, FiniteControlPointsWhoseSumOverflowsAreAccepted)
     mesh.F[3 * v] = 1e307; // 19 of them overflow
     mesh.F[3 * v + 1] = mesh.F[3 * v + 2] = 0.0;
   }
-  for (std::vector<double>* a : { &mesh.Fu, &mesh.Fv, &mesh.EdgeGradients })
-  {
-    std::fill(a->begin(), a->end(), 0.0);
-  }
+  std::fill(mesh.Fu.begin(), mesh.Fu.end(), 0.0);
+  std::fill(mesh.Fv.begin(), mesh.Fv.end(), 0.0);
+  std::fill(mesh.EdgeGradients.begin(), mesh.EdgeGradients.end(), 0.0);
   mesh.ValuesChecked = true; // beyond what the validation lets through
   // Not Kashyap: its C1 smoothing (MoveLeastOntoTie) takes the tie's slope as a difference of two
   // blossoms of the data, which loses it entirely at this magnitude.

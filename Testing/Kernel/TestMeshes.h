@@ -80,8 +80,9 @@ struct Affine
   Vec2 t = Vec2::Zero();
 };
 
-inline void AppendSample(std::vector<double>& F, std::vector<double>& Fu, std::vector<double>& Fv,
-  const SurfacePoint& s, const Eigen::Matrix2d& Ainv)
+template <typename Values, typename Derivatives>
+void AppendSample(Values& F, Derivatives& Fu, Derivatives& Fv, const SurfacePoint& s,
+  const Eigen::Matrix2d& Ainv)
 {
   Eigen::Matrix<double, 3, 2> J;
   J << s.Fu, s.Fv;
@@ -106,7 +107,7 @@ inline SampledMesh Sample(
 {
   SampledMesh out;
   out.Name = name;
-  out.Triangles = m.Triangles;
+  out.Triangles.assign(m.Triangles.begin(), m.Triangles.end());
   const Eigen::Matrix2d Ainv = affine.A.inverse();
   std::vector<double> dummyF;
   for (const Vec2& U : m.UV)
