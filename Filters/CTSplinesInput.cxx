@@ -84,21 +84,17 @@ std::string ReadValues(vtkDataArray* array, const std::string& what, int compone
     return bad != 0;
   };
   auto read = [&](auto get, bool concurrent) {
-    std::atomic<bool> bad{ false };
+    std::atomic<bool> badChunk{ false };
     if (concurrent)
     {
       ParallelFor(0, static_cast<vtkIdType>(count), GrainForCopies, [&](vtkIdType b, vtkIdType e) {
         if (anyBad(get, static_cast<size_t>(b), static_cast<size_t>(e)))
         {
-          bad.store(true, std::memory_order_relaxed);
+          badChunk.store(true, std::memory_order_relaxed);
         }
       });
     }
-    else
-    {
-      bad = anyBad(get, 0, count);
-    }
-    if (!bad.load())
+    if (concurrent ? !badChunk.load() : !anyBad(get, 0, count))
     {
       return true;
     }

@@ -797,22 +797,21 @@ std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, const std::ve
 // topology's per-edge arrays). The cells still need the triangles.
 void ReleaseBuildOnlyData(int degree, ctk::SplineInput& in, ctk::MeshTopology& topology)
 {
-  for (ctk::OverwriteVector<double>* a : { &in.UV, &in.F, &in.Fu, &in.Fv })
-  {
-    ctk::OverwriteVector<double>().swap(*a);
-  }
-  for (std::vector<double>* a : { &in.EdgeGradients, &in.BoundaryCurvePoints })
-  {
-    std::vector<double>().swap(*a);
-  }
-  std::vector<ctk::Vec3>().swap(in.SplitTau);
-  std::vector<ctk::Id>().swap(in.EdgeGradientRows);
+  auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
+  release(in.UV);
+  release(in.F);
+  release(in.Fu);
+  release(in.Fv);
+  release(in.EdgeGradients);
+  release(in.BoundaryCurvePoints);
+  release(in.SplitTau);
+  release(in.EdgeGradientRows);
   in.SharedEdgeGradients = nullptr;
   if (degree == 3)
   {
-    decltype(topology.Edges)().swap(topology.Edges);
-    decltype(topology.EdgeTriangles)().swap(topology.EdgeTriangles);
-    decltype(topology.EdgeLocalIndex)().swap(topology.EdgeLocalIndex);
+    release(topology.Edges);
+    release(topology.EdgeTriangles);
+    release(topology.EdgeLocalIndex);
   }
 }
 

@@ -4,7 +4,6 @@
 #include "LargeArrays.h"
 
 #include <algorithm>
-#include <memory>
 
 namespace ctk
 {
@@ -229,8 +228,8 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   // Uninitialised: written in the parallel loops (first touch spread over the threads). The
   // blocks' buckets are kept in TriangleEdges' storage (3T ids, written only after the matching):
   // fresh pages cost more than the matching on a guest that returns freed memory to its host.
-  std::unique_ptr<Id[]> byBlock(new Id[nH]);
-  AdviseHugePages(byBlock.get(), nH * sizeof(Id));
+  OverwriteVector<Id> byBlock;
+  ResizeForOverwrite(byBlock, static_cast<size_t>(nH));
   static_assert(sizeof(topology.TriangleEdges[0]) == 3 * sizeof(Id), "packed rows");
   ResizeForOverwrite(topology.TriangleEdges, static_cast<size_t>(numTriangles));
   Id* scratch = numTriangles > 0 ? topology.TriangleEdges.front().data() : nullptr;
@@ -253,7 +252,7 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   ForBlocks(parallelFor, numPoints, vertexBlock, [&](Id vb) {
     const Id b = blockStart[vb];
     edgeStart[vb + 1] = MatchBlock(triangles, vb * vertexBlock,
-      std::min(numPoints, (vb + 1) * vertexBlock), byBlock.get() + b, blockStart[vb + 1] - b,
+      std::min(numPoints, (vb + 1) * vertexBlock), byBlock.data() + b, blockStart[vb + 1] - b,
       scratch + b, failures[vb]);
   });
   for (Id vb = 0; vb < nVB; ++vb)
@@ -270,8 +269,8 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   ResizeForOverwrite(topology.EdgeTriangles, nE);
   ResizeForOverwrite(topology.EdgeLocalIndex, nE);
   ForBlocks(parallelFor, numPoints, vertexBlock, [&](Id vb) {
-    const Id* h = byBlock.get() + blockStart[vb];
-    const Id* end = byBlock.get() + blockStart[vb + 1];
+    const Id* h = byBlock.data() + blockStart[vb];
+    const Id* end = byBlock.data() + blockStart[vb + 1];
     for (Id e = edgeStart[vb]; h < end; ++e)
     {
       const bool boundary = *h < 0;
