@@ -7,6 +7,8 @@
 #include "CloughTocherSpline.h"
 #include "SplineInput.h"
 
+#include <functional>
+
 class vtkUnstructuredGrid;
 
 namespace ctsplines
@@ -18,11 +20,14 @@ namespace ctsplines
 /// ghost triangles), only those triangles' cells (3 i + k for the i-th) and the control points
 /// they use, in their order, are written; MacroTriangleId keeps in's triangle ids. With
 /// inputTriangles (in renumbered, ctk::LocalityRenumbering::Triangles), MacroTriangleId is
-/// inputTriangles[t] for in's triangle t: the caller's input numbering.
+/// inputTriangles[t] for in's triangle t: the caller's input numbering. connectivityWritten,
+/// when given, is called once the cells' connectivity is written, before the cell data is
+/// allocated: the caller may free in's triangles and the topology there (peak memory).
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
   const std::vector<ctk::Id>* keptTriangles = nullptr,
-  const std::vector<ctk::Id>* inputTriangles = nullptr);
+  const std::vector<ctk::Id>* inputTriangles = nullptr,
+  const std::function<void()>& connectivityWritten = {});
 } // namespace ctsplines
 
 #endif

@@ -472,24 +472,13 @@ void KeepUsedPoints(CellId* conn, vtkIdType nConn,
 
 namespace
 {
-// The cells' arrays of FillSplineGrid, in the storage's id type.
+// The connectivity of cells 3 i + k of the i-th written triangle (keptTriangles[i], or i), in
+// the storage's id type; marks the points they use in `used` when it is not empty.
 template <typename CellId>
-struct SplineCells
-{
-  CellId* Offsets;
-  CellId* Connectivity;
-  unsigned char* Types;
-  vtkIdType* MacroIds;
-  signed char* MicroIds;
-};
-
-// Cells 3 i + k of the i-th written triangle (keptTriangles[i], or i); marks the points they use
-// in `used` when it is not empty.
-template <typename CellId>
-void WriteSplineCells(const ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
-  const ctk::SplineInput& in, const std::vector<ctk::Id>* keptTriangles,
-  const std::vector<ctk::Id>* inputTriangles, vtkIdType nT, const SplineCells<CellId>& out,
-  std::vector<std::atomic<unsigned char>>& used)
+void WriteSplineConnectivity(const ctk::CloughTocherSpline& spline,
+  const ctk::MeshTopology& topology, const ctk::SplineInput& in,
+  const std::vector<ctk::Id>* keptTriangles, vtkIdType nT, CellId* offsets,
+  CellId* connectivity, std::vector<std::atomic<unsigned char>>& used)
 {
   const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(spline.Degree);
   const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
@@ -498,7 +487,8 @@ void WriteSplineCells(const ctk::CloughTocherSpline& spline, const ctk::MeshTopo
     // would otherwise load again for every entry.
     const vtkIdType n = perCell;
     const int* order = vtkOrder.data();
-    const SplineCells<CellId> o = out;
+    CellId* const conn = connectivity;
+    CellId* const offs = offsets;
     std::atomic<unsigned char>* mark = used.empty() ? nullptr : used.data();
     for (vtkIdType i = b; i < e; ++i)
     {
@@ -508,7 +498,7 @@ void WriteSplineCells(const ctk::CloughTocherSpline& spline, const ctk::MeshTopo
       for (int k = 0; k < 3; ++k)
       {
         const vtkIdType c = 3 * i + k;
-        CellId* cell = o.Connectivity + n * c;
+        CellId* cell = conn + n * c;
         for (vtkIdType a = 0; a < n; ++a)
         {
           cell[a] = static_cast<CellId>(nets[k][order[a]]);
@@ -517,14 +507,32 @@ void WriteSplineCells(const ctk::CloughTocherSpline& spline, const ctk::MeshTopo
         {
           mark[nets[k][a]].store(1, std::memory_order_relaxed);
         }
-        o.Offsets[c] = static_cast<CellId>(n * c);
-        o.Types[c] = VTK_BEZIER_TRIANGLE;
-        o.MacroIds[c] = inputTriangles ? (*inputTriangles)[t] : t;
-        o.MicroIds[c] = static_cast<signed char>(k);
+        offs[c] = static_cast<CellId>(n * c);
       }
     }
   });
-  out.Offsets[3 * nT] = static_cast<CellId>(perCell * 3 * nT);
+  offsets[3 * nT] = static_cast<CellId>(perCell * 3 * nT);
+}
+
+// The cell data of the same cells: type, MacroTriangleId (the caller's triangle id) and
+// MicroTriangleId.
+void WriteSplineCellData(const std::vector<ctk::Id>* keptTriangles,
+  const std::vector<ctk::Id>* inputTriangles, vtkIdType nT, unsigned char* types,
+  vtkIdType* macroIds, signed char* microIds)
+{
+  ctsplines::ParallelFor(0, nT, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
+      const vtkIdType macro = inputTriangles ? (*inputTriangles)[t] : t;
+      for (int k = 0; k < 3; ++k)
+      {
+        types[3 * i + k] = VTK_BEZIER_TRIANGLE;
+        macroIds[3 * i + k] = macro;
+        microIds[3 * i + k] = static_cast<signed char>(k);
+      }
+    }
+  });
 }
 
 } // namespace
@@ -535,7 +543,8 @@ namespace ctsplines
 // triangle with MacroTriangleId and MicroTriangleId. Consumes the spline's points.
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
-  const std::vector<ctk::Id>* keptTriangles, const std::vector<ctk::Id>* inputTriangles)
+  const std::vector<ctk::Id>* keptTriangles, const std::vector<ctk::Id>* inputTriangles,
+  const std::function<void()>& connectivityWritten)
 {
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
@@ -551,21 +560,10 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   const vtkIdType nCells = 3 * nT;
   vtkSmartPointer<vtkCellArray> cells = ctsplines::NewCellArray(
     nCells, perCell * nCells, static_cast<vtkIdType>(controlPoints.size()));
-  vtkNew<vtkUnsignedCharArray> types;
-  ctsplines::AllocateTuples(types, nCells);
-  vtkNew<vtkIdTypeArray> macroIds;
-  macroIds->SetName("MacroTriangleId");
-  ctsplines::AllocateTuples(macroIds, nCells);
-  vtkNew<vtkSignedCharArray> microIds;
-  microIds->SetName("MicroTriangleId");
-  ctsplines::AllocateTuples(microIds, nCells);
   // With ghosts, the points the written cells use (threads may mark a point together).
   std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
   const auto write = [&](auto* offsets, auto* connectivity) {
-    using CellId = std::remove_pointer_t<decltype(offsets)>;
-    const SplineCells<CellId> out{ offsets, connectivity, types->GetPointer(0),
-      macroIds->GetPointer(0), microIds->GetPointer(0) };
-    WriteSplineCells(spline, topology, in, keptTriangles, inputTriangles, nT, out, used);
+    WriteSplineConnectivity(spline, topology, in, keptTriangles, nT, offsets, connectivity, used);
     if (keptTriangles)
     {
       KeepUsedPoints(connectivity, perCell * nCells, used, controlPoints, domainPoints);
@@ -579,6 +577,21 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   {
     write(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
   }
+  std::vector<std::atomic<unsigned char>>().swap(used);
+  if (connectivityWritten)
+  {
+    connectivityWritten(); // in and topology are not read from here on
+  }
+  vtkNew<vtkUnsignedCharArray> types;
+  ctsplines::AllocateTuples(types, nCells);
+  vtkNew<vtkIdTypeArray> macroIds;
+  macroIds->SetName("MacroTriangleId");
+  ctsplines::AllocateTuples(macroIds, nCells);
+  vtkNew<vtkSignedCharArray> microIds;
+  microIds->SetName("MicroTriangleId");
+  ctsplines::AllocateTuples(microIds, nCells);
+  WriteSplineCellData(keptTriangles, inputTriangles, nT, types->GetPointer(0),
+    macroIds->GetPointer(0), microIds->GetPointer(0));
   vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(std::move(controlPoints), 3);
   vtkSmartPointer<vtkDoubleArray> uvOut = AdoptedVectors::Adopt(std::move(domainPoints), 2);
   uvOut->SetName(uvName);
@@ -777,19 +790,21 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
 }
 
 // The input cell of each kernel triangle t: cells[order[t]] (either empty: the identity), or
-// empty when that is t.
-std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, const std::vector<ctk::Id>& order)
+// empty when that is t. Consumes the renumbering, which the output no longer needs.
+std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, ctk::LocalityRenumbering& order)
 {
-  if (cells.empty() || order.empty())
+  // Consumed, not copied: the output's cells are allocated next, at the filter's peak memory.
+  std::vector<ctk::Id> triangles = std::move(order.Triangles);
+  order = ctk::LocalityRenumbering();
+  if (cells.empty() || triangles.empty())
   {
-    return cells.empty() ? order : cells;
+    return cells.empty() ? triangles : cells;
   }
-  std::vector<ctk::Id> composed(order.size());
-  for (size_t t = 0; t < order.size(); ++t)
+  for (ctk::Id& t : triangles)
   {
-    composed[t] = cells[order[t]];
+    t = cells[t];
   }
-  return composed;
+  return triangles;
 }
 
 // Frees what only the construction reads before the output's cells are allocated (peak memory:
@@ -909,12 +924,19 @@ int vtkCloughTocherSplineFilter::RequestData(
 
   // 3. Fill the output.
   bool anyGhost = false;
-  const std::vector<ctk::Id> inputCells = InputCells(cells, order.Triangles);
+  const std::vector<ctk::Id> inputCells = InputCells(cells, order);
   const std::vector<ctk::Id> owned =
     OwnedTriangles(ghosts, in.NumberOfTriangles(), inputCells, anyGhost);
+  // Without the Bézier extraction nothing reads the triangles and the topology once the cells'
+  // connectivity is written: freed before the cell data is allocated (peak memory).
+  const auto releaseMesh = [&]() {
+    decltype(in.Triangles)().swap(in.Triangles);
+    topology = ctk::MeshTopology();
+  };
   ctsplines::FillSplineGrid(spline, topology, in,
     this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output,
-    anyGhost ? &owned : nullptr, inputCells.empty() ? nullptr : &inputCells);
+    anyGhost ? &owned : nullptr, inputCells.empty() ? nullptr : &inputCells,
+    this->ComputeBezierExtraction ? std::function<void()>() : releaseMesh);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
