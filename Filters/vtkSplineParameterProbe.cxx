@@ -39,6 +39,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -544,11 +545,11 @@ struct QueryPoints
 };
 
 // The queries in the Morton order of their buckets, as (key << 32 | query) values (empty: the
-// input's order, beyond 2^32 queries). Neighbouring queries then read neighbouring cells, and
-// a spline written in a locality order nearly in memory order, whatever the order of the
-// queries (random queries on 1e6 triangles were ~10x slower per query than on 1e4 without
-// this); the results are scattered back. Each query is computed independently, so the order
-// changes no result.
+// input's order, for queries mostly in neighbouring buckets already, or beyond 2^32 of them).
+// Neighbouring queries then read neighbouring cells, and a spline written in a locality order
+// nearly in memory order, whatever the order of the queries (random queries on 1e6 triangles
+// were ~10x slower per query than on 1e4 without this); the results are scattered back. Each
+// query is computed independently, so the order changes no result.
 std::vector<std::uint64_t> LocalityOrder(
   const QueryPoints& queries, vtkIdType nPoints, const ctk::TriangleBucketGrid& grid)
 {
@@ -564,18 +565,38 @@ std::vector<std::uint64_t> LocalityOrder(
     ++shift;
   }
   ctk::ResizeForOverwrite(keyed, static_cast<size_t>(nPoints));
+  std::atomic<vtkIdType> coherent(0); // queries in their predecessor's bucket or a neighbour
   ctsplines::ParallelFor(0, nPoints, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
+    double x[3];
+    ctk::Id px = -2, py = -2, ix, iy;
+    if (b > 0)
+    {
+      queries.Get(b - 1, x);
+      grid.BucketCell(x[0], x[1], px, py);
+    }
+    vtkIdType near = 0;
     for (vtkIdType i = b; i < e; ++i)
     {
-      double x[3];
       queries.Get(i, x);
-      ctk::Id ix, iy;
-      const std::uint32_t key = grid.BucketCell(x[0], x[1], ix, iy)
+      const bool found = grid.BucketCell(x[0], x[1], ix, iy);
+      const std::uint32_t key = found
         ? ctk::MortonKey16(static_cast<std::uint32_t>(ix >> shift), static_cast<std::uint32_t>(iy >> shift))
         : 0;
       keyed[i] = (std::uint64_t(key) << 32) | std::uint64_t(i);
+      near += found && std::abs(ix - px) <= 1 && std::abs(iy - py) <= 1;
+      px = found ? ix : -2;
+      py = found ? iy : -2;
     }
+    coherent += near;
   });
+  if (2 * coherent.load() >= nPoints)
+  {
+    // Already in a coherent order (grid rows, a polyline, sorted points): processed as they
+    // come, their results are written in memory order, which the sort's scattered writes cost
+    // more than it saved (1e6 queries in grid rows on 1e6 triangles: 0.376 -> 0.334 s; on 1e4
+    // triangles 0.31 -> 0.19 s).
+    return {};
+  }
   ctk::SortByUpperHalf(keyed, ctsplines::SMPCopyFor);
   return keyed;
 }

@@ -220,9 +220,25 @@ void ExpectSameBits(vtkDataSet* a, vtkDataSet* b)
   }
 }
 
+// uv in a random order: point k is uv[perm[k]].
+std::vector<ctk::Vec2> Shuffled(
+  const std::vector<ctk::Vec2>& uv, std::mt19937& rng, std::vector<vtkIdType>& perm)
+{
+  perm.resize(uv.size());
+  std::iota(perm.begin(), perm.end(), vtkIdType(0));
+  std::shuffle(perm.begin(), perm.end(), rng);
+  std::vector<ctk::Vec2> shuffled;
+  for (vtkIdType i : perm)
+  {
+    shuffled.push_back(uv[i]);
+  }
+  return shuffled;
+}
+
 // A spline large enough for the locality order (38,400 cells), probed at random points and at
 // the mesh's vertices and edge midpoints (ties between cells): probing again with the spline
-// reused gives the same bits, and queries in another order give the same result per query.
+// reused gives the same bits, and queries in another order give the same result per query, also
+// between queries processed as they come (grid rows) and sorted (the same points shuffled).
 // (InPlaceAndCopiedSourcesKeepTheBits compares with the source's own order.)
 TEST(vtkSplineParameterProbe, LocalityOrderKeepsTheBits)
 {
@@ -260,15 +276,8 @@ TEST(vtkSplineParameterProbe, LocalityOrderKeepsTheBits)
   EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 1);
   ExpectSameBits(sourceOrder, vtkDataSet::SafeDownCast(probe->GetOutput()));
 
-  std::vector<vtkIdType> perm(uv.size());
-  std::iota(perm.begin(), perm.end(), vtkIdType(0));
-  std::shuffle(perm.begin(), perm.end(), rng);
-  std::vector<ctk::Vec2> shuffled;
-  for (vtkIdType i : perm)
-  {
-    shuffled.push_back(uv[i]);
-  }
-  probe->SetInputData(QueryPoints(shuffled));
+  std::vector<vtkIdType> perm;
+  probe->SetInputData(QueryPoints(Shuffled(uv, rng, perm)));
   probe->Update();
   vtkDataSet* out = vtkDataSet::SafeDownCast(probe->GetOutput());
   vtkPointData* a = sourceOrder->GetPointData();
@@ -282,6 +291,37 @@ TEST(vtkSplineParameterProbe, LocalityOrderKeepsTheBits)
       a->GetArray("MacroTriangleId")->GetComponent(perm[k], 0))
       << k;
   }
+
+  // Rows of a grid come in a coherent order (neighbouring queries in neighbouring buckets) and
+  // are processed as they come; the same points shuffled are sorted first: the same bits.
+  std::vector<ctk::Vec2> rows;
+  for (int j = 0; j <= 150; ++j)
+  {
+    for (int i = 0; i <= 150; ++i)
+    {
+      rows.emplace_back(i / 150.0, j / 150.0);
+    }
+  }
+  probe->SetInputData(QueryPoints(rows));
+  probe->Update();
+  vtkSmartPointer<vtkDataSet> inRows;
+  inRows.TakeReference(probe->GetOutput()->NewInstance());
+  inRows->DeepCopy(probe->GetOutput());
+  std::vector<vtkIdType> rowPerm;
+  probe->SetInputData(QueryPoints(Shuffled(rows, rng, rowPerm)));
+  probe->Update();
+  out = vtkDataSet::SafeDownCast(probe->GetOutput());
+  for (size_t k = 0; k < rowPerm.size(); ++k)
+  {
+    ASSERT_EQ(Point(out, k), Point(inRows, rowPerm[k])) << k;
+    ASSERT_EQ(Tuple3(out->GetPointData()->GetArray("Normals"), k),
+      Tuple3(inRows->GetPointData()->GetArray("Normals"), rowPerm[k]))
+      << k;
+    ASSERT_EQ(out->GetPointData()->GetArray("MacroTriangleId")->GetComponent(k, 0),
+      inRows->GetPointData()->GetArray("MacroTriangleId")->GetComponent(rowPerm[k], 0))
+      << k;
+  }
+  EXPECT_EQ(probe->GetNumberOfSplineBuilds(), 1);
 }
 
 // Query k of a probe against a brute-force reference over the source's cells in their own
