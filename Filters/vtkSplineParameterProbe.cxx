@@ -669,28 +669,41 @@ struct ProbeArrays
     {
       std::fill_n(this->DuData + 3 * i, 3, 0.0);
       std::fill_n(this->DvData + 3 * i, 3, 0.0);
-      std::fill_n(this->NormalsData + 3 * i, 3, 0.0);
     }
     this->MacroIdsData[i] = -1;
-    this->MaskData[i] = 0;
   }
   void Set(vtkIdType i, const ctk::ParametricJet& jet, vtkIdType macro)
   {
     std::copy_n(jet.Value.data(), 3, this->CoordsData + 3 * i);
     if (this->Derivatives)
     {
-      ctk::Vec3 normal = jet.Du.cross(jet.Dv);
-      const double length = normal.norm();
-      if (length > 0)
-      {
-        normal /= length;
-      }
       std::copy_n(jet.Du.data(), 3, this->DuData + 3 * i);
       std::copy_n(jet.Dv.data(), 3, this->DvData + 3 * i);
-      std::copy_n(normal.data(), 3, this->NormalsData + 3 * i);
     }
     this->MacroIdsData[i] = macro;
-    this->MaskData[i] = 1;
+  }
+  /// The normals and the mask, from the derivatives and the macro-triangle ids, in the queries'
+  /// order: written per query in a locality order, as arrays of their own they cost more
+  /// scattered stores than this pass (zero derivatives give a zero normal).
+  void Finish(vtkIdType nPoints)
+  {
+    ctsplines::ParallelFor(0, nPoints, ctsplines::GrainForCopies, [this](vtkIdType b, vtkIdType e) {
+      for (vtkIdType i = b; i < e; ++i)
+      {
+        this->MaskData[i] = this->MacroIdsData[i] >= 0 ? 1 : 0;
+        if (this->Derivatives)
+        {
+          const ctk::Vec3 du(this->DuData + 3 * i), dv(this->DvData + 3 * i);
+          ctk::Vec3 normal = du.cross(dv);
+          const double length = normal.norm();
+          if (length > 0)
+          {
+            normal /= length;
+          }
+          std::copy_n(normal.data(), 3, this->NormalsData + 3 * i);
+        }
+      }
+    });
   }
 };
 } // namespace
@@ -781,6 +794,7 @@ int vtkSplineParameterProbe::RequestData(
     output->Initialize();
     return 1;
   }
+  out.Finish(nPoints);
 
   vtkNew<vtkPoints> points;
   points->SetData(out.Coords);
