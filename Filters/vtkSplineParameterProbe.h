@@ -26,9 +26,11 @@
  * built once per source and reused while the source is unchanged.
  * The spline is read where it is: the source's own arrays for an unstructured grid with double
  * points, UV and weights (checked, not copied), a checked copy otherwise; nothing is renumbered.
- * Queries are processed in the Morton order of their buckets and the results scattered back:
- * neighbouring queries read neighbouring cells, in memory order for a spline written in a
- * locality order (as vtkCloughTocherSplineFilter writes them). Points are evaluated exactly with
+ * Queries that already come in a coherent order (at least half of them in their predecessor's
+ * locator bucket or a neighbour: grid rows, polylines) are processed as they come; others in
+ * the Morton order of their buckets, the results scattered back: neighbouring queries read
+ * neighbouring cells, in memory order for a spline written in a locality order (as
+ * vtkCloughTocherSplineFilter writes them). Points are evaluated exactly with
  * the kernel; the loop over points runs with vtkSMPTools. Ties between cells go to the lowest
  * source cell id, and no result depends on the order or the thread count. ComputeDerivatives
  * off outputs positions only.
