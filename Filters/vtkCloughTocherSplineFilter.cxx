@@ -71,6 +71,14 @@ const ctk::ConstructionInfo* Row(int c)
 {
   return ctk::IsConstruction(c) ? &ctk::Info(static_cast<ctk::Construction>(c)) : nullptr;
 }
+
+// Frees v's storage (clear() keeps it): the filter drops what later stages no longer read
+// before it allocates more (peak memory).
+template <typename Vector>
+void Release(Vector& v)
+{
+  Vector().swap(v);
+}
 } // namespace
 
 int vtkCloughTocherSplineFilter::GetNumberOfConstructions()
@@ -548,7 +556,7 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
 {
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
-  std::vector<ctk::Vec3>().swap(spline.Degree == 4 ? quartic.SplitTau : cubic.SplitTau);
+  Release(spline.Degree == 4 ? quartic.SplitTau : cubic.SplitTau);
   std::vector<ctk::Vec3>& controlPoints =
     spline.Degree == 4 ? quartic.ControlPoints : cubic.ControlPoints;
   std::vector<ctk::Vec2>& domainPoints =
@@ -577,7 +585,7 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   {
     write(cells->GetOffsetsArray32()->GetPointer(0), cells->GetConnectivityArray32()->GetPointer(0));
   }
-  std::vector<std::atomic<unsigned char>>().swap(used);
+  Release(used);
   if (connectivityWritten)
   {
     connectivityWritten(); // in and topology are not read from here on
@@ -793,7 +801,6 @@ std::vector<ctk::Id> DropRepeatedGhosts(vtkUnsignedCharArray* ghosts, ctk::Splin
 // empty when that is t. Consumes the renumbering, which the output no longer needs.
 std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, ctk::LocalityRenumbering& order)
 {
-  // Consumed, not copied: the output's cells are allocated next, at the filter's peak memory.
   std::vector<ctk::Id> triangles = std::move(order.Triangles);
   order = ctk::LocalityRenumbering();
   if (cells.empty() || triangles.empty())
@@ -812,21 +819,20 @@ std::vector<ctk::Id> InputCells(const std::vector<ctk::Id>& cells, ctk::Locality
 // topology's per-edge arrays). The cells still need the triangles.
 void ReleaseBuildOnlyData(int degree, ctk::SplineInput& in, ctk::MeshTopology& topology)
 {
-  auto release = [](auto& v) { std::decay_t<decltype(v)>().swap(v); };
-  release(in.UV);
-  release(in.F);
-  release(in.Fu);
-  release(in.Fv);
-  release(in.EdgeGradients);
-  release(in.BoundaryCurvePoints);
-  release(in.SplitTau);
-  release(in.EdgeGradientRows);
+  Release(in.UV);
+  Release(in.F);
+  Release(in.Fu);
+  Release(in.Fv);
+  Release(in.EdgeGradients);
+  Release(in.BoundaryCurvePoints);
+  Release(in.SplitTau);
+  Release(in.EdgeGradientRows);
   in.SharedEdgeGradients = nullptr;
   if (degree == 3)
   {
-    release(topology.Edges);
-    release(topology.EdgeTriangles);
-    release(topology.EdgeLocalIndex);
+    Release(topology.Edges);
+    Release(topology.EdgeTriangles);
+    Release(topology.EdgeLocalIndex);
   }
 }
 
@@ -930,7 +936,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   // Without the Bézier extraction nothing reads the triangles and the topology once the cells'
   // connectivity is written: freed before the cell data is allocated (peak memory).
   const auto releaseMesh = [&]() {
-    decltype(in.Triangles)().swap(in.Triangles);
+    Release(in.Triangles);
     topology = ctk::MeshTopology();
   };
   ctsplines::FillSplineGrid(spline, topology, in,
