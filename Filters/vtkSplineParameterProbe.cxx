@@ -220,6 +220,48 @@ struct SplineArrays
       shapes.Orders[degree], this->Ids + this->Offsets[c], this->XYZ, this->Weights, P, w);
   }
   vtkIdType MacroId(vtkIdType c) const { return this->MacroIds ? this->MacroIds[c] : c; }
+
+  // Prefetches of what Corners and Net read, for cells c .. c + n - 1 (see QueryBatch); beyond
+  // the last cell, nothing.
+  void PrefetchOffsets(vtkIdType c, vtkIdType n) const
+  {
+    const vtkIdType last = std::min(c + n, this->NCells);
+    ctk::PrefetchRead(this->Offsets + c);
+    ctk::PrefetchRead(this->Offsets + last);
+  }
+  void PrefetchIds(vtkIdType c, vtkIdType n) const
+  {
+    const vtkIdType last = std::min(c + n, this->NCells);
+    for (; c < last; ++c)
+    {
+      ctk::PrefetchRead(this->Ids + this->Offsets[c]);
+    }
+  }
+  void PrefetchCorners(vtkIdType c, vtkIdType n) const
+  {
+    const vtkIdType last = std::min(c + n, this->NCells);
+    for (; c < last; ++c)
+    {
+      const IdT* ids = this->Ids + this->Offsets[c];
+      for (int a = 0; a < 3; ++a)
+      {
+        ctk::PrefetchRead(this->UV + 2 * static_cast<vtkIdType>(ids[a]));
+      }
+    }
+  }
+  void PrefetchNet(vtkIdType c) const
+  {
+    const IdT* ids = this->Ids + this->Offsets[c];
+    const vtkIdType size = this->Size(c);
+    for (vtkIdType a = 0; a < size; ++a)
+    {
+      ctk::PrefetchRead(this->XYZ + 3 * static_cast<vtkIdType>(ids[a]));
+      if (this->Weights)
+      {
+        ctk::PrefetchRead(this->Weights + ids[a]);
+      }
+    }
+  }
 };
 
 // Whether the cells come in the spline filter's layout, macro-triangle by macro-triangle: cells
@@ -601,6 +643,77 @@ std::vector<std::uint64_t> LocalityOrder(
   return keyed;
 }
 
+// A batch of queries, located stage by stage with prefetches: each stage asks for the cache
+// lines the next one reads (the buckets' row offsets, then their rows, then the listed cells'
+// offsets, connectivity and corner (u, v), which Locate reads; once located, the cells' control
+// points, which the evaluation reads). On a spline larger than the cache a query's reads are a
+// chain of five dependent misses; over a batch the misses of its queries overlap (1e6 queries in
+// grid rows on 1e6 Delaunay triangles, one thread: 0.42 -> 0.32 s).
+struct QueryBatch
+{
+  static constexpr int Size = 32;
+  int Count = 0;
+  vtkIdType Index[Size]; // query ids
+  double X[Size][3];
+  ctk::Id Buckets[Size];
+  ctk::LocatorHit Hits[Size];
+
+  /// Locates queries k0 .. k1 - 1 of the processing order (queryOrder, or k itself when empty),
+  /// k1 - k0 <= Size.
+  template <typename Arrays, typename Corners>
+  void Locate(const QueryPoints& queries, const std::vector<std::uint64_t>& queryOrder,
+    vtkIdType k0, vtkIdType k1, const ctk::TriangleBucketGrid& grid, const Arrays& arrays,
+    const Corners& corners)
+  {
+    this->Count = static_cast<int>(k1 - k0);
+    for (int j = 0; j < this->Count; ++j)
+    {
+      const vtkIdType k = k0 + j;
+      this->Index[j] =
+        queryOrder.empty() ? k : static_cast<vtkIdType>(queryOrder[k] & 0xFFFFFFFFu);
+      queries.Get(this->Index[j], this->X[j]);
+      this->Buckets[j] = grid.Bucket(this->X[j][0], this->X[j][1]);
+      if (this->Buckets[j] >= 0)
+      {
+        ctk::PrefetchRead(&grid.RowOffset(this->Buckets[j]));
+      }
+    }
+    for (int j = 0; j < this->Count; ++j)
+    {
+      if (this->Buckets[j] >= 0)
+      {
+        ctk::PrefetchRead(grid.RowBegin(this->Buckets[j]));
+      }
+    }
+    const ctk::Id groupSize = grid.GetGroupSize();
+    auto forListedCells = [&](auto&& visit) {
+      for (int j = 0; j < this->Count; ++j)
+      {
+        if (this->Buckets[j] >= 0)
+        {
+          const std::uint32_t* end = grid.RowEnd(this->Buckets[j]);
+          for (const std::uint32_t* g = grid.RowBegin(this->Buckets[j]); g != end; ++g)
+          {
+            visit(static_cast<vtkIdType>(*g) * groupSize, groupSize);
+          }
+        }
+      }
+    };
+    forListedCells([&](vtkIdType c, ctk::Id n) { arrays.PrefetchOffsets(c, n); });
+    forListedCells([&](vtkIdType c, ctk::Id n) { arrays.PrefetchIds(c, n); });
+    forListedCells([&](vtkIdType c, ctk::Id n) { arrays.PrefetchCorners(c, n); });
+    for (int j = 0; j < this->Count; ++j)
+    {
+      this->Hits[j] =
+        grid.LocateInBucket(this->Buckets[j], this->X[j][0], this->X[j][1], corners);
+      if (this->Hits[j].Found())
+      {
+        arrays.PrefetchNet(this->Hits[j].Triangle);
+      }
+    }
+  }
+};
+
 } // namespace
 
 // The spline of the last source and its locator, reused while the source and UVArrayName are
@@ -761,25 +874,29 @@ int vtkSplineParameterProbe::RequestData(
     double w[ctk::MaxBezierPoints];
     auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
     const BezierShapes& shapes = Shapes();
-    for (vtkIdType k = begin; k < end; ++k)
+    QueryBatch batch;
+    for (vtkIdType k0 = begin; k0 < end; k0 += QueryBatch::Size)
     {
-      const vtkIdType i =
-        queryOrder.empty() ? k : static_cast<vtkIdType>(queryOrder[k] & 0xFFFFFFFFu);
-      double x[3];
-      queries.Get(i, x);
-      const ctk::LocatorHit hit = spline.Grid.Locate(x[0], x[1], corners);
-      if (!hit.Found())
+      batch.Locate(queries, queryOrder, k0, std::min(end, k0 + QueryBatch::Size), spline.Grid,
+        arrays, corners);
+      for (int j = 0; j < batch.Count; ++j)
       {
-        out.SetOutside(i, x);
-        continue;
+        const vtkIdType i = batch.Index[j];
+        const ctk::LocatorHit& hit = batch.Hits[j];
+        if (!hit.Found())
+        {
+          out.SetOutside(i, batch.X[j]);
+          continue;
+        }
+        const vtkIdType c = hit.Triangle;
+        int degree;
+        const double* wp = arrays.Net(c, shapes, degree, P, w);
+        ctk::Vec2 A[3];
+        arrays.Corners(c, A);
+        out.Set(i,
+          ctk::EvaluateOverDomain(degree, P, wp, A[0], A[1], A[2], hit.Barycentric, order),
+          arrays.MacroId(c));
       }
-      const vtkIdType c = hit.Triangle;
-      int degree;
-      const double* wp = arrays.Net(c, shapes, degree, P, w);
-      ctk::Vec2 A[3];
-      arrays.Corners(c, A);
-      out.Set(i, ctk::EvaluateOverDomain(degree, P, wp, A[0], A[1], A[2], hit.Barycentric, order),
-        arrays.MacroId(c));
     }
   };
   // Blocks in sequence, each in parallel: progress and abort stay on the calling thread.

@@ -21,7 +21,12 @@ namespace ctk
 /// random, and each miss otherwise stalls the loop.
 inline void PrefetchRead(const void* p)
 {
-#if defined(__GNUC__) || defined(__clang__)
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+  // An asm statement, not __builtin_prefetch: GCC deletes loops whose only effects are
+  // __builtin_prefetch calls (C++ loops are assumed to terminate, and a prefetch counts as no
+  // effect), which silently dropped whole prefetch stages of the probe.
+  asm volatile("prefetcht0 %0" : : "m"(*static_cast<const char*>(p)));
+#elif defined(__GNUC__) || defined(__clang__)
   __builtin_prefetch(p, 0, 3);
 #else
   (void)p;

@@ -71,6 +71,16 @@ public:
   template <typename Corners>
   LocatorHit Locate(double u, double v, const Corners& corners) const;
 
+  /// Locate(u, v, corners) for b = Bucket(u, v) computed by the caller.
+  template <typename Corners>
+  LocatorHit LocateInBucket(Id b, double u, double v, const Corners& corners) const;
+  /// The groups Locate lists for bucket b >= 0: [RowBegin(b), RowEnd(b)), ids sorted. A caller
+  /// with many queries may prefetch what Locate will read: &RowOffset(b), then the row, then
+  /// the groups' triangles.
+  const std::uint32_t& RowOffset(Id b) const { return this->Offsets[b]; }
+  const std::uint32_t* RowBegin(Id b) const { return this->Items.data() + this->Offsets[b]; }
+  const std::uint32_t* RowEnd(Id b) const { return this->Items.data() + this->Offsets[b + 1]; }
+
   /// The bucket Locate(u, v) searches (-1 for non-finite input or an empty grid).
   Id Bucket(double u, double v) const;
   /// Its column and row (false, for -1). Callers with many queries may process them in an
@@ -145,8 +155,13 @@ private:
 template <typename Corners>
 LocatorHit TriangleBucketGrid::Locate(double u, double v, const Corners& corners) const
 {
+  return this->LocateInBucket(this->Bucket(u, v), u, v, corners);
+}
+
+template <typename Corners>
+LocatorHit TriangleBucketGrid::LocateInBucket(Id b, double u, double v, const Corners& corners) const
+{
   LocatorHit hit;
-  const Id b = this->Bucket(u, v);
   if (b < 0)
   {
     return hit;

@@ -11,7 +11,9 @@
 //                   Iterations 0); "x CTo" is its time over CTo's on the same mesh
 //   IM step (CTi)   one IM step: (time at Iterations N - time at Iterations 0) / N on CTi
 //   tessellate L4   vtkBezierTriangleTessellator at SubdivisionLevel 4 on the CTi spline
-//   probe           vtkSplineParameterProbe, random (u, v) points on the CTi spline
+//   probe           vtkSplineParameterProbe on the CTi spline: random (u, v) points, or with
+//                   --probe-queries rows the rows of a square grid (delaunay_comparison.py's
+//                   sorted queries)
 // --stages and --constructions select rows (e.g. to profile one of them).
 // The machine's bounds are measured first (BenchmarkSupport.h): copy and first-touch write
 // bandwidth, and the time of one cubic Bézier jet with normal. "of bound" is the fraction
@@ -66,6 +68,7 @@ struct Options
   int Threads = 0; // 0: vtkSMPTools' default (all cores)
   int Level = 4;
   double ProbePoints = 1e6;
+  bool ProbeRows = false; // --probe-queries rows
   double MaxTessellatedTriangles = 2e7; // output triangles; bounds the memory of one run
   int IMSteps = 10;
   std::string Mesh = "grid";   // or "delaunay"
@@ -110,7 +113,8 @@ int ConstructionId(const std::string& name)
 void Usage(const char* argv0)
 {
   std::printf("usage: %s [--sizes 1e4,1e5,1e6] [--repeat 3] [--threads N] [--level 4]\n"
-              "          [--probe-points 1e6] [--max-tessellated 2e7] [--im-steps 10]\n"
+              "          [--probe-points 1e6] [--probe-queries random|rows]\n"
+              "          [--max-tessellated 2e7] [--im-steps 10]\n"
               "          [--stages source,spline,im,tessellate,probe]\n"
               "          [--mesh grid|delaunay] [--renumber none|morton] [--memory 0|1]\n"
               "          [--clock wall|cpu] [--output-order locality|input]\n"
@@ -119,7 +123,9 @@ void Usage(const char* argv0)
               "  --repeat           runs per figure; the best is reported\n"
               "  --threads          vtkSMPTools threads (STDThread backend); 0 = all cores\n"
               "  --level            tessellation SubdivisionLevel (segments per cell edge)\n"
-              "  --probe-points     random parameter points per probe run\n"
+              "  --probe-points     parameter points per probe run\n"
+              "  --probe-queries    random: uniform random points; rows: the rows of a square\n"
+              "                     grid of about --probe-points points (a coherent order)\n"
               "  --max-tessellated  skip tessellations producing more triangles than this\n"
               "  --im-steps         Iterations of the IM row (its time is divided by this)\n"
               "  --stages           rows to run (comma separated)\n"
@@ -189,6 +195,10 @@ bool Parse(int argc, char** argv, Options& o)
     else if (a == "--probe-points" && ParseNumber(v, x) && x >= 1)
     {
       o.ProbePoints = x;
+    }
+    else if (a == "--probe-queries" && (std::string(v) == "random" || std::string(v) == "rows"))
+    {
+      o.ProbeRows = std::string(v) == "rows";
     }
     else if (a == "--max-tessellated" && ParseNumber(v, x) && x >= 0)
     {
@@ -503,13 +513,15 @@ void TessellateRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
 #endif
 
 #ifdef CTSPLINES_HAVE_PROBE
-/// --probe-points uniform random (u, v) in the unit square; best of --repeat runs, which from the
-/// second on reuse the probe's locator.
+/// --probe-points uniform random (u, v) in the unit square, or the centres of a square grid's
+/// cells row by row (--probe-queries rows); best of --repeat runs, which from the second on
+/// reuse the probe's locator.
 void ProbeRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
 {
   const Options& opt = ctx.Opt;
   bool ok = true;
-  const vtkIdType np = static_cast<vtkIdType>(opt.ProbePoints);
+  const vtkIdType side = std::max<vtkIdType>(1, std::llround(std::sqrt(opt.ProbePoints)));
+  const vtkIdType np = opt.ProbeRows ? side * side : static_cast<vtkIdType>(opt.ProbePoints);
   vtkNew<vtkPoints> uv;
   uv->SetDataTypeToDouble();
   uv->SetNumberOfPoints(np);
@@ -517,6 +529,11 @@ void ProbeRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   for (vtkIdType i = 0; i < np; ++i)
   {
+    if (opt.ProbeRows)
+    {
+      uv->SetPoint(i, (double(i % side) + 0.5) / double(side), (double(i / side) + 0.5) / double(side), 0.0);
+      continue;
+    }
     const double u = uniform(rng);
     uv->SetPoint(i, u, uniform(rng), 0.0);
   }
@@ -528,7 +545,7 @@ void ProbeRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
   const double t = BestUpdate(probe, opt.Repeat, ok);
   ctx.AllOk = ctx.AllOk && ok;
   std::ostringstream stage;
-  stage << "probe " << double(np) << " pts (CTi)";
+  stage << "probe " << double(np) << (opt.ProbeRows ? " rows" : " pts") << " (CTi)";
   Row(nT, stage.str(), t, np, "evaluations/s", false, 0.0, double(np) * ctx.Bounds.JetSeconds / t);
 }
 #endif
