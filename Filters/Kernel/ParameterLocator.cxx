@@ -24,19 +24,6 @@ bool IsUsable(const Vec2* c)
   return SignedArea2(c[0], c[1], c[2]) != 0.0;
 }
 
-// Cell of x along one axis: floor((x - origin) * inverseSpacing) clamped to [0, n), in double,
-// so that neither huge values nor a NaN from an overflowing or underflowing box (inf * 0) reach
-// the integer cast. The cast truncates, which is floor for the values >= 1 it gets (std::floor is
-// a library call on baseline x86-64, and this runs for every query and bucket range).
-Id Cell(double x, double origin, double inverseSpacing, Id n)
-{
-  const double f = (x - origin) * inverseSpacing;
-  if (!(f >= 1.0))
-  {
-    return 0;
-  }
-  return f < static_cast<double>(n - 1) ? static_cast<Id>(f) : n - 1;
-}
 } // namespace
 
 bool TriangleBucketGrid::BucketRange(const Vec2* c, Id count, Id range[4]) const
@@ -60,10 +47,10 @@ bool TriangleBucketGrid::BucketRange(const Vec2* c, Id count, Id range[4]) const
   const double margin = 1e-9 * (hi - lo).maxCoeff();
   lo.array() -= margin;
   hi.array() += margin;
-  range[0] = Cell(lo.x(), this->Origin[0], this->InverseSpacing[0], this->NX);
-  range[1] = Cell(hi.x(), this->Origin[0], this->InverseSpacing[0], this->NX);
-  range[2] = Cell(lo.y(), this->Origin[1], this->InverseSpacing[1], this->NY);
-  range[3] = Cell(hi.y(), this->Origin[1], this->InverseSpacing[1], this->NY);
+  range[0] = BucketCoordinate(lo.x(), this->Origin[0], this->InverseSpacing[0], this->NX);
+  range[1] = BucketCoordinate(hi.x(), this->Origin[0], this->InverseSpacing[0], this->NX);
+  range[2] = BucketCoordinate(lo.y(), this->Origin[1], this->InverseSpacing[1], this->NY);
+  range[3] = BucketCoordinate(hi.y(), this->Origin[1], this->InverseSpacing[1], this->NY);
   return true;
 }
 
@@ -205,23 +192,6 @@ bool TriangleBucketGrid::BuildFrom(
   }
   this->Offsets[0] = 0;
   return true;
-}
-
-bool TriangleBucketGrid::BucketCell(double u, double v, Id& ix, Id& iy) const
-{
-  if (this->NX == 0 || !std::isfinite(u) || !std::isfinite(v))
-  {
-    return false;
-  }
-  ix = Cell(u, this->Origin[0], this->InverseSpacing[0], this->NX);
-  iy = Cell(v, this->Origin[1], this->InverseSpacing[1], this->NY);
-  return true;
-}
-
-Id TriangleBucketGrid::Bucket(double u, double v) const
-{
-  Id ix, iy;
-  return this->BucketCell(u, v, ix, iy) ? iy * this->NX + ix : -1;
 }
 
 void ParameterLocator::Build(Id numTriangles, const Vec2* corners)
