@@ -39,7 +39,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -219,6 +218,11 @@ struct SplineArrays
       A[a] = ctk::Vec2(uv[0], uv[1]);
     }
   }
+  /// Corners as the locator reads them: corners(c, A).
+  auto CornersFunction() const
+  {
+    return [this](ctk::Id c, ctk::Vec2* A) { this->Corners(c, A); };
+  }
   /// The net of cell c in canonical order (see ctsplines::GatherNet) and its degree; shapes:
   /// Shapes().
   const double* Net(
@@ -325,7 +329,7 @@ struct ProbeSpline
   std::string Adopt(const SplineArrays<OffsetT, IdT>& arrays, const ctk::Vec2& lo, const ctk::Vec2& hi)
   {
     this->Arrays = arrays;
-    auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
+    const auto corners = arrays.CornersFunction();
     const ctk::Id group = MacroTriples(arrays.MacroIds, arrays.NCells) ? 3 : 1;
     if (!(arrays.NCells > 0 ? this->Grid.Build(arrays.NCells, corners, lo, hi, group)
                             : this->Grid.Build(0, corners)))
@@ -634,12 +638,6 @@ std::vector<std::uint64_t> LocalityOrder(
   {
     return keyed;
   }
-  // Columns and rows beyond 2^16 share keys (the order is only coarser).
-  int shift = 0;
-  while (std::max(grid.GetNumberOfColumns(), grid.GetNumberOfRows()) - 1 >> shift >= 65536)
-  {
-    ++shift;
-  }
   if (IsCoherentOrder(queries, nPoints, grid))
   {
     // Already in a coherent order (grid rows, a polyline, sorted points): processed as they
@@ -647,6 +645,12 @@ std::vector<std::uint64_t> LocalityOrder(
     // than it saved (1e6 queries in grid rows: on 1e5 triangles 0.33 -> 0.21 s, on 1e4
     // 0.31 -> 0.19 s, on 1e6 the same).
     return keyed;
+  }
+  // Columns and rows beyond 2^16 share keys (the order is only coarser).
+  int shift = 0;
+  while (std::max(grid.GetNumberOfColumns(), grid.GetNumberOfRows()) - 1 >> shift >= 65536)
+  {
+    ++shift;
   }
   ctk::ResizeForOverwrite(keyed, static_cast<size_t>(nPoints));
   ctsplines::ParallelFor(0, nPoints, ctsplines::GrainForCopies, [&](vtkIdType b, vtkIdType e) {
@@ -682,10 +686,9 @@ struct QueryBatch
 
   /// Locates queries k0 .. k1 - 1 of the processing order (queryOrder, or k itself when empty),
   /// k1 - k0 <= Size.
-  template <typename Arrays, typename Corners>
+  template <typename Arrays>
   void Locate(const QueryPoints& queries, const std::vector<std::uint64_t>& queryOrder,
-    vtkIdType k0, vtkIdType k1, const ctk::TriangleBucketGrid& grid, const Arrays& arrays,
-    const Corners& corners)
+    vtkIdType k0, vtkIdType k1, const ctk::TriangleBucketGrid& grid, const Arrays& arrays)
   {
     this->Count = static_cast<int>(k1 - k0);
     for (int j = 0; j < this->Count; ++j)
@@ -724,6 +727,7 @@ struct QueryBatch
     forListedCells([&](vtkIdType c, ctk::Id n) { arrays.PrefetchOffsets(c, n); });
     forListedCells([&](vtkIdType c, ctk::Id n) { arrays.PrefetchIds(c, n); });
     forListedCells([&](vtkIdType c, ctk::Id n) { arrays.PrefetchCorners(c, n); });
+    const auto corners = arrays.CornersFunction();
     for (int j = 0; j < this->Count; ++j)
     {
       this->Hits[j] =
@@ -894,13 +898,12 @@ int vtkSplineParameterProbe::RequestData(
   auto probe = [&](const auto& arrays, vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];
-    auto corners = [&arrays](ctk::Id c, ctk::Vec2* A) { arrays.Corners(c, A); };
     const BezierShapes& shapes = Shapes();
     QueryBatch batch;
     for (vtkIdType k0 = begin; k0 < end; k0 += QueryBatch::Size)
     {
-      batch.Locate(queries, queryOrder, k0, std::min(end, k0 + QueryBatch::Size), spline.Grid,
-        arrays, corners);
+      batch.Locate(
+        queries, queryOrder, k0, std::min(end, k0 + QueryBatch::Size), spline.Grid, arrays);
       for (int j = 0; j < batch.Count; ++j)
       {
         const vtkIdType i = batch.Index[j];

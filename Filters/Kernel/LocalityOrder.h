@@ -17,8 +17,8 @@
 
 namespace ctk
 {
-/// Asks for the cache line of p ahead of a read: the gathers of a renumbering read rows at
-/// random, and each miss otherwise stalls the loop.
+/// Asks for the cache line of p ahead of a read: gathers (a renumbering's rows, the probe's
+/// cells and control points) read at random, and each miss otherwise stalls the loop.
 inline void PrefetchRead(const void* p)
 {
 #if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
