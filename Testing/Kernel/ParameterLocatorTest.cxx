@@ -357,3 +357,50 @@ TEST(TriangleBucketGrid, GroupsLocateAsSingleTriangles)
     }
   }
 }
+
+// The groups a bucket lists that MayHold keeps are the only candidates: locating among them gives
+// Locate's triangle and coordinates, bit for bit, for queries anywhere (vertices, edges, outside
+// the mesh), and the box test keeps well under the bucket's groups on a random mesh.
+TEST(TriangleBucketGrid, BoxFilterKeepsEveryCandidate)
+{
+  std::mt19937 rng(31);
+  const ParameterMesh m = RandomMesh(rng, 30, GridDiagonal::Alternating);
+  const std::vector<Vec2> all = Corners(m);
+  auto corners = [&all](Id t, Vec2* c) { std::copy_n(&all[3 * t], 3, c); };
+  TriangleBucketGrid grid;
+  ASSERT_TRUE(grid.Build(m.NumberOfTriangles(), corners));
+  std::vector<Vec2> queries = QueryPoints(m, rng, 2000);
+  std::uniform_real_distribution<double> wide(-0.2, 1.2);
+  for (int i = 0; i < 500; ++i)
+  {
+    queries.emplace_back(wide(rng), wide(rng));
+  }
+  size_t listed = 0, kept = 0;
+  std::vector<std::uint32_t> groups;
+  for (size_t i = 0; i < queries.size(); ++i)
+  {
+    const Vec2& X = queries[i];
+    Id ix, iy;
+    ASSERT_TRUE(grid.BucketCell(X.x(), X.y(), ix, iy));
+    const Id b = iy * grid.GetNumberOfColumns() + ix;
+    ASSERT_EQ(b, grid.Bucket(X.x(), X.y()));
+    groups.clear();
+    const Vec2 f = grid.InBucket(X.x(), X.y(), ix, iy);
+    for (const std::uint32_t* g = grid.RowBegin(b); g != grid.RowEnd(b); ++g)
+    {
+      if (TriangleBucketGrid::MayHold(grid.RowBoxes(b)[g - grid.RowBegin(b)], f))
+      {
+        groups.push_back(*g);
+      }
+    }
+    listed += grid.RowEnd(b) - grid.RowBegin(b);
+    kept += groups.size();
+    const LocatorHit among =
+      grid.LocateAmong(groups.data(), groups.data() + groups.size(), X.x(), X.y(), corners);
+    const LocatorHit expected = BruteForce(all, X);
+    ASSERT_EQ(among.Triangle, expected.Triangle) << "query " << i << " at " << X.transpose();
+    ASSERT_EQ(among.Barycentric, expected.Barycentric) << "query " << i;
+    ASSERT_EQ(grid.Locate(X.x(), X.y(), corners).Triangle, expected.Triangle) << "query " << i;
+  }
+  EXPECT_LT(double(kept), 0.7 * double(listed)) << kept << " of " << listed;
+}
