@@ -670,8 +670,8 @@ std::vector<std::uint64_t> LocalityOrder(
 }
 
 // A batch of queries, located stage by stage with prefetches: each stage asks for the cache
-// lines the next one reads (the buckets' row offsets, then their rows, then the listed groups'
-// boxes; for the groups whose box holds the query, their cells' offsets, connectivity and corner
+// lines the next one reads (the buckets' row offsets, then their rows of group ids and boxes;
+// for the groups whose box holds the query, their cells' offsets, connectivity and corner
 // (u, v), which the barycentric tests read; once located, the cells' control points, which the
 // evaluation reads). On a spline larger than the cache a query's reads are a chain of dependent
 // misses; over a batch the misses of its queries overlap (1e6 queries in grid rows on 1e6

@@ -24,26 +24,34 @@ bool IsUsable(const Vec2* c)
   return SignedArea2(c[0], c[1], c[2]) != 0.0;
 }
 
-// d rounded down (FloatBelow) or up (FloatAbove) to a float; a NaN gives the widest bound.
-float FloatBelow(double d)
+// A box edge at grid coordinate x in 255ths of bucket i from its lower edge, (x - i) * 255
+// rounded down (From) or up (To), within [0, 255]; a NaN (an overflowing extent) gives the
+// widest bound. InBucket computes a query's position with the same monotone operations, so a
+// point in the box passes MayHold.
+std::uint8_t From(double x, Id i)
 {
-  if (!(d > -std::numeric_limits<float>::max()))
-  {
-    return -std::numeric_limits<float>::infinity();
-  }
-  const float f = d < std::numeric_limits<float>::max() ? static_cast<float>(d)
-                                                        : std::numeric_limits<float>::max();
-  return f > d ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+  const double f = (x - double(i)) * 255.0;
+  return f >= 0.0 ? static_cast<std::uint8_t>(std::min(f, 255.0)) : 0;
 }
 
-float FloatAbove(double d)
+std::uint8_t To(double x, Id i)
 {
-  return -FloatBelow(-d);
+  const double f = (x - double(i)) * 255.0;
+  if (!(f <= 255.0))
+  {
+    return 255;
+  }
+  if (!(f > 0.0))
+  {
+    return 0;
+  }
+  const auto q = static_cast<std::uint8_t>(f);
+  return q < f ? static_cast<std::uint8_t>(q + 1) : q;
 }
 
 } // namespace
 
-void TriangleBucketGrid::GroupBox(const Vec2* c, Id count, bool checked, float* box) const
+TriangleBucketGrid::GroupSpan TriangleBucketGrid::Span(const Vec2* c, Id count, bool checked) const
 {
   Vec2 lo = Vec2::Constant(std::numeric_limits<double>::infinity());
   Vec2 hi = -lo;
@@ -57,22 +65,24 @@ void TriangleBucketGrid::GroupBox(const Vec2* c, Id count, bool checked, float* 
   }
   if (!(lo.x() <= hi.x()))
   {
-    // No usable triangle: an empty box, in no bucket, holding no point.
-    box[0] = box[2] = std::numeric_limits<float>::infinity();
-    box[1] = box[3] = -std::numeric_limits<float>::infinity();
-    return;
+    return GroupSpan{ 1, 0, 1, 0, { 0, 0 }, { 0, 0 } }; // no usable triangle: in no bucket
   }
   // Points accepted within the barycentric tolerance lie up to ~Tolerance * size outside a
   // triangle; a much larger margin guarantees that their bucket is one of the triangle's, and
-  // that MayHold keeps them. (x - origin) * inverseSpacing is monotone in x, as are the
-  // roundings outwards: a point in the enlarged box is in the grid box.
+  // that MayHold keeps them.
   const double margin = 1e-9 * (hi - lo).maxCoeff();
   const Vec2 a = this->GridPoint(lo.x() - margin, lo.y() - margin);
   const Vec2 b = this->GridPoint(hi.x() + margin, hi.y() + margin);
-  box[0] = FloatBelow(a.x());
-  box[1] = FloatAbove(b.x());
-  box[2] = FloatBelow(a.y());
-  box[3] = FloatAbove(b.y());
+  GroupSpan s;
+  s.X0 = static_cast<std::uint32_t>(GridIndex(a.x(), this->NX));
+  s.X1 = static_cast<std::uint32_t>(GridIndex(b.x(), this->NX));
+  s.Y0 = static_cast<std::uint32_t>(GridIndex(a.y(), this->NY));
+  s.Y1 = static_cast<std::uint32_t>(GridIndex(b.y(), this->NY));
+  s.From[0] = From(a.x(), s.X0);
+  s.From[1] = From(a.y(), s.Y0);
+  s.To[0] = To(b.x(), s.X1);
+  s.To[1] = To(b.y(), s.Y1);
+  return s;
 }
 
 void TriangleBucketGrid::SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets)
@@ -165,37 +175,22 @@ bool TriangleBucketGrid::BuildFrom(
   // triangle, whose queries tested every listed group's triangles, 13.9 instead of 7.6).
   this->SetGeometry(lo, hi, (usable + k - 1) / k);
 
-  // Pass 1: every group's box in grid coordinates (kept for pass 2), bucket sizes (counted
-  // from index 1); prefix sums give the row starts.
+  // Pass 1: every group's span (kept for pass 2), bucket sizes (counted from index 1); prefix
+  // sums give the row starts.
   AssignLarge(this->Offsets, static_cast<size_t>(this->NX * this->NY + 1), std::uint32_t(0));
-  std::vector<float> boxes;
-  ResizeForOverwrite(boxes, static_cast<size_t>(4 * numGroups));
-  // The buckets [x0, x1] x [y0, y1] of group g's box (empty for an empty box: x1 < x0).
-  struct Range
-  {
-    Id X0, X1, Y0, Y1;
-  };
-  auto range = [&](Id g) {
-    const float* b = &boxes[4 * g];
-    if (!(b[0] <= b[1]))
-    {
-      return Range{ 1, 0, 1, 0 };
-    }
-    return Range{ GridIndex(b[0], this->NX), GridIndex(b[1], this->NX), GridIndex(b[2], this->NY),
-      GridIndex(b[3], this->NY) };
-  };
+  std::vector<GroupSpan> spans;
+  ResizeForOverwrite(spans, static_cast<size_t>(numGroups));
   std::uint64_t total = 0;
   forGroups([&](Id g, const Vec2* a, Id n) {
-    this->GroupBox(a, n, box != nullptr, &boxes[4 * g]);
-    const Range r = range(g);
-    for (Id iy = r.Y0; iy <= r.Y1; ++iy)
+    const GroupSpan s = spans[g] = this->Span(a, n, box != nullptr);
+    for (Id iy = s.Y0; iy <= Id(s.Y1); ++iy)
     {
-      for (Id ix = r.X0; ix <= r.X1; ++ix)
+      for (Id ix = s.X0; ix <= Id(s.X1); ++ix)
       {
         ++this->Offsets[iy * this->NX + ix + 1];
       }
     }
-    total += r.X1 < r.X0 ? 0 : std::uint64_t(r.X1 - r.X0 + 1) * std::uint64_t(r.Y1 - r.Y0 + 1);
+    total += s.X1 < s.X0 ? 0 : std::uint64_t(s.X1 - s.X0 + 1) * std::uint64_t(s.Y1 - s.Y0 + 1);
   });
   const Id nBuckets = this->NX * this->NY;
   if (total > UINT32_MAX)
@@ -208,33 +203,23 @@ bool TriangleBucketGrid::BuildFrom(
     this->Offsets[b + 1] += this->Offsets[b];
   }
   // Pass 2: fill in group order, so every row is sorted by id, each entry with the part of the
-  // group's box in its bucket (see MayHold). Offsets[b] serves as the fill position of row b (ending at
-  // the start of row b + 1), then is shifted back.
+  // group's box in its bucket (see MayHold: the span's edges in its first and last buckets, the
+  // whole bucket in between). Offsets[b] serves as the fill position of row b (ending at the
+  // start of row b + 1), then is shifted back.
   ResizeForOverwrite(this->Items, static_cast<size_t>(total));
   ResizeForOverwrite(this->ItemBoxes, static_cast<size_t>(total));
-  // A box edge in 255ths of bucket i from its lower edge, (x - i) * 255 rounded down (from) or
-  // up (to), within [0, 255]: InBucket computes a point's position with the same monotone
-  // operations, so a point in the group's box passes MayHold.
-  auto from = [](double x, Id i) {
-    return static_cast<std::uint8_t>(std::min(std::max((x - double(i)) * 255.0, 0.0), 255.0));
-  };
-  auto to = [](double x, Id i) {
-    const double f = std::min(std::max((x - double(i)) * 255.0, 0.0), 255.0);
-    const auto q = static_cast<std::uint8_t>(f);
-    return static_cast<std::uint8_t>(q < f ? q + 1 : q);
-  };
   for (Id g = 0; g < numGroups; ++g)
   {
-    const Range r = range(g);
-    const float* b = &boxes[4 * g];
-    for (Id iy = r.Y0; iy <= r.Y1; ++iy)
+    const GroupSpan& s = spans[g];
+    for (std::uint32_t iy = s.Y0; iy <= s.Y1; ++iy)
     {
-      const std::uint8_t y0 = from(b[2], iy), y1 = to(b[3], iy);
-      for (Id ix = r.X0; ix <= r.X1; ++ix)
+      const std::uint8_t y0 = iy == s.Y0 ? s.From[1] : 0, y1 = iy == s.Y1 ? s.To[1] : 255;
+      for (std::uint32_t ix = s.X0; ix <= s.X1; ++ix)
       {
         const std::uint32_t i = this->Offsets[iy * this->NX + ix]++;
         this->Items[i] = static_cast<std::uint32_t>(g);
-        this->ItemBoxes[i] = { from(b[0], ix), to(b[1], ix), y0, y1 };
+        this->ItemBoxes[i] = { ix == s.X0 ? s.From[0] : std::uint8_t(0),
+          ix == s.X1 ? s.To[0] : std::uint8_t(255), y0, y1 };
       }
     }
   }

@@ -6,10 +6,10 @@
 // triangles (see Build); each group is listed in every bucket its (slightly enlarged) bounding
 // box touches, with the part of its box in that bucket, stored in compressed rows of 32-bit ids
 // and 4-byte boxes built in two passes (count, then fill): O(n) build for meshes without extreme
-// slivers, O(1) expected query. A query tests the triangles of the listed groups whose box holds it. The
-// grid holds ids and boxes only: the corners come from the caller (TriangleBucketGrid, which
-// reads them where they already are) or from a copy (ParameterLocator). Queries only read the
-// structure, so any number of threads may query one built grid concurrently.
+// slivers, O(1) expected query. A query tests the triangles of the listed groups whose box holds
+// it. The grid holds ids and boxes only: the corners come from the caller (TriangleBucketGrid,
+// which reads them where they already are) or from a copy (ParameterLocator). Queries only read
+// the structure, so any number of threads may query one built grid concurrently.
 #ifndef CTSplines_Kernel_ParameterLocator_h
 #define CTSplines_Kernel_ParameterLocator_h
 
@@ -162,10 +162,15 @@ private:
   bool BuildFrom(Id numTriangles, CornerFunction corners, const void* context, const Vec2* box,
     Id groupSize = 1);
   void SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets);
-  // Writes the box of triangles c[0 .. 3 count) in grid coordinates to box: x from, x to,
-  // y from, y to, as floats rounded outwards (empty if no triangle is usable; all are when
-  // `checked`: the caller of the box build has checked them).
-  void GroupBox(const Vec2* c, Id count, bool checked, float* box) const;
+  // The buckets [X0, X1] x [Y0, Y1] the box of a group's triangles touches (empty, X1 < X0,
+  // if none of them is usable; all are when `checked`: the caller of the box build has checked
+  // them), and its edges in 255ths of its first and last buckets (see MayHold).
+  struct GroupSpan
+  {
+    std::uint32_t X0, X1, Y0, Y1; // columns and rows are below 2^32 (MaxTriangles)
+    std::uint8_t From[2], To[2];  // x and y
+  };
+  GroupSpan Span(const Vec2* c, Id count, bool checked) const;
   // Tests group g's triangles for X, keeping the best in hit (see Locate).
   template <typename Corners>
   void TestGroup(std::uint32_t g, const Vec2& X, const Corners& corners, LocatorHit& hit,
