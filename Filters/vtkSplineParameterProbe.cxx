@@ -683,7 +683,7 @@ struct QueryBatch
   vtkIdType Index[Size]; // query ids
   double X[Size][3];
   ctk::Id Buckets[Size];
-  ctk::Vec2 InBucket[Size]; // see TriangleBucketGrid::InBucket
+  ctk::Vec2 InBucket[Size]; // see TriangleBucketGrid::PlaceOf
   ctk::LocatorHit Hits[Size];
   // The groups query j's bucket lists that may hold it: Kept[KeptBegin[j] .. KeptBegin[j + 1]).
   std::vector<std::uint32_t> Kept;
@@ -702,13 +702,12 @@ struct QueryBatch
       this->Index[j] =
         queryOrder.empty() ? k : static_cast<vtkIdType>(queryOrder[k] & 0xFFFFFFFFu);
       queries.Get(this->Index[j], this->X[j]);
-      ctk::Id ix, iy;
-      this->Buckets[j] = -1;
-      if (grid.BucketCell(this->X[j][0], this->X[j][1], ix, iy))
+      const ctk::TriangleBucketGrid::Place place = grid.PlaceOf(this->X[j][0], this->X[j][1]);
+      this->Buckets[j] = place.Bucket;
+      this->InBucket[j] = place.InBucket;
+      if (place.Bucket >= 0)
       {
-        this->Buckets[j] = iy * grid.GetNumberOfColumns() + ix;
-        this->InBucket[j] = grid.InBucket(this->X[j][0], this->X[j][1], ix, iy);
-        ctk::PrefetchRead(&grid.RowOffset(this->Buckets[j]));
+        ctk::PrefetchRead(&grid.RowOffset(place.Bucket));
       }
     }
     for (int j = 0; j < this->Count; ++j)
@@ -753,15 +752,8 @@ private:
       this->KeptBegin[j] = this->Kept.size();
       if (this->Buckets[j] >= 0)
       {
-        const std::uint32_t* end = grid.RowEnd(this->Buckets[j]);
-        const ctk::TriangleBucketGrid::EntryBox* box = grid.RowBoxes(this->Buckets[j]);
-        for (const std::uint32_t* g = grid.RowBegin(this->Buckets[j]); g != end; ++g, ++box)
-        {
-          if (ctk::TriangleBucketGrid::MayHold(*box, this->InBucket[j]))
-          {
-            this->Kept.push_back(*g);
-          }
-        }
+        grid.ForEachCandidate(this->Buckets[j], this->InBucket[j],
+          [this](std::uint32_t g) { this->Kept.push_back(g); });
       }
     }
     this->KeptBegin[this->Count] = this->Kept.size();

@@ -37,7 +37,7 @@ struct LocatorHit
 /// The bucket column (or row) of grid coordinate f along one axis: floor(f) clamped to [0, n),
 /// in double, so that neither huge values nor a NaN from an overflowing or underflowing box
 /// (inf * 0) reach the integer cast. The cast truncates, which is floor for the values >= 1 it
-/// gets (std::floor is a library call on baseline x86-64). Inline, with Bucket and BucketCell:
+/// gets (std::floor is a library call on baseline x86-64). Inline, with Bucket and PlaceOf:
 /// the probe calls them for every query (out of line they were 2 % of its time).
 inline Id GridIndex(double f, Id n)
 {
@@ -85,13 +85,7 @@ public:
   /// one whose smallest barycentric coordinate is largest, then the lowest id: deterministic.
   /// `corners` as given to Build.
   template <typename Corners>
-  LocatorHit Locate(double u, double v, const Corners& corners) const
-  {
-    return this->LocateInBucket(this->Bucket(u, v), u, v, corners);
-  }
-  /// Locate(u, v, corners) for b = Bucket(u, v) computed by the caller.
-  template <typename Corners>
-  LocatorHit LocateInBucket(Id b, double u, double v, const Corners& corners) const;
+  LocatorHit Locate(double u, double v, const Corners& corners) const;
   /// The same among the groups [first, last) only: a bucket's groups that MayHold keeps (no
   /// other can hold the point), in the bucket's order.
   template <typename Corners>
@@ -107,15 +101,28 @@ public:
   using EntryBox = std::array<std::uint8_t, 4>;
   const EntryBox* RowBoxes(Id b) const { return this->ItemBoxes.data() + this->Offsets[b]; }
 
-  /// Where (u, v) lies in its bucket (ix, iy) of BucketCell, in the units of EntryBox (0 to
-  /// 255; outside the grid, clamped to the bucket).
-  Vec2 InBucket(double u, double v, Id ix, Id iy) const
+  /// The bucket of a point and where the point lies in it.
+  struct Place
   {
-    const Vec2 f = 255.0 * (this->GridPoint(u, v) - Vec2(double(ix), double(iy)));
-    // A NaN (an infinite u - origin times the zero spacing of an extent that overflows) is 0,
-    // as is every box edge along such an axis.
-    auto clamp = [](double x) { return x >= 0.0 ? std::min(x, 255.0) : 0.0; };
-    return Vec2(clamp(f.x()), clamp(f.y()));
+    Id Bucket = -1; // -1 for non-finite input or an empty grid
+    /// In the units of EntryBox (0 to 255; outside the grid, clamped to the bucket).
+    Vec2 InBucket = Vec2::Zero();
+  };
+  /// Where Locate(u, v) searches: one computation for the bucket and the position in it.
+  Place PlaceOf(double u, double v) const;
+  /// Calls visit(g) for each group of bucket b >= 0 whose box may hold the point at f in the
+  /// bucket (MayHold; b and f of PlaceOf), in the bucket's order: the only candidates.
+  template <typename Visit>
+  void ForEachCandidate(Id b, const Vec2& f, Visit&& visit) const
+  {
+    const EntryBox* box = this->RowBoxes(b);
+    for (const std::uint32_t *g = this->RowBegin(b), *end = this->RowEnd(b); g != end; ++g, ++box)
+    {
+      if (MayHold(*box, f))
+      {
+        visit(*g);
+      }
+    }
   }
   /// (u, v) in grid coordinates: bucket columns and rows before flooring.
   Vec2 GridPoint(double u, double v) const
@@ -123,7 +130,7 @@ public:
     return Vec2((u - this->Origin[0]) * this->InverseSpacing[0],
       (v - this->Origin[1]) * this->InverseSpacing[1]);
   }
-  /// Whether a listed group may hold the point at f (InBucket) in the bucket: false when f
+  /// Whether a listed group may hold the point at f (Place::InBucket) in the bucket: false when f
   /// lies outside box, the part of the group's box in the bucket (x from, x to, y from, y to,
   /// in 255ths of the bucket from its lower corner, rounded outwards; 0 and 255 reach the
   /// bucket's edges and beyond), enlarged as for the buckets, so that none of the group's
@@ -162,6 +169,8 @@ private:
   bool BuildFrom(Id numTriangles, CornerFunction corners, const void* context, const Vec2* box,
     Id groupSize = 1);
   void SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets);
+  // BucketCell, also giving (u, v) in grid coordinates.
+  bool BucketCell(double u, double v, Id& ix, Id& iy, Vec2& p) const;
   // The buckets [X0, X1] x [Y0, Y1] the box of a group's triangles touches (empty, X1 < X0,
   // if none of them is usable; all are when `checked`: the caller of the box build has checked
   // them), and its edges in 255ths of its first and last buckets (see MayHold).
@@ -223,11 +232,17 @@ private:
 
 inline bool TriangleBucketGrid::BucketCell(double u, double v, Id& ix, Id& iy) const
 {
+  Vec2 p;
+  return this->BucketCell(u, v, ix, iy, p);
+}
+
+inline bool TriangleBucketGrid::BucketCell(double u, double v, Id& ix, Id& iy, Vec2& p) const
+{
   if (this->NX == 0 || !std::isfinite(u) || !std::isfinite(v))
   {
     return false;
   }
-  const Vec2 p = this->GridPoint(u, v);
+  p = this->GridPoint(u, v);
   ix = GridIndex(p.x(), this->NX);
   iy = GridIndex(p.y(), this->NY);
   return true;
@@ -237,6 +252,24 @@ inline Id TriangleBucketGrid::Bucket(double u, double v) const
 {
   Id ix, iy;
   return this->BucketCell(u, v, ix, iy) ? iy * this->NX + ix : -1;
+}
+
+inline TriangleBucketGrid::Place TriangleBucketGrid::PlaceOf(double u, double v) const
+{
+  Place place;
+  Id ix, iy;
+  Vec2 p;
+  if (!this->BucketCell(u, v, ix, iy, p))
+  {
+    return place;
+  }
+  place.Bucket = iy * this->NX + ix;
+  const Vec2 f = 255.0 * (p - Vec2(double(ix), double(iy)));
+  // Clamped to the bucket; a NaN (finite u and origin whose difference overflows, times the
+  // zero spacing of an overflowing extent) is 0, as is every box edge along such an axis.
+  auto clamp = [](double x) { return x >= 0.0 ? std::min(x, 255.0) : 0.0; };
+  place.InBucket = Vec2(clamp(f.x()), clamp(f.y()));
+  return place;
 }
 
 template <typename Corners>
@@ -262,23 +295,18 @@ void TriangleBucketGrid::TestGroup(
 }
 
 template <typename Corners>
-LocatorHit TriangleBucketGrid::LocateInBucket(Id b, double u, double v, const Corners& corners) const
+LocatorHit TriangleBucketGrid::Locate(double u, double v, const Corners& corners) const
 {
   LocatorHit hit;
-  if (b < 0)
+  const Place place = this->PlaceOf(u, v);
+  if (place.Bucket < 0)
   {
     return hit;
   }
-  const Vec2 X(u, v), f = this->InBucket(u, v, b % this->NX, b / this->NX);
+  const Vec2 X(u, v);
   double bestMin = -Tolerance;
-  const EntryBox* box = this->RowBoxes(b);
-  for (const std::uint32_t *g = this->RowBegin(b), *end = this->RowEnd(b); g != end; ++g, ++box)
-  {
-    if (MayHold(*box, f))
-    {
-      this->TestGroup(*g, X, corners, hit, bestMin);
-    }
-  }
+  this->ForEachCandidate(place.Bucket, place.InBucket,
+    [&](std::uint32_t g) { this->TestGroup(g, X, corners, hit, bestMin); });
   return hit;
 }
 

@@ -384,15 +384,10 @@ TEST(TriangleBucketGrid, BoxFilterKeepsEveryCandidate)
     ASSERT_TRUE(grid.BucketCell(X.x(), X.y(), ix, iy));
     const Id b = iy * grid.GetNumberOfColumns() + ix;
     ASSERT_EQ(b, grid.Bucket(X.x(), X.y()));
+    const TriangleBucketGrid::Place place = grid.PlaceOf(X.x(), X.y());
+    ASSERT_EQ(place.Bucket, b);
     groups.clear();
-    const Vec2 f = grid.InBucket(X.x(), X.y(), ix, iy);
-    for (const std::uint32_t* g = grid.RowBegin(b); g != grid.RowEnd(b); ++g)
-    {
-      if (TriangleBucketGrid::MayHold(grid.RowBoxes(b)[g - grid.RowBegin(b)], f))
-      {
-        groups.push_back(*g);
-      }
-    }
+    grid.ForEachCandidate(place.Bucket, place.InBucket, [&groups](std::uint32_t g) { groups.push_back(g); });
     listed += grid.RowEnd(b) - grid.RowBegin(b);
     kept += groups.size();
     const LocatorHit among =
