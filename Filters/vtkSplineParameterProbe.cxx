@@ -682,8 +682,7 @@ struct QueryBatch
   int Count = 0;
   vtkIdType Index[Size]; // query ids
   double X[Size][3];
-  ctk::Id Buckets[Size];
-  ctk::Vec2 InBucket[Size]; // see TriangleBucketGrid::PlaceOf
+  ctk::TriangleBucketGrid::Place Places[Size];
   ctk::LocatorHit Hits[Size];
   // The groups query j's bucket lists that may hold it: Kept[KeptBegin[j] .. KeptBegin[j + 1]).
   std::vector<std::uint32_t> Kept;
@@ -702,20 +701,18 @@ struct QueryBatch
       this->Index[j] =
         queryOrder.empty() ? k : static_cast<vtkIdType>(queryOrder[k] & 0xFFFFFFFFu);
       queries.Get(this->Index[j], this->X[j]);
-      const ctk::TriangleBucketGrid::Place place = grid.PlaceOf(this->X[j][0], this->X[j][1]);
-      this->Buckets[j] = place.Bucket;
-      this->InBucket[j] = place.InBucket;
-      if (place.Bucket >= 0)
+      this->Places[j] = grid.PlaceOf(this->X[j][0], this->X[j][1]);
+      if (this->Places[j].Bucket >= 0)
       {
-        ctk::PrefetchRead(&grid.RowOffset(place.Bucket));
+        ctk::PrefetchRead(&grid.RowOffset(this->Places[j].Bucket));
       }
     }
     for (int j = 0; j < this->Count; ++j)
     {
-      if (this->Buckets[j] >= 0)
+      if (this->Places[j].Bucket >= 0)
       {
-        ctk::PrefetchRead(grid.RowBegin(this->Buckets[j]));
-        ctk::PrefetchRead(grid.RowBoxes(this->Buckets[j]));
+        ctk::PrefetchRead(grid.RowBegin(this->Places[j].Bucket));
+        ctk::PrefetchRead(grid.RowBoxes(this->Places[j].Bucket));
       }
     }
     this->Keep(grid);
@@ -750,10 +747,9 @@ private:
     for (int j = 0; j < this->Count; ++j)
     {
       this->KeptBegin[j] = this->Kept.size();
-      if (this->Buckets[j] >= 0)
+      if (this->Places[j].Bucket >= 0)
       {
-        grid.ForEachCandidate(this->Buckets[j], this->InBucket[j],
-          [this](std::uint32_t g) { this->Kept.push_back(g); });
+        grid.ForEachCandidate(this->Places[j], [this](std::uint32_t g) { this->Kept.push_back(g); });
       }
     }
     this->KeptBegin[this->Count] = this->Kept.size();

@@ -207,7 +207,8 @@ bool TriangleBucketGrid::BuildFrom(
   // whole bucket in between). Offsets[b] serves as the fill position of row b (ending at the
   // start of row b + 1), then is shifted back.
   ResizeForOverwrite(this->Items, static_cast<size_t>(total));
-  ResizeForOverwrite(this->ItemBoxes, static_cast<size_t>(total));
+  ResizeForOverwrite(this->ItemBoxes, static_cast<size_t>(total) + BoxPadding);
+  std::fill(this->ItemBoxes.end() - BoxPadding, this->ItemBoxes.end(), EntryBox{});
   for (Id g = 0; g < numGroups; ++g)
   {
     const GroupSpan& s = spans[g];

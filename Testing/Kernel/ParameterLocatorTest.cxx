@@ -387,7 +387,17 @@ TEST(TriangleBucketGrid, BoxFilterKeepsEveryCandidate)
     const TriangleBucketGrid::Place place = grid.PlaceOf(X.x(), X.y());
     ASSERT_EQ(place.Bucket, b);
     groups.clear();
-    grid.ForEachCandidate(place.Bucket, place.InBucket, [&groups](std::uint32_t g) { groups.push_back(g); });
+    grid.ForEachCandidate(place, [&groups](std::uint32_t g) { groups.push_back(g); });
+    // The vectorised filter keeps what MayHold keeps, entry by entry, in the bucket's order.
+    std::vector<std::uint32_t> scalar;
+    for (const std::uint32_t* g = grid.RowBegin(b); g != grid.RowEnd(b); ++g)
+    {
+      if (TriangleBucketGrid::MayHold(grid.RowBoxes(b)[g - grid.RowBegin(b)], place))
+      {
+        scalar.push_back(*g);
+      }
+    }
+    ASSERT_EQ(groups, scalar) << "query " << i;
     listed += grid.RowEnd(b) - grid.RowBegin(b);
     kept += groups.size();
     const LocatorHit among =
