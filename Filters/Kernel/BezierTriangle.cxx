@@ -427,17 +427,18 @@ ParametricJet EvaluateOverDomain(int n, const Vec3* P, const double* weights, co
   const Vec2& A1, const Vec2& A2, const Vec3& t, int order)
 {
   const BezierJet jet = Evaluate(n, P, weights, t, order);
-  const Eigen::Matrix<double, 3, 2> G = BarycentricGradient(A0, A1, A2);
   ParametricJet out;
   out.Value = jet.Value;
   out.Du = out.Dv = out.Duu = out.Duv = out.Dvv = Vec3::Zero();
-  if (order >= 1)
+  if (order < 1)
   {
-    for (int a = 0; a < 3; ++a)
-    {
-      out.Du += G(a, 0) * jet.DT[a];
-      out.Dv += G(a, 1) * jet.DT[a];
-    }
+    return out; // positions only (a probe without derivatives): no gradient, no divisions
+  }
+  const Eigen::Matrix<double, 3, 2> G = BarycentricGradient(A0, A1, A2);
+  for (int a = 0; a < 3; ++a)
+  {
+    out.Du += G(a, 0) * jet.DT[a];
+    out.Dv += G(a, 1) * jet.DT[a];
   }
   if (order >= 2)
   {
