@@ -849,13 +849,7 @@ struct ProbeArrays
         if (this->Derivatives)
         {
           const ctk::Vec3 du(this->DuData + 3 * i), dv(this->DvData + 3 * i);
-          ctk::Vec3 normal = du.cross(dv);
-          const double length = normal.norm();
-          if (length > 0)
-          {
-            normal /= length;
-          }
-          Copy3(normal.data(), this->NormalsData + 3 * i);
+          Copy3(du.cross(dv).normalized().data(), this->NormalsData + 3 * i);
         }
       }
     });

@@ -476,9 +476,7 @@ Vec3 PatchNormal(int n, const Vec3* P, const double* weights, const Vec3& t)
     dr = jet.DT[1] - jet.DT[0];
     ds = jet.DT[2] - jet.DT[0];
   }
-  const Vec3 normal = dr.cross(ds);
-  const double length = normal.norm();
-  return length > 0 ? Vec3(normal / length) : normal;
+  return dr.cross(ds).normalized(); // Eigen leaves a zero vector zero
 }
 
 } // namespace ctk
