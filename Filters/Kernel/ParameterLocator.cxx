@@ -26,7 +26,7 @@ bool IsUsable(const Vec2* c)
 
 // A box edge at grid coordinate x in 255ths of bucket i from its lower edge, (x - i) * 255
 // rounded down (From) or up (To), within [0, 255]; a NaN (an overflowing extent) gives the
-// widest bound. InBucket computes a query's position with the same monotone operations, so a
+// widest bound. PlaceOf computes a query's position with the same monotone operations, so a
 // point in the box passes MayHold.
 std::uint8_t From(double x, Id i)
 {
