@@ -750,7 +750,8 @@ private:
       this->KeptBegin[j] = this->Kept.size();
       if (this->Places[j].Bucket >= 0)
       {
-        grid.ForEachCandidate(this->Places[j], [this](std::uint32_t g) { this->Kept.push_back(g); });
+        grid.ForEachCandidate(
+          this->Places[j], [this](std::uint32_t g) { this->Kept.push_back(g); });
       }
     }
     this->KeptBegin[this->Count] = this->Kept.size();

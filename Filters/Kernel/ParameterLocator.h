@@ -289,8 +289,8 @@ void TriangleBucketGrid::ForEachCandidate(const Place& place, Visit&& visit) con
   // (min(edge, high) == high; the lower-edge bytes of `high` are 0).
   const __m128i low = _mm_set1_epi32(static_cast<int>(
     place.Low[0] | 0xFF00u | std::uint32_t(place.Low[1]) << 16 | 0xFF000000u));
-  const __m128i high =
-    _mm_set1_epi32(static_cast<int>(std::uint32_t(place.High[0]) << 8 | std::uint32_t(place.High[1]) << 24));
+  const __m128i high = _mm_set1_epi32(
+    static_cast<int>(std::uint32_t(place.High[0]) << 8 | std::uint32_t(place.High[1]) << 24));
   for (std::size_t i = 0; i < n; i += 4)
   {
     const __m128i box = _mm_loadu_si128(reinterpret_cast<const __m128i*>(boxes + i));
