@@ -63,6 +63,11 @@ TriangleBucketGrid::GroupSpan TriangleBucketGrid::Span(const Vec2* c, Id count, 
       hi = hi.cwiseMax(c[0]).cwiseMax(c[1]).cwiseMax(c[2]);
     }
   }
+  return this->SpanOf(lo, hi);
+}
+
+TriangleBucketGrid::GroupSpan TriangleBucketGrid::SpanOf(const Vec2& lo, const Vec2& hi) const
+{
   if (!(lo.x() <= hi.x()))
   {
     return GroupSpan{ 1, 0, 1, 0, { 0, 0 }, { 0, 0 } }; // no usable triangle: in no bucket
@@ -110,22 +115,38 @@ void TriangleBucketGrid::SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets)
   }
 }
 
-bool TriangleBucketGrid::BuildFrom(
-  Id numTriangles, CornerFunction corners, const void* context, const Vec2* box, Id groupSize)
+bool TriangleBucketGrid::Reset(Id numTriangles, Id groupSize)
 {
   this->Offsets.clear(); // keeps the storage of a previous build
   this->Items.clear();
   this->ItemBoxes.clear();
   this->NX = this->NY = 0;
-  const Id k = std::max<Id>(groupSize, 1);
-  const Id numGroups = (numTriangles + k - 1) / k;
   this->NumTriangles = numTriangles;
-  this->GroupSize = k;
-  if (numTriangles > MaxTriangles)
+  this->GroupSize = std::max<Id>(groupSize, 1);
+  return numTriangles <= MaxTriangles;
+}
+
+bool TriangleBucketGrid::Prepare(Id numTriangles, const Vec2& lo, const Vec2& hi, Id groupSize)
+{
+  if (!this->Reset(numTriangles, groupSize))
   {
     return false;
   }
+  if (numTriangles > 0)
+  {
+    this->SetGeometry(lo, hi, this->GetNumberOfGroups());
+  }
+  return true;
+}
 
+bool TriangleBucketGrid::BuildFrom(
+  Id numTriangles, CornerFunction corners, const void* context, const Vec2* box, Id groupSize)
+{
+  if (!this->Reset(numTriangles, groupSize))
+  {
+    return false;
+  }
+  const Id k = this->GroupSize;
   // Corners are read in batches of whole groups (one indirect call per batch); body(g, c, n)
   // gets group g's n triangles' corners c.
   constexpr Id MaxBatch = 256;
@@ -174,15 +195,20 @@ bool TriangleBucketGrid::BuildFrom(
   // and save entries (1e6 Delaunay macro-triangles: 6.6e6 entries; 13.9e6 with a bucket per
   // triangle, whose queries tested every listed group's triangles, 13.9 instead of 7.6).
   this->SetGeometry(lo, hi, (usable + k - 1) / k);
-
-  // Pass 1: every group's span (kept for pass 2), bucket sizes (counted from index 1); prefix
-  // sums give the row starts.
-  AssignLarge(this->Offsets, static_cast<size_t>(this->NX * this->NY + 1), std::uint32_t(0));
   std::vector<GroupSpan> spans;
-  ResizeForOverwrite(spans, static_cast<size_t>(numGroups));
+  ResizeForOverwrite(spans, static_cast<size_t>(this->GetNumberOfGroups()));
+  forGroups([&](Id g, const Vec2* a, Id n) { spans[g] = this->Span(a, n, box != nullptr); });
+  return this->List(spans);
+}
+
+bool TriangleBucketGrid::List(const std::vector<GroupSpan>& spans)
+{
+  // Pass 1: bucket sizes (counted from index 1); prefix sums give the row starts.
+  const Id nBuckets = this->NX * this->NY;
+  AssignLarge(this->Offsets, static_cast<size_t>(nBuckets + 1), std::uint32_t(0));
   std::uint64_t total = 0;
-  forGroups([&](Id g, const Vec2* a, Id n) {
-    const GroupSpan s = spans[g] = this->Span(a, n, box != nullptr);
+  for (const GroupSpan& s : spans)
+  {
     for (Id iy = s.Y0; iy <= Id(s.Y1); ++iy)
     {
       for (Id ix = s.X0; ix <= Id(s.X1); ++ix)
@@ -191,8 +217,7 @@ bool TriangleBucketGrid::BuildFrom(
       }
     }
     total += s.X1 < s.X0 ? 0 : std::uint64_t(s.X1 - s.X0 + 1) * std::uint64_t(s.Y1 - s.Y0 + 1);
-  });
-  const Id nBuckets = this->NX * this->NY;
+  }
   if (total > UINT32_MAX)
   {
     *this = TriangleBucketGrid();
@@ -209,7 +234,7 @@ bool TriangleBucketGrid::BuildFrom(
   ResizeForOverwrite(this->Items, static_cast<size_t>(total));
   ResizeForOverwrite(this->ItemBoxes, static_cast<size_t>(total) + BoxPadding);
   std::fill(this->ItemBoxes.end() - BoxPadding, this->ItemBoxes.end(), EntryBox{});
-  for (Id g = 0; g < numGroups; ++g)
+  for (std::size_t g = 0; g < spans.size(); ++g)
   {
     const GroupSpan& s = spans[g];
     for (std::uint32_t iy = s.Y0; iy <= s.Y1; ++iy)

@@ -85,6 +85,26 @@ public:
     return this->BuildFrom(numTriangles, &CallCorners<Corners>, &corners, box, groupSize);
   }
 
+  /// A build in steps, for a caller that reads every triangle anyway (the probe's source
+  /// check), with checked triangles (as for the box build) whose corners' box [lo, hi] it knows
+  /// beforehand: Prepare sets the grid; the caller sets spans[g] = SpanOf(box of group g's
+  /// corners) for each of the GetNumberOfGroups() groups; List lists them. The same grid as
+  /// Build(numTriangles, corners, lo, hi, groupSize), without a second read of the corners.
+  /// False, with an empty grid, beyond MaxTriangles triangles (Prepare) or entries (List).
+  bool Prepare(Id numTriangles, const Vec2& lo, const Vec2& hi, Id groupSize = 1);
+  /// The buckets [X0, X1] x [Y0, Y1] a group's (slightly enlarged) box touches (empty, X1 < X0,
+  /// if it has no usable triangle), and its edges in 255ths of its first and last buckets (see
+  /// MayHold).
+  struct GroupSpan
+  {
+    std::uint32_t X0, X1, Y0, Y1; // columns and rows are below 2^32 (MaxTriangles)
+    std::uint8_t From[2], To[2];  // x and y
+  };
+  /// The span of a group whose triangles' corners span [lo, hi] (lo > hi: no usable triangle).
+  GroupSpan SpanOf(const Vec2& lo, const Vec2& hi) const;
+  bool List(const std::vector<GroupSpan>& spans);
+  Id GetNumberOfGroups() const { return (this->NumTriangles + this->GroupSize - 1) / this->GroupSize; }
+
   /// The triangle containing (u, v). Among several candidates (shared edges and vertices), the
   /// one whose smallest barycentric coordinate is largest, then the lowest id: deterministic.
   /// `corners` as given to Build.
@@ -169,14 +189,10 @@ private:
   void SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets);
   // BucketCell, also giving (u, v) in grid coordinates.
   bool BucketCell(double u, double v, Id& ix, Id& iy, Vec2& p) const;
-  // The buckets [X0, X1] x [Y0, Y1] the box of a group's triangles touches (empty, X1 < X0,
-  // if none of them is usable; all are when `checked`: the caller of the box build has checked
-  // them), and its edges in 255ths of its first and last buckets (see MayHold).
-  struct GroupSpan
-  {
-    std::uint32_t X0, X1, Y0, Y1; // columns and rows are below 2^32 (MaxTriangles)
-    std::uint8_t From[2], To[2];  // x and y
-  };
+  // An empty grid for numTriangles in groups of groupSize; false beyond MaxTriangles.
+  bool Reset(Id numTriangles, Id groupSize);
+  // The span of count triangles' corners c (only the usable ones, or all when `checked`: the
+  // caller of the box build has checked them).
   GroupSpan Span(const Vec2* c, Id count, bool checked) const;
   // Tests group g's triangles for X, keeping the best in hit (see Locate).
   template <typename Corners>

@@ -435,6 +435,22 @@ TEST(vtkSplineParameterProbe, InPlaceAndCopiedSourcesKeepTheBits)
   ASSERT_TRUE(cells64->GetCells()->IsStorage64Bit());
   ExpectSameBits(reference, Probe(QueryPoints(uv), cells64));
 
+  // An unused point beyond the cells' box: the grid, laid over the points' box, is built again
+  // over the cells' box. The same bits.
+  auto extra = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  extra->DeepCopy(spline);
+  extra->GetPoints()->InsertNextPoint(0.0, 0.0, 0.0);
+  vtkPointData* extraPD = extra->GetPointData();
+  for (int a = 0; a < extraPD->GetNumberOfArrays(); ++a)
+  {
+    vtkDataArray* array = extraPD->GetArray(a);
+    const double far[3] = { 5.0, -3.0, 0.0 };
+    ASSERT_LE(array->GetNumberOfComponents(), 3);
+    array->InsertNextTuple(far);
+  }
+  ASSERT_EQ(extraPD->GetArray("UV")->GetComponent(extra->GetNumberOfPoints() - 1, 0), 5.0);
+  ExpectSameBits(reference, Probe(QueryPoints(uv), extra));
+
   // Rational weights of 1 as doubles (in place) and as floats (copied): the same bits.
   vtkSmartPointer<vtkDataSet> weighted[2];
   for (int copied = 0; copied < 2; ++copied)

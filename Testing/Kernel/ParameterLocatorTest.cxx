@@ -297,7 +297,7 @@ TEST(TriangleBucketGrid, CornersReadInPlace)
 // exactly as the grid over single triangles and the brute-force rule, barycentric coordinates
 // included, ties (shared vertices, edges and split points) to the lowest id; with fewer
 // entries. A last, incomplete group and groups that are not macro-triangles (k = 4) are still
-// right.
+// right, and so is the build in steps (Prepare, SpanOf, List).
 TEST(TriangleBucketGrid, GroupsLocateAsSingleTriangles)
 {
   std::mt19937 rng(23);
@@ -343,11 +343,41 @@ TEST(TriangleBucketGrid, GroupsLocateAsSingleTriangles)
     ASSERT_TRUE(fours.Build(n, corners, lo, hi, 4));
     EXPECT_EQ(grouped.GetGroupSize(), 3);
     EXPECT_LT(grouped.GetNumberOfEntries(), single.GetNumberOfEntries() / 2);
+    // The build in steps, from the groups' boxes: over [lo, hi] the same rows and boxes as
+    // the box build; over a larger box another grid, which locates the same.
+    TriangleBucketGrid steps, wider;
+    for (TriangleBucketGrid* grid : { &steps, &wider })
+    {
+      const Vec2 margin = grid == &steps ? Vec2(0, 0) : Vec2(0.3, 0.2);
+      ASSERT_TRUE(grid->Prepare(n, lo - margin, hi + margin, 3));
+      ASSERT_EQ(grid->GetNumberOfGroups(), (n + 2) / 3);
+      std::vector<TriangleBucketGrid::GroupSpan> spans;
+      for (Id t = 0; t < n; t += 3)
+      {
+        Vec2 groupLo = micro[3 * t], groupHi = groupLo;
+        for (Id c = 3 * t; c < 3 * std::min(t + 3, n); ++c)
+        {
+          groupLo = groupLo.cwiseMin(micro[c]);
+          groupHi = groupHi.cwiseMax(micro[c]);
+        }
+        spans.push_back(grid->SpanOf(groupLo, groupHi));
+      }
+      ASSERT_TRUE(grid->List(spans));
+    }
+    ASSERT_EQ(steps.GetNumberOfBuckets(), grouped.GetNumberOfBuckets());
+    ASSERT_EQ(steps.GetNumberOfEntries(), grouped.GetNumberOfEntries());
+    for (Id b = 0; b < steps.GetNumberOfBuckets(); ++b)
+    {
+      ASSERT_TRUE(std::equal(steps.RowBegin(b), steps.RowEnd(b), grouped.RowBegin(b),
+        grouped.RowEnd(b))) << "bucket " << b;
+      ASSERT_TRUE(std::equal(steps.RowBoxes(b), steps.RowBoxes(b) + (steps.RowEnd(b) - steps.RowBegin(b)),
+        grouped.RowBoxes(b))) << "bucket " << b;
+    }
     for (size_t i = 0; i < queries.size(); ++i)
     {
       const Vec2& X = queries[i];
       const LocatorHit expected = BruteForce(used, X);
-      for (const TriangleBucketGrid* grid : { &single, &grouped, &fours })
+      for (const TriangleBucketGrid* grid : { &single, &grouped, &fours, &wider })
       {
         const LocatorHit hit = grid->Locate(X.x(), X.y(), corners);
         ASSERT_EQ(hit.Triangle, expected.Triangle)
