@@ -341,54 +341,59 @@ struct ProbeSpline
   }
 };
 
-// Whether all n values are usable (finite, below MaxInputMagnitude) and, with `positive`, > 0.
-// Written as a select on doubles, which the compiler vectorises (a bool reduction, or an early
-// exit, stays scalar: a third of a first call's validation time on 1e6 triangles).
-bool AllUsable(const double* values, vtkIdType n, bool positive = false)
+// The pass over the cells of AdoptInPlace: cell types and sizes, point ids, macro-triangle ids;
+// the box [lo, hi] of the parameter triangles, their smallest area, and the span of every
+// group of `group` cells on `grid` (spans[g]). Block by block, so that the ids are checked
+// while the block's are in cache, as the corners are read (a pass of its own read all 120 MB
+// of ids of 1e6 triangles once more). False at the first bad cell.
+template <typename OffsetT, typename IdT>
+bool CheckCells(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in, vtkIdType nIds,
+  vtkIdType group, const ctk::TriangleBucketGrid& grid,
+  std::vector<ctk::TriangleBucketGrid::GroupSpan>& spans, ctk::Vec2& lo, ctk::Vec2& hi,
+  double& minArea)
 {
-  const double lowest = positive ? 0.0 : -ctk::MaxInputMagnitude;
-  double bad = 0.0;
-  for (vtkIdType i = 0; i < n; ++i)
+  constexpr vtkIdType BlockGroups = 512; // 1536 cubic cells: 60 KB of ids
+  const BezierShapes& shapes = Shapes(); // a call per cell was 1 % of a first call
+  lo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity());
+  hi = -lo;
+  minArea = std::numeric_limits<double>::infinity();
+  for (vtkIdType b0 = 0; b0 < in.NCells; b0 += BlockGroups * group)
   {
-    const double x = values[i];
-    bad = x > lowest && x < ctk::MaxInputMagnitude ? bad : 1.0; // NaN compares false
+    const vtkIdType b1 = std::min(b0 + BlockGroups * group, in.NCells);
+    for (vtkIdType c = b0; c < b1; ++c)
+    {
+      if (types[c] != VTK_BEZIER_TRIANGLE || shapes.Degree(in.Size(c)) == 0 ||
+        (in.MacroIds && !(in.MacroIds[c] >= 0 && in.MacroIds[c] < vtkIdType(9e15))))
+      {
+        return false; // 9e15: CopyIdArray's range
+      }
+    }
+    // Offsets[0] is 0 and every size so far a Bezier triangle's: the block's ids start in
+    // the array; they end in it when Offsets[b1] <= nIds.
+    const vtkIdType first = static_cast<vtkIdType>(in.Offsets[b0]);
+    const vtkIdType last = static_cast<vtkIdType>(in.Offsets[b1]);
+    if (last > nIds || !ctk::AllIdsInRange(in.Ids + first, last - first, in.NPoints))
+    {
+      return false;
+    }
+    ctk::Vec2 A[3];
+    for (vtkIdType c0 = b0; c0 < b1; c0 += group)
+    {
+      ctk::Vec2 groupLo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity());
+      ctk::Vec2 groupHi = -groupLo;
+      for (vtkIdType c = c0; c < std::min(c0 + group, b1); ++c)
+      {
+        in.Corners(c, A);
+        groupLo = groupLo.cwiseMin(A[0]).cwiseMin(A[1]).cwiseMin(A[2]);
+        groupHi = groupHi.cwiseMax(A[0]).cwiseMax(A[1]).cwiseMax(A[2]);
+        minArea = std::min(minArea, std::abs(ctk::SignedArea2(A[0], A[1], A[2])));
+      }
+      spans[c0 / group] = grid.SpanOf(groupLo, groupHi);
+      lo = lo.cwiseMin(groupLo);
+      hi = hi.cwiseMax(groupHi);
+    }
   }
-  return bad == 0.0;
-}
-
-// AllUsable for n (u, v) pairs, and their box [lo, hi] in the same pass (a pass of its own
-// would read them again: 216 MB on 1e6 triangles).
-bool AllUsableUV(const double* uv, vtkIdType n, ctk::Vec2& lo, ctk::Vec2& hi)
-{
-  const ctk::Vec2 limit = ctk::Vec2::Constant(ctk::MaxInputMagnitude);
-  ctk::Vec2 l = ctk::Vec2::Constant(std::numeric_limits<double>::infinity()), h = -l;
-  double bad = 0.0;
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    const ctk::Vec2 x(uv[2 * i], uv[2 * i + 1]);
-    l = l.cwiseMin(x);
-    h = h.cwiseMax(x);
-    bad = (x.array().abs() < limit.array()).all() ? bad : 1.0; // NaN compares false
-  }
-  lo = l;
-  hi = h;
-  return bad == 0.0;
-}
-
-// Whether all n ids lie in [0, nPoints) (nPoints > 0): an id is in range when neither id nor
-// nPoints - 1 - id has its top bit set (unsigned, wrapping), so one OR over both tests them all
-// (vectorised).
-template <typename IdT>
-bool AllInRange(const IdT* ids, vtkIdType n, vtkIdType nPoints)
-{
-  const std::uint64_t last = static_cast<std::uint64_t>(nPoints - 1);
-  std::uint64_t any = 0;
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    const std::uint64_t id = static_cast<std::uint64_t>(static_cast<std::int64_t>(ids[i]));
-    any |= id | (last - id);
-  }
-  return (any >> 63) == 0;
+  return true;
 }
 
 // Whether the source's own arrays pass every check of ReadSpline (cell types and sizes, point
@@ -404,20 +409,17 @@ bool AdoptInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& 
   vtkIdType nIds, ProbeSpline& out)
 {
   ctk::Vec2 pointsLo, pointsHi;
-  if (!AllUsable(in.XYZ, 3 * in.NPoints) || !AllUsableUV(in.UV, in.NPoints, pointsLo, pointsHi))
+  if (!ctk::AllUsableValues(in.XYZ, 3 * in.NPoints) ||
+    !ctk::AllUsablePairs(in.UV, in.NPoints, pointsLo, pointsHi))
   {
     return false;
   }
-  if (in.Weights && !AllUsable(in.Weights, in.NPoints, true))
+  if (in.Weights && !ctk::AllUsableValues(in.Weights, in.NPoints, true))
   {
     return false;
   }
   if (in.NCells > 0 ? in.Offsets[0] != 0 || static_cast<vtkIdType>(in.Offsets[in.NCells]) != nIds
                     : nIds != 0)
-  {
-    return false;
-  }
-  if (!AllInRange(in.Ids, nIds, in.NPoints))
   {
     return false;
   }
@@ -429,33 +431,12 @@ bool AdoptInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& 
   }
   std::vector<ctk::TriangleBucketGrid::GroupSpan> spans;
   ctk::ResizeForOverwrite(spans, static_cast<size_t>(grid.GetNumberOfGroups()));
-  // Cells, their box and their smallest area: every area must exceed the bound relative to the
-  // box (the spline filter's test), which is the smallest exceeding it.
-  ctk::Vec2 lo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-  double minArea = std::numeric_limits<double>::infinity();
-  ctk::Vec2 A[3];
-  const BezierShapes& shapes = Shapes(); // a call per cell was 1 % of a first call
-  for (vtkIdType first = 0, g = 0; first < in.NCells; first += group, ++g)
-  {
-    ctk::Vec2 groupLo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity());
-    ctk::Vec2 groupHi = -groupLo;
-    for (vtkIdType c = first; c < std::min(first + group, in.NCells); ++c)
-    {
-      if (types[c] != VTK_BEZIER_TRIANGLE || shapes.Degree(in.Size(c)) == 0 ||
-        (in.MacroIds && !(in.MacroIds[c] >= 0 && in.MacroIds[c] < vtkIdType(9e15))))
-      {
-        return false; // 9e15: CopyIdArray's range
-      }
-      in.Corners(c, A);
-      groupLo = groupLo.cwiseMin(A[0]).cwiseMin(A[1]).cwiseMin(A[2]);
-      groupHi = groupHi.cwiseMax(A[0]).cwiseMax(A[1]).cwiseMax(A[2]);
-      minArea = std::min(minArea, std::abs(ctk::SignedArea2(A[0], A[1], A[2])));
-    }
-    spans[g] = grid.SpanOf(groupLo, groupHi);
-    lo = lo.cwiseMin(groupLo);
-    hi = hi.cwiseMax(groupHi);
-  }
-  if (in.NCells > 0 && !(minArea > 1e-13 * (hi - lo).squaredNorm()))
+  // Every area must exceed the bound relative to the box (the spline filter's test), which is
+  // the smallest exceeding it.
+  ctk::Vec2 lo, hi;
+  double minArea;
+  if (!CheckCells(types, in, nIds, group, grid, spans, lo, hi, minArea) ||
+    (in.NCells > 0 && !(minArea > 1e-13 * (hi - lo).squaredNorm())))
   {
     return false;
   }

@@ -24,6 +24,16 @@ inline bool IsUsablePoint(const Vec3& p)
 {
   return IsUsableValue(p.x()) && IsUsableValue(p.y()) && IsUsableValue(p.z());
 }
+/// Bulk checks of raw arrays (a source read in place), out of line so that each loop is
+/// vectorised on its own (inlined into a large caller, GCC left them scalar):
+/// whether all n values are usable (IsUsableValue) and, with `positive`, > 0;
+bool AllUsableValues(const double* values, Id n, bool positive = false);
+/// whether all n (u, v) pairs uv[2 i], uv[2 i + 1] are usable, and their box [lo, hi];
+bool AllUsablePairs(const double* uv, Id n, Vec2& lo, Vec2& hi);
+/// whether all n ids lie in [0, nPoints) (nPoints > 0); defined for int, long and long long.
+template <typename IdT>
+bool AllIdsInRange(const IdT* ids, Id n, Id nPoints);
+
 /// A parameter domain whose diagonal is below this is rejected (barycentric coordinates would
 /// divide by underflowing areas).
 constexpr double MinDomainDiagonal = 1e-100;
