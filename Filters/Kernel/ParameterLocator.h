@@ -86,11 +86,12 @@ public:
   }
 
   /// A build in steps, for a caller that reads every triangle anyway (the probe's source
-  /// check), with checked triangles (as for the box build) whose corners' box [lo, hi] it knows
-  /// beforehand: Prepare sets the grid; the caller sets spans[g] = SpanOf(box of group g's
-  /// corners) for each of the GetNumberOfGroups() groups; List lists them. The same grid as
-  /// Build(numTriangles, corners, lo, hi, groupSize), without a second read of the corners.
-  /// False, with an empty grid, beyond MaxTriangles triangles (Prepare) or entries (List).
+  /// check), with checked triangles (as for the box build): Prepare sets the grid over [lo, hi];
+  /// the caller sets spans[g] = SpanOf(box of group g's corners) for each of the
+  /// GetNumberOfGroups() groups; List lists them. With the corners' box, the same grid as
+  /// Build(numTriangles, corners, lo, hi, groupSize), without a second read of the corners; over
+  /// another box, another grid that finds the same triangles. False, with an empty grid, beyond
+  /// MaxTriangles triangles (Prepare) or entries (List).
   bool Prepare(Id numTriangles, const Vec2& lo, const Vec2& hi, Id groupSize = 1);
   /// The buckets [X0, X1] x [Y0, Y1] a group's (slightly enlarged) box touches (empty, X1 < X0,
   /// if it has no usable triangle), and its edges in 255ths of its first and last buckets (see
@@ -103,7 +104,10 @@ public:
   /// The span of a group whose triangles' corners span [lo, hi] (lo > hi: no usable triangle).
   GroupSpan SpanOf(const Vec2& lo, const Vec2& hi) const;
   bool List(const std::vector<GroupSpan>& spans);
-  Id GetNumberOfGroups() const { return (this->NumTriangles + this->GroupSize - 1) / this->GroupSize; }
+  Id GetNumberOfGroups() const
+  {
+    return (this->NumTriangles + this->GroupSize - 1) / this->GroupSize;
+  }
 
   /// The triangle containing (u, v). Among several candidates (shared edges and vertices), the
   /// one whose smallest barycentric coordinate is largest, then the lowest id: deterministic.

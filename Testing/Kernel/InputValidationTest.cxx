@@ -11,7 +11,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 using namespace ctk_test;
 
@@ -334,4 +337,67 @@ TEST(InputValidation, DistanceQueriesSurviveDenormalCoordinates)
   }
   const std::vector<double> tiny = { 0, 0, 0, 1e-60, 0, 0, 0, 1e-60, 0 };
   EXPECT_NE(d.Build(3, tiny.data(), 1, tris.data()).find("too small"), std::string::npos);
+}
+
+// The bulk checks of raw arrays (the probe's source read in place) against the one-value rule,
+// value by value: every position of a bad value is caught whatever the vector lane it falls in,
+// ids at the ends of the range pass and those just outside fail (32-bit ids also beyond 2^31
+// points), and the box of the pairs is exact.
+TEST(InputValidation, BulkArrayChecksCatchEveryPosition)
+{
+  std::vector<double> values(37, 0.5);
+  Vec2 lo, hi;
+  ASSERT_TRUE(AllUsableValues(values.data(), 37));
+  ASSERT_TRUE(AllUsableValues(values.data(), 37, true));
+  ASSERT_TRUE(AllUsablePairs(values.data(), 18, lo, hi));
+  for (size_t k = 0; k < values.size(); ++k)
+  {
+    for (const double bad : { std::nan(""), HUGE_VAL, -HUGE_VAL, 1e100, -1e100 })
+    {
+      std::vector<double> v = values;
+      v[k] = bad;
+      EXPECT_FALSE(AllUsableValues(v.data(), 37)) << k << " " << bad;
+      EXPECT_EQ(AllUsablePairs(v.data(), 18, lo, hi), k >= 36) << k << " " << bad;
+    }
+    std::vector<double> v = values;
+    v[k] = 0.0; // usable, but not positive (weights)
+    EXPECT_TRUE(AllUsableValues(v.data(), 37));
+    EXPECT_FALSE(AllUsableValues(v.data(), 37, true)) << k;
+  }
+  std::vector<double> uv = { 0.5, 2.0, -1.0, 0.25, 3.0, -7.0, 0.0, 1e99 };
+  ASSERT_TRUE(AllUsablePairs(uv.data(), 4, lo, hi));
+  EXPECT_EQ(lo, Vec2(-1.0, -7.0));
+  EXPECT_EQ(hi, Vec2(3.0, 1e99));
+
+  for (const Id nPoints : { Id(1), Id(5), Id(1) << 31, (Id(1) << 32) + 7 })
+  {
+    const Id last = nPoints - 1;
+    std::vector<long long> wide(21, 0);
+    std::vector<int> narrow(21, 0);
+    for (size_t k = 0; k < wide.size(); ++k)
+    {
+      wide[k] = static_cast<long long>(k % 2 ? last : 0);
+      narrow[k] = static_cast<int>(std::min<Id>(wide[k], INT32_MAX));
+    }
+    ASSERT_TRUE(AllIdsInRange(wide.data(), 21, nPoints)) << nPoints;
+    ASSERT_TRUE(AllIdsInRange(narrow.data(), 21, nPoints)) << nPoints;
+    for (size_t k = 0; k < wide.size(); ++k)
+    {
+      for (const long long bad : { -1LL, static_cast<long long>(nPoints), -(1LL << 40) })
+      {
+        std::vector<long long> w = wide;
+        w[k] = bad;
+        EXPECT_FALSE(AllIdsInRange(w.data(), 21, nPoints)) << nPoints << " " << k << " " << bad;
+        if (bad >= INT32_MIN && bad <= INT32_MAX)
+        {
+          std::vector<int> n = narrow;
+          n[k] = static_cast<int>(bad);
+          EXPECT_FALSE(AllIdsInRange(n.data(), 21, nPoints)) << nPoints << " " << k << " " << bad;
+        }
+      }
+      std::vector<int> n = narrow;
+      n[k] = INT32_MIN;
+      EXPECT_FALSE(AllIdsInRange(n.data(), 21, nPoints)) << nPoints << " " << k;
+    }
+  }
 }
