@@ -203,16 +203,16 @@ BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology,
 }
 } // namespace
 
-// A select on doubles, which the compiler vectorises (a bool reduction, or an early exit, stays
-// scalar: a third of a probe's first call on 1e6 triangles).
+// IsUsableValue as a select on doubles, which the compiler vectorises (a bool reduction, or an
+// early exit, stays scalar: a third of a probe's first call on 1e6 triangles).
 bool AllUsableValues(const double* values, Id n, bool positive)
 {
-  const double lowest = positive ? 0.0 : -MaxInputMagnitude;
+  const double lowest = positive ? 0.0 : -std::numeric_limits<double>::infinity();
   double bad = 0.0;
   for (Id i = 0; i < n; ++i)
   {
     const double x = values[i];
-    bad = x > lowest && x < MaxInputMagnitude ? bad : 1.0; // NaN compares false
+    bad = IsUsableValue(x) && x > lowest ? bad : 1.0; // NaN compares false
   }
   return bad == 0.0;
 }
