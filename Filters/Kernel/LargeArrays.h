@@ -44,9 +44,69 @@ inline void AdviseHugePages(const void* p, std::size_t bytes)
 #endif
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+#define CTSPLINES_MAP_LARGE_ARRAYS 0 // the heap, where ASan's redzones catch overflows
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define CTSPLINES_MAP_LARGE_ARRAYS 0
+#endif
+#endif
+#if !defined(CTSPLINES_MAP_LARGE_ARRAYS)
+#if defined(__linux__)
+#define CTSPLINES_MAP_LARGE_ARRAYS 1
+#else
+#define CTSPLINES_MAP_LARGE_ARRAYS 0
+#endif
+#endif
+
+/// Blocks of at least this many bytes are mapped on their own (MapLargeBlock).
+constexpr std::size_t LargeBlockBytes = std::size_t(4) << 20;
+
+#if CTSPLINES_MAP_LARGE_ARRAYS
+/// A block of `bytes` (>= LargeBlockBytes) mapped on its own, in whole 2 MiB pages advised for
+/// huge pages. glibc's malloc serves blocks below its mmap threshold (which rises to 32 MiB once
+/// a process frees such a block, as NumPy's users do) from its heap and keeps them resident once
+/// freed: a construction's 4-32 MiB working arrays then add to the resident peak on top of the
+/// output. An unmapped block goes back to the system at once.
+inline std::size_t LargeBlockLength(std::size_t bytes)
+{
+  constexpr std::size_t huge = std::size_t(1) << 21;
+  return (bytes + huge - 1) & ~(huge - 1);
+}
+inline void* MapLargeBlock(std::size_t bytes)
+{
+  constexpr std::size_t huge = std::size_t(1) << 21;
+  const std::size_t length = LargeBlockLength(bytes);
+  // Mapped with a huge page of slack, whose unaligned ends are then unmapped.
+  void* m = mmap(nullptr, length + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
+    -1, 0);
+  if (m == MAP_FAILED)
+  {
+    throw std::bad_alloc();
+  }
+  const std::uintptr_t raw = reinterpret_cast<std::uintptr_t>(m);
+  const std::uintptr_t begin = (raw + huge - 1) & ~std::uintptr_t(huge - 1);
+  if (begin > raw)
+  {
+    (void)munmap(m, begin - raw);
+  }
+  if (raw + huge > begin)
+  {
+    (void)munmap(reinterpret_cast<void*>(begin + length), raw + huge - begin);
+  }
+  AdviseHugePages(reinterpret_cast<void*>(begin), length);
+  return reinterpret_cast<void*>(begin);
+}
+inline void UnmapLargeBlock(void* p, std::size_t bytes)
+{
+  (void)munmap(p, LargeBlockLength(bytes));
+}
+#endif
+
 /// std::allocator, except that construct() without arguments default-initialises: resize() of
 /// trivial elements leaves them unwritten. For arrays filled in parallel loops after resize():
-/// value-initialisation would write every page first, serially, on the calling thread.
+/// value-initialisation would write every page first, serially, on the calling thread. Blocks of
+/// LargeBlockBytes or more are mapped on their own (MapLargeBlock; the heap under ASan).
 template <typename T>
 struct OverwriteAllocator : std::allocator<T>
 {
@@ -60,6 +120,32 @@ struct OverwriteAllocator : std::allocator<T>
   template <typename U>
   OverwriteAllocator(const OverwriteAllocator<U>&) noexcept
   {
+  }
+  T* allocate(std::size_t n)
+  {
+#if CTSPLINES_MAP_LARGE_ARRAYS
+    static_assert(alignof(T) <= 4096, "page-aligned blocks");
+    if (n >= LargeBlockBytes / sizeof(T))
+    {
+      if (n > std::size_t(-1) / sizeof(T))
+      {
+        throw std::bad_array_new_length();
+      }
+      return static_cast<T*>(MapLargeBlock(n * sizeof(T)));
+    }
+#endif
+    return std::allocator<T>::allocate(n);
+  }
+  void deallocate(T* p, std::size_t n) noexcept
+  {
+#if CTSPLINES_MAP_LARGE_ARRAYS
+    if (n >= LargeBlockBytes / sizeof(T))
+    {
+      UnmapLargeBlock(p, n * sizeof(T));
+      return;
+    }
+#endif
+    std::allocator<T>::deallocate(p, n);
   }
   template <typename U>
   void construct(U* p) noexcept(std::is_nothrow_default_constructible<U>::value)

@@ -1,0 +1,99 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// OverwriteAllocator's large blocks: usable, kept across growth, aligned to whole huge pages,
+// and given back to the system when freed whatever glibc's mmap threshold.
+#include "LargeArrays.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <fstream>
+#include <numeric>
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+#include <unistd.h>
+
+namespace
+{
+using Id = std::int64_t;
+
+// Resident bytes of this process (Linux), or -1.
+long long ResidentBytes()
+{
+  std::ifstream statm("/proc/self/statm");
+  long long size = 0, resident = -1;
+  if (!(statm >> size >> resident))
+  {
+    return -1;
+  }
+  return resident * static_cast<long long>(sysconf(_SC_PAGESIZE));
+}
+
+TEST(LargeArrays, BlocksAcrossTheThresholdKeepTheirContents)
+{
+  // Growth by push_back crosses LargeBlockBytes: heap to mapped, and mapped to mapped.
+  ctk::OverwriteVector<Id> v;
+  const Id n = static_cast<Id>(3 * ctk::LargeBlockBytes / sizeof(Id)) + 17;
+  for (Id i = 0; i < n; ++i)
+  {
+    v.push_back(3 * i + 1);
+  }
+  Id wrong = 0;
+  for (Id i = 0; i < n; ++i)
+  {
+    wrong += v[i] != 3 * i + 1;
+  }
+  EXPECT_EQ(wrong, 0);
+  // A copy and a shrink to below the threshold keep the values too.
+  ctk::OverwriteVector<Id> copy = v;
+  copy.resize(100);
+  copy.shrink_to_fit();
+  EXPECT_EQ(copy[99], 3 * 99 + 1);
+  EXPECT_EQ(std::accumulate(v.begin(), v.end(), Id(0)), 3 * (n - 1) * n / 2 + n);
+}
+
+TEST(LargeArrays, MappedBlocksStartOnHugePages)
+{
+#if CTSPLINES_MAP_LARGE_ARRAYS
+  for (const std::size_t bytes : { ctk::LargeBlockBytes, ctk::LargeBlockBytes + 8,
+         std::size_t(5) << 21, (std::size_t(5) << 21) - 8 })
+  {
+    ctk::OverwriteVector<double> v;
+    ctk::ResizeForOverwrite(v, bytes / sizeof(double));
+    EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % (std::uintptr_t(1) << 21), 0u)
+      << bytes << " bytes";
+    v.back() = 1.0; // the last element is inside the mapping
+    v.front() = 2.0;
+    EXPECT_EQ(v.back() + v.front(), 3.0);
+  }
+#else
+  GTEST_SKIP() << "large blocks come from the heap in this build (ASan)";
+#endif
+}
+
+TEST(LargeArrays, FreedBlocksLeaveTheProcess)
+{
+#if CTSPLINES_MAP_LARGE_ARRAYS && defined(__GLIBC__) && defined(M_MMAP_THRESHOLD)
+  // As after NumPy frees a 32 MiB array: glibc then serves blocks up to 32 MiB from its heap.
+  ASSERT_EQ(mallopt(M_MMAP_THRESHOLD, 32 << 20), 1);
+  ASSERT_EQ(mallopt(M_TRIM_THRESHOLD, 64 << 20), 1);
+  const std::size_t bytes = std::size_t(24) << 20;
+  ctk::OverwriteVector<char> v;
+  ctk::ResizeForOverwrite(v, bytes);
+  for (std::size_t i = 0; i < bytes; i += 4096)
+  {
+    v[i] = 1; // resident
+  }
+  const long long touched = ResidentBytes();
+  ASSERT_GT(touched, 0);
+  ctk::OverwriteVector<char>().swap(v);
+  const long long freed = ResidentBytes();
+  EXPECT_LT(freed, touched - static_cast<long long>(bytes) + (4ll << 20))
+    << "resident " << touched << " -> " << freed << " bytes after freeing " << bytes;
+  mallopt(M_MMAP_THRESHOLD, 128 << 10); // fixed at glibc's initial value from here on
+#else
+  GTEST_SKIP() << "large blocks come from the heap in this build";
+#endif
+}
+} // namespace
