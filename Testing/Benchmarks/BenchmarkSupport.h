@@ -12,6 +12,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <time.h>
 
 #include <algorithm>
@@ -28,30 +29,50 @@
 
 namespace bench
 {
-/// Whether Seconds measures this process' CPU time (all its threads) instead of wall-clock
-/// time: on a machine shared with other jobs, one thread's CPU time is its work.
-inline bool& UseProcessCpuClock()
+/// What Seconds measures: wall-clock time; this process' CPU time (all its threads: on a machine
+/// shared with other jobs, one thread's CPU time is its work); or its user CPU time, which leaves
+/// out the kernel's zeroing of fresh pages (on a VM, that varies several-fold with what the host
+/// did with the memory: the steadier measure of a change to the code).
+enum class Clock
 {
-  static bool cpu = false;
-  return cpu;
+  Wall,
+  ProcessCpu,
+  User
+};
+inline Clock& BenchmarkClock()
+{
+  static Clock clock = Clock::Wall;
+  return clock;
+}
+inline const char* ClockName()
+{
+  return BenchmarkClock() == Clock::Wall
+    ? "wall-clock"
+    : (BenchmarkClock() == Clock::ProcessCpu ? "process CPU" : "process user CPU");
 }
 
 inline double Seconds(const std::function<void()>& run)
 {
-  if (UseProcessCpuClock())
+  if (BenchmarkClock() == Clock::Wall)
   {
-    auto now = [] {
-      timespec ts;
-      clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-      return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-    };
-    const double t0 = now();
+    const auto t0 = std::chrono::steady_clock::now();
     run();
-    return now() - t0;
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  auto now = [] {
+    if (BenchmarkClock() == Clock::User)
+    {
+      rusage usage;
+      getrusage(RUSAGE_SELF, &usage);
+      return double(usage.ru_utime.tv_sec) + 1e-6 * double(usage.ru_utime.tv_usec);
+    }
+    timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  };
+  const double t0 = now();
   run();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return now() - t0;
 }
 
 /// Best of `repeat` timings of run.
