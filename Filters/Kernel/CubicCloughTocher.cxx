@@ -95,7 +95,8 @@ class Builder
 {
 public:
   Builder(const SplineData& data, const MeshTopology& topo, const SplineOptions& options,
-    CubicSpline& spline, const ParallelFor& parallelFor, const std::vector<Id>& order)
+    CubicSpline& spline, const ParallelFor& parallelFor, const std::vector<Id>& order,
+    double diag2)
     : Data(data)
     , Topo(topo)
     , Options(options)
@@ -103,12 +104,13 @@ public:
     , Spline(spline)
     , For(parallelFor)
     , Order(order)
+    , Diag2(diag2)
   {
   }
 
-  /// Runs the construction; true when every control point was seen finite on the way (then
-  /// CheckFiniteControlPoints, a read of them all, is not needed).
-  bool Run();
+  /// Runs the construction on data that passed ValidateSplineValues; its first passes check the
+  /// triangles and edges (ValidateSplineData's other checks) on the way.
+  BuildStatus Run();
 
 private:
   MacroElementIds Ids(Id t) const
@@ -140,6 +142,11 @@ private:
   }
 
   void SplitPointsAndStep1();
+  BuildStatus CheckFinite() const
+  {
+    return CheckFiniteControlPoints(this->Spline.ControlPoints, this->Topo, this->Data.Triangles,
+      this->Data.NumberOfVertices, 2, CubicSplineLayout::PointsPerTriangle);
+  }
   // Eq. (12) and the domain points of the triangle-owned control points of triangle t.
   void InnerRing1(Id t, const MacroElementIds& ids);
   // Step 2 at the edges of t: the one-sided rules, and the edge-based ones of the edges whose
@@ -173,12 +180,20 @@ private:
   // Triangles in a locality order (empty: their own); every value is still written at its
   // place in the input's numbering, so the result does not depend on it.
   const std::vector<Id>& Order;
+  const double Diag2; // the (u, v) domain's squared diagonal
+  LowestId Degenerate, Folded;
   std::vector<Vec2> SplitPoints;
 };
 
-bool Builder::Run()
+BuildStatus Builder::Run()
 {
   this->SplitPointsAndStep1();
+  const BuildStatus domain = DomainFailure(this->Data, this->Topo, this->Degenerate, this->Folded);
+  if (!domain.Ok)
+  {
+    this->Spline = CubicSpline(); // nothing half-built is left, as when the values fail
+    return domain;
+  }
   // Step 2 reads the Step 1 points and split points of a triangle and its neighbours only, so it
   // runs in the pass of eq. (12), the triangle's points still in cache. An edge-based rule sets
   // both central points of its edge, from the edge's first triangle: Step 3 then needs a second
@@ -221,14 +236,15 @@ bool Builder::Run()
     }
     this->RestoreC1AcrossMacroEdges(); // C1 smoothing
     this->Step3();
-    return false;
+    return this->CheckFinite();
   }
   for (int step = 0; step < this->Options.Iterations; ++step)
   {
     this->MinimiseC2AcrossMacroEdges(); // IM: Step 2 by Fa's rule on the current points
     this->Step3();
   }
-  return this->Options.Iterations == 0 && !nonFinite.load();
+  // Every control point was seen finite on the way, or they are all read again.
+  return this->Options.Iterations == 0 && !nonFinite.load() ? BuildStatus() : this->CheckFinite();
 }
 
 void Builder::SplitPointsAndStep1()
@@ -248,7 +264,13 @@ void Builder::SplitPointsAndStep1()
   Vec3* P = this->Spline.ControlPoints.data();
   Vec2* D = this->Spline.DomainPoints.data();
 
+  // ValidateSplineData's triangle and edge checks run in these passes, which read the same
+  // points (a pass of their own cost a tenth of the construction).
   this->ForTriangles([&](Id t) {
+    if (IsDegenerateTriangle(d, t, this->Diag2))
+    {
+      this->Degenerate.Report(t);
+    }
     const Id* p = d.Triangles + 3 * t;
     const Vec3 tau = d.SplitTau ? d.SplitTau[t]
                                 : SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
@@ -267,6 +289,10 @@ void Builder::SplitPointsAndStep1()
     }
   });
   ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
+    if (IsFoldedEdge(d, this->Topo, e))
+    {
+      this->Folded.Report(e);
+    }
     for (int s = 0; s < 2; ++s)
     {
       const Id a = this->Topo.Edges[e][s], b = this->Topo.Edges[e][1 - s];
@@ -511,17 +537,13 @@ BuildStatus BuildCubicCloughTocher(const SplineData& data, const MeshTopology& t
     ? TriangleLocalityOrder(
         data.NumberOfVertices, data.NumberOfTriangles, data.Triangles, data.UV, parallelFor)
     : std::vector<Id>();
-  status = ValidateSplineData(data, topo, order, parallelFor);
+  double diag2 = 0.0;
+  status = ValidateSplineValues(data, topo, parallelFor, diag2);
   if (!status.Ok)
   {
     return status;
   }
-  if (Builder(data, topo, options, spline, parallelFor, order).Run())
-  {
-    return BuildStatus();
-  }
-  return CheckFiniteControlPoints(spline.ControlPoints, topo, data.Triangles,
-    data.NumberOfVertices, 2, CubicSplineLayout::PointsPerTriangle);
+  return Builder(data, topo, options, spline, parallelFor, order, diag2).Run();
 }
 
 } // namespace ctk

@@ -122,17 +122,13 @@ BuildStatus CheckSplitPoints(const SplineData& data)
   return {};
 }
 
-Vec2 UVOf(const SplineData& data, Id v)
-{
-  return Vec2(data.UV[2 * v], data.UV[2 * v + 1]);
-}
+} // namespace
 
-BuildStatus CheckAreas(
-  const SplineData& data, const std::vector<Id>& order, const ParallelFor& parallelFor)
+BuildStatus CheckDomainSize(const SplineData& data, const ParallelFor& parallelFor, double& diag2)
 {
   double lo[2], hi[2]; // the values are finite here
   BoundingBoxUV(data.NumberOfVertices, data.UV, lo, hi, parallelFor);
-  const double diag2 = (Vec2(hi[0], hi[1]) - Vec2(lo[0], lo[1])).squaredNorm();
+  diag2 = (Vec2(hi[0], hi[1]) - Vec2(lo[0], lo[1])).squaredNorm();
   if (!(std::sqrt(diag2) >= MinDomainDiagonal))
   {
     std::ostringstream os;
@@ -140,20 +136,15 @@ BuildStatus CheckAreas(
        << " (at least " << MinDomainDiagonal << " is needed; rescale (u, v))";
     return Failure(os.str());
   }
-  // The lowest degenerate triangle, found in the locality order.
-  LowestId degenerate;
-  ForTrianglesInOrder(parallelFor, data.NumberOfTriangles, order, [&](Id t) {
-    const Id* p = data.Triangles + 3 * t;
-    if (!(std::abs(SignedArea2(UVOf(data, p[0]), UVOf(data, p[1]), UVOf(data, p[2]))) >
-          1e-13 * diag2))
-    {
-      degenerate.Report(t);
-    }
-  });
-  const Id first = degenerate.Get() < 0 ? data.NumberOfTriangles : degenerate.Get();
-  if (first < data.NumberOfTriangles)
+  return {};
+}
+
+BuildStatus DomainFailure(const SplineData& data, const MeshTopology& topology,
+  const LowestId& degenerate, const LowestId& folded)
+{
+  if (degenerate.Get() >= 0)
   {
-    const Id t = first;
+    const Id t = degenerate.Get();
     const Id* p = data.Triangles + 3 * t;
     MessageBuilder os;
     os << "degenerate parameter triangle: cell " << TriangleId{ t } << " (points "
@@ -161,37 +152,9 @@ BuildStatus CheckAreas(
        << ") has zero area in (u, v)";
     return os.Failure<BuildStatus>();
   }
-  return {};
-}
-
-BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology,
-  const std::vector<Id>& order, const ParallelFor& parallelFor)
-{
-  // The lowest folded edge, found in the locality order.
-  const Id nE = static_cast<Id>(topology.Edges.size());
-  LowestId folded;
-  ForEdgesInOrder(parallelFor, topology, order, [&](Id e) {
-    if (topology.IsBoundaryEdge(e))
-    {
-      return;
-    }
-    const Vec2 A = UVOf(data, topology.Edges[e][0]), B = UVOf(data, topology.Edges[e][1]);
-    double side[2];
-    for (int s = 0; s < 2; ++s)
-    {
-      const Id t = topology.EdgeTriangles[e][s];
-      const Id opposite = data.Triangles[3 * t + (topology.EdgeLocalIndex[e][s] + 2) % 3];
-      side[s] = SignedArea2(A, B, UVOf(data, opposite));
-    }
-    if ((side[0] > 0) == (side[1] > 0))
-    {
-      folded.Report(e);
-    }
-  });
-  const Id first = folded.Get() < 0 ? nE : folded.Get();
-  if (first < nE)
+  if (folded.Get() >= 0)
   {
-    const Id e = first;
+    const Id e = folded.Get();
     MessageBuilder os;
     os << "folded parameterisation: triangles " << TriangleId{ topology.EdgeTriangles[e][0] }
        << " and " << TriangleId{ topology.EdgeTriangles[e][1] }
@@ -201,7 +164,6 @@ BuildStatus CheckFolds(const SplineData& data, const MeshTopology& topology,
   }
   return {};
 }
-} // namespace
 
 // IsUsableValue as a select on doubles, which the compiler vectorises (a bool reduction, or an
 // early exit, stays scalar: a third of a probe's first call on 1e6 triangles).
@@ -255,8 +217,8 @@ template bool AllIdsInRange<int>(const int*, Id, Id);
 template bool AllIdsInRange<long>(const long*, Id, Id);
 template bool AllIdsInRange<long long>(const long long*, Id, Id);
 
-BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology,
-  const std::vector<Id>& order, const ParallelFor& parallelFor)
+BuildStatus ValidateSplineValues(
+  const SplineData& data, const MeshTopology& topology, const ParallelFor& parallelFor, double& diag2)
 {
   if (data.NumberOfVertices <= 0 || data.NumberOfTriangles <= 0 || !data.Triangles || !data.UV ||
     !data.F || !data.Fu || !data.Fv)
@@ -275,13 +237,38 @@ BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topol
   }
   if (status.Ok)
   {
-    status = CheckAreas(data, order, parallelFor);
-  }
-  if (status.Ok)
-  {
-    status = CheckFolds(data, topology, order, parallelFor);
+    status = CheckDomainSize(data, parallelFor, diag2);
   }
   return status;
+}
+
+BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology,
+  const std::vector<Id>& order, const ParallelFor& parallelFor)
+{
+  double diag2 = 0.0;
+  const BuildStatus status = ValidateSplineValues(data, topology, parallelFor, diag2);
+  if (!status.Ok)
+  {
+    return status;
+  }
+  // The lowest degenerate triangle and folded edge, found in the locality order.
+  LowestId degenerate, folded;
+  ForTrianglesInOrder(parallelFor, data.NumberOfTriangles, order, [&](Id t) {
+    if (IsDegenerateTriangle(data, t, diag2))
+    {
+      degenerate.Report(t);
+    }
+  });
+  if (degenerate.Get() < 0)
+  {
+    ForEdgesInOrder(parallelFor, topology, order, [&](Id e) {
+      if (IsFoldedEdge(data, topology, e))
+      {
+        folded.Report(e);
+      }
+    });
+  }
+  return DomainFailure(data, topology, degenerate, folded);
 }
 
 BuildStatus CheckFiniteControlPoints(const std::vector<Vec3>& points, const MeshTopology& topology,

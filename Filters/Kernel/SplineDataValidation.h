@@ -6,6 +6,7 @@
 #ifndef CTSplines_Kernel_SplineDataValidation_h
 #define CTSplines_Kernel_SplineDataValidation_h
 
+#include "BezierTriangle.h"
 #include "CubicCloughTocher.h"
 
 #include <cmath>
@@ -41,14 +42,54 @@ constexpr double MinDomainDiagonal = 1e-100;
 /// Checks data (and its topology) before any construction:
 /// - UV, F, Fu, Fv and the optional arrays are finite and below MaxInputMagnitude (NaN groups
 ///   of BoundaryCurvePoints mean "none"; skipped when data.ValuesChecked); given split points
-///   lie inside their triangles;
-/// - no parameter triangle has zero area (relative 1e-13 of the domain's squared diagonal);
-/// - no fold: across every interior edge the two opposite vertices lie on opposite sides of the
-///   edge in (u, v), whatever the triangles' vertex order.
+///   lie inside their triangles; the domain is not too small (CheckDomainSize);
+/// - no parameter triangle is degenerate (IsDegenerateTriangle);
+/// - no interior edge is folded (IsFoldedEdge).
 /// The triangle checks visit the triangles in `order` (a locality order, LocalityOrder.h; empty:
 /// their own) and report the lowest failing triangle or edge either way, chunked by parallelFor.
 BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topology,
   const std::vector<Id>& order = std::vector<Id>(), const ParallelFor& parallelFor = SerialFor);
+
+/// The checks of ValidateSplineData before the per-triangle and per-edge ones, which a
+/// construction may run in its own first passes (the cubic builder: its split points and
+/// Step 1), then report with DomainFailure. diag2: the domain's squared diagonal.
+BuildStatus ValidateSplineValues(const SplineData& data, const MeshTopology& topology,
+  const ParallelFor& parallelFor, double& diag2);
+/// The (u, v) box's squared diagonal diag2, or a failure when its diagonal is below
+/// MinDomainDiagonal.
+BuildStatus CheckDomainSize(const SplineData& data, const ParallelFor& parallelFor, double& diag2);
+/// Whether triangle t has zero area in (u, v), relative 1e-13 of diag2.
+inline bool IsDegenerateTriangle(const SplineData& data, Id t, double diag2)
+{
+  const Id* p = data.Triangles + 3 * t;
+  const double* uv = data.UV;
+  const Vec2 A(uv[2 * p[0]], uv[2 * p[0] + 1]), B(uv[2 * p[1]], uv[2 * p[1] + 1]),
+    C(uv[2 * p[2]], uv[2 * p[2] + 1]);
+  return !(std::abs(SignedArea2(A, B, C)) > 1e-13 * diag2);
+}
+/// Whether interior edge e is folded: its two opposite vertices lie on the same side of it in
+/// (u, v), whatever the triangles' vertex order. Boundary edges never are.
+inline bool IsFoldedEdge(const SplineData& data, const MeshTopology& topology, Id e)
+{
+  if (topology.IsBoundaryEdge(e))
+  {
+    return false;
+  }
+  const double* uv = data.UV;
+  const Id a = topology.Edges[e][0], b = topology.Edges[e][1];
+  const Vec2 A(uv[2 * a], uv[2 * a + 1]), B(uv[2 * b], uv[2 * b + 1]);
+  double side[2];
+  for (int s = 0; s < 2; ++s)
+  {
+    const Id t = topology.EdgeTriangles[e][s];
+    const Id o = data.Triangles[3 * t + (topology.EdgeLocalIndex[e][s] + 2) % 3];
+    side[s] = SignedArea2(A, B, Vec2(uv[2 * o], uv[2 * o + 1]));
+  }
+  return (side[0] > 0) == (side[1] > 0);
+}
+/// The failure naming the lowest degenerate triangle, else the lowest folded edge, or success.
+BuildStatus DomainFailure(const SplineData& data, const MeshTopology& topology,
+  const LowestId& degenerate, const LowestId& folded);
 
 /// Checks that every control point is finite; otherwise names the lowest triangle whose
 /// macro-element holds a non-finite point. Layout: #V vertex points, pointsPerEdge per edge,

@@ -7,11 +7,14 @@
 #include "PointToMeshDistance.h"
 #include "QuarticCloughTocher.h"
 #include "SplineDataValidation.h"
+#include "LocalityOrder.h"
 #include "TestMeshes.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <random>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -398,6 +401,72 @@ TEST(InputValidation, BulkArrayChecksCatchEveryPosition)
       std::vector<int> n = narrow;
       n[k] = INT32_MIN;
       EXPECT_FALSE(AllIdsInRange(n.data(), 21, nPoints)) << nPoints << " " << k;
+    }
+  }
+}
+
+// The cubic builder runs the triangle and edge checks in its own first passes: on a shuffled
+// mesh large enough for the locality order, with several bad triangles or folded edges, it must
+// name the same lowest one as ValidateSplineData, threaded or not, degenerate before folded.
+TEST(InputValidation, BuilderPassesNameTheLowestBadTriangleOrEdge)
+{
+  const ParameterMesh grid = JitteredGrid(130, 0.2, 7); // 33,800 triangles, > 2^15
+  ParameterMesh shuffled = grid; // the triangles in a random order (the locality order differs)
+  std::vector<std::array<Id, 3>> rows(grid.Triangles.size() / 3);
+  std::copy_n(grid.Triangles.data(), grid.Triangles.size(), rows.front().data());
+  std::shuffle(rows.begin(), rows.end(), std::mt19937(3));
+  std::copy_n(rows.front().data(), grid.Triangles.size(), shuffled.Triangles.data());
+  const SampledMesh base = Sample("shuffled grid", shuffled, AnalyticSurface::Franke);
+  const Id nV = static_cast<Id>(base.UV.size() / 2);
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<Id> vertex(0, nV - 1);
+  for (int trial = 0; trial < 6; ++trial)
+  {
+    SampledMesh mesh = base;
+    // Even trials: three vertices each moved onto a neighbour (zero-area triangles, with folds
+    // around them); odd trials: three vertices pushed across the far side of a triangle (folds
+    // only, or nearly so).
+    for (int site = 0; site < 3; ++site)
+    {
+      const Id t = mesh.Topology.EdgeTriangles[vertex(rng) % mesh.Topology.Edges.size()][0];
+      const Id* p = mesh.Triangles.data() + 3 * t;
+      const Vec2 A(mesh.UV[2 * p[0]], mesh.UV[2 * p[0] + 1]);
+      const Vec2 B(mesh.UV[2 * p[1]], mesh.UV[2 * p[1] + 1]);
+      const Vec2 C(mesh.UV[2 * p[2]], mesh.UV[2 * p[2] + 1]);
+      const Vec2 to = trial % 2 == 0 ? B : A + 1.7 * (0.5 * (B + C) - A);
+      mesh.UV[2 * p[0]] = to.x();
+      mesh.UV[2 * p[0] + 1] = to.y();
+    }
+    const BuildStatus expected = ValidateSplineData(mesh.Data(), mesh.Topology);
+    ASSERT_FALSE(expected.Ok) << "trial " << trial;
+    const bool degenerate = expected.Message.find("degenerate parameter triangle") != std::string::npos;
+    EXPECT_EQ(degenerate, trial % 2 == 0) << expected.Message;
+    if (degenerate)
+    {
+      // The named cell is the lowest zero-area one.
+      double lo[2], hi[2];
+      BoundingBoxUV(nV, mesh.UV.data(), lo, hi, SerialFor);
+      const double diag2 = (Vec2(hi[0], hi[1]) - Vec2(lo[0], lo[1])).squaredNorm();
+      Id first = 0;
+      while (!IsDegenerateTriangle(mesh.Data(), first, diag2))
+      {
+        ++first;
+      }
+      EXPECT_NE(expected.Message.find("cell " + std::to_string(first) + " "), std::string::npos)
+        << expected.Message;
+    }
+    for (const bool locality : { false, true })
+    {
+      for (const int threads : { 1, 2 })
+      {
+        SplineOptions options;
+        options.LocalityOrder = locality;
+        CubicSpline spline;
+        const BuildStatus s = BuildCubicCloughTocher(
+          mesh.Data(), mesh.Topology, options, spline, ThreadedFor(threads, 997));
+        EXPECT_FALSE(s.Ok);
+        EXPECT_EQ(s.Message, expected.Message) << "locality " << locality << ", threads " << threads;
+      }
     }
   }
 }
