@@ -139,7 +139,8 @@ void Usage(const char* argv0)
               "  --clock            cpu: this process' CPU time instead of wall-clock time (with\n"
               "                     --threads 1 on a machine shared with other jobs); user: its\n"
               "                     user CPU time, without the kernel's zeroing of fresh pages\n"
-              "                     (the steadier measure of a change on a VM)\n",
+              "                     (the steadier measure of a change on a VM; the bounds are\n"
+              "                     still measured in process CPU time)\n",
     argv0);
 }
 
