@@ -96,10 +96,12 @@ TopologyStatus TriangleFailure(Id numPoints, const Id* triangles, Id t)
 // The n half-edges of one vertex block (with their vertex offsets), bucketed (in `scratch`) by
 // their smaller vertex in half-edge order, are rewritten as the block's edges in order: an
 // interior edge as its two half-edges, a boundary edge as ~h. Returns the number of edges, or
-// -1 with `failure` set.
+// -1 with `failure` set; `consistent`: whether every interior edge's half-edges run along it in
+// opposite directions.
 Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratch,
-  TopologyStatus& failure)
+  TopologyStatus& failure, bool& consistent)
 {
+  consistent = true;
   const Id* in = halfEdges;
   auto high = [triangles](Id h) { return std::max(triangles[h], triangles[NextCorner(h)]); };
   std::vector<Id> start(static_cast<size_t>(v1 - v0 + 1), 0);
@@ -168,6 +170,8 @@ Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratc
         }
         partner = h[j];
         h[j] = -1;
+        // Half-edge h runs from triangles[h]: from v for one of a consistent pair only.
+        consistent &= (triangles[h[i]] == v) != (triangles[partner] == v);
       }
       *write++ = partner < 0 ? ~h[i] : h[i];
       if (partner >= 0)
@@ -187,6 +191,7 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   // Each half-edge to its vertex block, in half-edge order within the block: counted per
   // triangle block (the triangles checked in the same pass), then written at the offsets of its
   // triangle block.
+  topology.ConsistentlyOriented = false; // until every block is matched
   const Id nH = 3 * numTriangles;
   const int vertexBits = VertexBlockBits(numPoints);
   const Id vertexBlock = Id(1) << vertexBits;
@@ -249,11 +254,14 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   // Each vertex block's edges; the lowest failing block names the failure (its first one).
   std::vector<Id> edgeStart(static_cast<size_t>(nVB + 1), 0);
   std::vector<TopologyStatus> failures(static_cast<size_t>(nVB));
+  std::vector<char> consistent(static_cast<size_t>(nVB), 0);
   ForBlocks(parallelFor, numPoints, vertexBlock, [&](Id vb) {
     const Id b = blockStart[vb];
+    bool blockConsistent = false;
     edgeStart[vb + 1] = MatchBlock(triangles, vb * vertexBlock,
       std::min(numPoints, (vb + 1) * vertexBlock), byBlock.data() + b, blockStart[vb + 1] - b,
-      scratch + b, failures[vb]);
+      scratch + b, failures[vb], blockConsistent);
+    consistent[vb] = blockConsistent;
   });
   for (Id vb = 0; vb < nVB; ++vb)
   {
@@ -263,6 +271,8 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
     }
     edgeStart[vb + 1] += edgeStart[vb];
   }
+  topology.ConsistentlyOriented =
+    std::all_of(consistent.begin(), consistent.end(), [](char c) { return c != 0; });
 
   const size_t nE = static_cast<size_t>(edgeStart[nVB]);
   ResizeForOverwrite(topology.Edges, nE);

@@ -27,6 +27,10 @@ struct MeshTopology
   OverwriteVector<std::array<Id, 2>> EdgeTriangles;
   /// Local edge index of the edge in each of EdgeTriangles. #E by 2.
   OverwriteVector<std::array<signed char, 2>> EdgeLocalIndex;
+  /// Whether the two triangles of every interior edge run along it in opposite directions (set
+  /// by BuildMeshTopology; false when unknown). Then triangles whose signed areas in (u, v) all
+  /// have one sign cannot fold at any edge.
+  bool ConsistentlyOriented = false;
 
   bool IsBoundaryEdge(Id e) const { return EdgeTriangles[e][1] < 0; }
   Id NumberOfBoundaryEdges() const;
@@ -52,7 +56,7 @@ struct TopologyStatus
 /// [0, numPoints). Fails (with a message) on out-of-range ids, a triangle repeating a vertex,
 /// a non-manifold edge (three or more triangles) or two triangles with the same three vertices,
 /// naming the same triangle whatever the split of parallelFor's chunks. Edges are numbered by
-/// their smaller vertex, then by their first local edge (3 t + l).
+/// their smaller vertex, then by their first local edge (3 t + l). Sets ConsistentlyOriented.
 TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triangles,
   MeshTopology& topology, const ParallelFor& parallelFor = SerialFor);
 

@@ -58,14 +58,23 @@ BuildStatus ValidateSplineValues(const SplineData& data, const MeshTopology& top
 /// The (u, v) box's squared diagonal diag2, or a failure when its diagonal is below
 /// MinDomainDiagonal.
 BuildStatus CheckDomainSize(const SplineData& data, const ParallelFor& parallelFor, double& diag2);
-/// Whether triangle t has zero area in (u, v), relative 1e-13 of diag2.
-inline bool IsDegenerateTriangle(const SplineData& data, Id t, double diag2)
+/// Twice the signed area of triangle t in (u, v).
+inline double SignedAreaUV(const SplineData& data, Id t)
 {
   const Id* p = data.Triangles + 3 * t;
   const double* uv = data.UV;
-  const Vec2 A(uv[2 * p[0]], uv[2 * p[0] + 1]), B(uv[2 * p[1]], uv[2 * p[1] + 1]),
-    C(uv[2 * p[2]], uv[2 * p[2] + 1]);
-  return !(std::abs(SignedArea2(A, B, C)) > 1e-13 * diag2);
+  return SignedArea2(Vec2(uv[2 * p[0]], uv[2 * p[0] + 1]), Vec2(uv[2 * p[1]], uv[2 * p[1] + 1]),
+    Vec2(uv[2 * p[2]], uv[2 * p[2] + 1]));
+}
+/// Whether a triangle of doubled signed area area2 has zero area, relative 1e-13 of diag2.
+inline bool IsDegenerateArea(double area2, double diag2)
+{
+  return !(std::abs(area2) > 1e-13 * diag2);
+}
+/// Whether triangle t has zero area in (u, v) (IsDegenerateArea).
+inline bool IsDegenerateTriangle(const SplineData& data, Id t, double diag2)
+{
+  return IsDegenerateArea(SignedAreaUV(data, t), diag2);
 }
 /// Whether interior edge e is folded: its two opposite vertices lie on the same side of it in
 /// (u, v), whatever the triangles' vertex order. Boundary edges never are.

@@ -106,6 +106,24 @@ TEST(InputValidation, MixedTriangleOrientationIsNoFold)
   }
 }
 
+TEST(InputValidation, ClockwiseTrianglesAreNoFold)
+{
+  SampledMesh mesh = Square();
+  mesh.Triangles = { 0, 2, 1, 1, 2, 3 }; // both clockwise: consistent, negative areas
+  BuildMeshTopology(4, 2, mesh.Triangles.data(), mesh.Topology);
+  ASSERT_TRUE(mesh.Topology.ConsistentlyOriented);
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_EQ(m, "");
+  }
+  mesh.UV[6] = 0.2; // and folded as in FoldedParameterisationIsRejectedByName
+  mesh.UV[7] = 0.3;
+  for (const std::string& m : FailuresOfAllConstructions(mesh))
+  {
+    EXPECT_NE(m.find("folded parameterisation: triangles 0 and 1"), std::string::npos) << m;
+  }
+}
+
 TEST(InputValidation, ValuesThatWouldOverflowAreRejected)
 {
   for (double big : { 1e150, 1e300, -1e200 })

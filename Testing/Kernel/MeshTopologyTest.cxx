@@ -179,3 +179,37 @@ TEST(MeshTopology, FailuresNameTheSameTriangleOnAnyNumberOfThreads)
     }
   }
 }
+
+// ConsistentlyOriented: true for a grid (all its triangles counter-clockwise) in any numbering,
+// all reversed too, and false once any one triangle is reversed, whichever vertex block its
+// edges fall in, on any number of threads.
+TEST(MeshTopology, ConsistentOrientationIsFoundInEveryBlock)
+{
+  const LargeMesh m = ShuffledGrid(); // vertex and triangle ids shuffled: orientation kept
+  auto consistent = [&m](const std::vector<Id>& tris, const ParallelFor& parallelFor) {
+    MeshTopology topo;
+    EXPECT_TRUE(
+      BuildMeshTopology(m.NumberOfVertices, m.NumberOfTriangles, tris.data(), topo, parallelFor).Ok);
+    return topo.ConsistentlyOriented;
+  };
+  EXPECT_TRUE(consistent(m.Triangles, SerialFor));
+  std::vector<Id> reversed = m.Triangles;
+  for (Id t = 0; t < m.NumberOfTriangles; ++t)
+  {
+    std::swap(reversed[3 * t + 1], reversed[3 * t + 2]);
+  }
+  EXPECT_TRUE(consistent(reversed, ThreadedFor(2, 4999)));
+  for (const Id t : { Id(0), m.NumberOfTriangles / 3, m.NumberOfTriangles - 1 })
+  {
+    std::vector<Id> one = m.Triangles;
+    std::swap(one[3 * t + 1], one[3 * t + 2]);
+    EXPECT_FALSE(consistent(one, SerialFor)) << "triangle " << t;
+    EXPECT_FALSE(consistent(one, ThreadedFor(3, 7777))) << "triangle " << t;
+  }
+  // A failed build leaves it false.
+  MeshTopology topo;
+  ASSERT_TRUE(BuildMeshTopology(m.NumberOfVertices, m.NumberOfTriangles, m.Triangles.data(), topo).Ok);
+  const Id bad[] = { 0, 1, 1 };
+  EXPECT_FALSE(BuildMeshTopology(m.NumberOfVertices, 1, bad, topo).Ok);
+  EXPECT_FALSE(topo.ConsistentlyOriented);
+}
