@@ -645,9 +645,10 @@ std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
 {
   order = ctk::LocalityRenumbering();
   auto buildTopology = [&]() -> std::string {
-    const ctk::TopologyStatus topo = ctk::BuildMeshTopology(
-      in.NumberOfVertices(), in.NumberOfTriangles(), in.Triangles.data(), topology,
-      ctsplines::SMPCopyFor);
+    // Each edge's triangles in the input's order, as the constructions read them: same bits.
+    const ctk::TopologyStatus topo = ctk::BuildMeshTopology(in.NumberOfVertices(),
+      in.NumberOfTriangles(), in.Triangles.data(), topology, ctsplines::SMPCopyFor,
+      order.Triangles.empty() ? nullptr : order.Triangles.data());
     return topo.Ok ? std::string() : "invalid mesh: " + InInputIds(topo, cells, order);
   };
   std::string error;
@@ -677,11 +678,6 @@ std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
     !(error = buildTopology()).empty())
   {
     return error;
-  }
-  if (!order.IsIdentity())
-  {
-    // Each edge's triangles in the input's order, as the constructions read them: same bits.
-    ctk::OrderEdgeTrianglesByRank(order.Triangles.data(), topology, ctsplines::SMPCopyFor);
   }
   const ctk::BuildStatus built =
     ctk::BuildCloughTocher(in.View(), topology, options, spline, ctsplines::SMPFor);

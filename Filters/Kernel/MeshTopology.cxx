@@ -186,7 +186,7 @@ Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratc
 } // namespace
 
 TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triangles,
-  MeshTopology& topology, const ParallelFor& parallelFor)
+  MeshTopology& topology, const ParallelFor& parallelFor, const Id* rank)
 {
   // Each half-edge to its vertex block, in half-edge order within the block: counted per
   // triangle block (the triangles checked in the same pass), then written at the offsets of its
@@ -284,8 +284,12 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
     for (Id e = edgeStart[vb]; h < end; ++e)
     {
       const bool boundary = *h < 0;
-      const Id h0 = boundary ? ~*h : *h, h1 = boundary ? -1 : h[1];
+      Id h0 = boundary ? ~*h : *h, h1 = boundary ? -1 : h[1];
       h += boundary ? 1 : 2;
+      if (rank && !boundary && rank[h1 / 3] < rank[h0 / 3])
+      {
+        std::swap(h0, h1);
+      }
       const Id a = triangles[h0], b = triangles[NextCorner(h0)];
       std::array<Id, 2>& edge = topology.Edges[e];
       edge[0] = std::min(a, b);
@@ -306,18 +310,4 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
   return {};
 }
 
-void OrderEdgeTrianglesByRank(const Id* rank, MeshTopology& topology, const ParallelFor& parallelFor)
-{
-  parallelFor(static_cast<Id>(topology.EdgeTriangles.size()), [&](Id begin, Id end) {
-    for (Id e = begin; e < end; ++e)
-    {
-      std::array<Id, 2>& t = topology.EdgeTriangles[e];
-      if (t[1] >= 0 && rank[t[1]] < rank[t[0]])
-      {
-        std::swap(t[0], t[1]);
-        std::swap(topology.EdgeLocalIndex[e][0], topology.EdgeLocalIndex[e][1]);
-      }
-    }
-  });
-}
 } // namespace ctk

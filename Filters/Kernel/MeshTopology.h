@@ -57,14 +57,11 @@ struct TopologyStatus
 /// a non-manifold edge (three or more triangles) or two triangles with the same three vertices,
 /// naming the same triangle whatever the split of parallelFor's chunks. Edges are numbered by
 /// their smaller vertex, then by their first local edge (3 t + l). Sets ConsistentlyOriented.
+/// An interior edge's two triangles are in id order, or, given rank, in rank[t] order (for a
+/// renumbered mesh: the input's triangle ids, so that the constructions, which read an edge's
+/// triangles in that order, give the renumbered mesh the input's bits).
 TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triangles,
-  MeshTopology& topology, const ParallelFor& parallelFor = SerialFor);
-
-/// Orders the two triangles of every interior edge by rank[t] (for a renumbered mesh: the input's
-/// triangle ids), as BuildMeshTopology orders them by id: the constructions that read an edge's
-/// triangles in that order then give the renumbered mesh the input's bits.
-void OrderEdgeTrianglesByRank(
-  const Id* rank, MeshTopology& topology, const ParallelFor& parallelFor = SerialFor);
+  MeshTopology& topology, const ParallelFor& parallelFor = SerialFor, const Id* rank = nullptr);
 
 } // namespace ctk
 

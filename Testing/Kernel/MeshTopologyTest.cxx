@@ -119,16 +119,29 @@ TEST(MeshTopology, SameEdgesOnAnyNumberOfThreads)
     EXPECT_EQ(serial.TriangleEdges, parallel.TriangleEdges) << threads << " threads";
     EXPECT_EQ(serial.EdgeTriangles, parallel.EdgeTriangles) << threads << " threads";
     EXPECT_EQ(serial.EdgeLocalIndex, parallel.EdgeLocalIndex) << threads << " threads";
-    MeshTopology ranked = serial;
+    // By rank: the same edges, each interior edge's sides swapped when rank says so.
     std::vector<Id> rank(static_cast<size_t>(m.NumberOfTriangles));
     for (Id t = 0; t < m.NumberOfTriangles; ++t)
     {
       rank[t] = (t * 7919) % m.NumberOfTriangles; // a permutation: 7919 is prime
     }
-    OrderEdgeTrianglesByRank(rank.data(), ranked);
-    OrderEdgeTrianglesByRank(rank.data(), parallel, ThreadedFor(threads, chunk));
-    EXPECT_EQ(ranked.EdgeTriangles, parallel.EdgeTriangles) << threads << " threads";
-    EXPECT_EQ(ranked.EdgeLocalIndex, parallel.EdgeLocalIndex) << threads << " threads";
+    MeshTopology ranked;
+    ASSERT_TRUE(BuildMeshTopology(m.NumberOfVertices, m.NumberOfTriangles, m.Triangles.data(),
+      ranked, ThreadedFor(threads, chunk), rank.data()).Ok);
+    EXPECT_EQ(serial.Edges, ranked.Edges) << threads << " threads";
+    EXPECT_EQ(serial.TriangleEdges, ranked.TriangleEdges) << threads << " threads";
+    size_t swapped = 0, wrong = 0;
+    for (size_t e = 0; e < serial.Edges.size(); ++e)
+    {
+      const auto& et = serial.EdgeTriangles[e];
+      const bool swap = et[1] >= 0 && rank[et[1]] < rank[et[0]];
+      swapped += swap;
+      const auto& el = serial.EdgeLocalIndex[e];
+      wrong += ranked.EdgeTriangles[e] != (swap ? std::array<Id, 2>{ et[1], et[0] } : et);
+      wrong += ranked.EdgeLocalIndex[e] != (swap ? std::array<signed char, 2>{ el[1], el[0] } : el);
+    }
+    EXPECT_EQ(wrong, 0u) << threads << " threads";
+    EXPECT_GT(swapped, serial.Edges.size() / 4) << "the ranks reorder many edges";
   }
 }
 
