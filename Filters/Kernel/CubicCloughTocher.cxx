@@ -194,7 +194,7 @@ private:
   const std::vector<Id>& Order;
   const double Diag2; // the (u, v) domain's squared diagonal
   LowestId Degenerate, Folded;
-  std::atomic<bool> AnyPositive{ false }, AnyNegative{ false }; // signs of the triangles' areas
+  AreaSigns Signs;
   std::vector<Vec2> SplitPoints;
 };
 
@@ -278,20 +278,15 @@ void Builder::SplitPointsAndStep1()
   Vec2* D = this->Spline.DomainPoints.data();
 
   // ValidateSplineData's triangle and edge checks run in these passes, which read the same
-  // points (a pass of their own cost a tenth of the construction). No edge can fold when the
-  // triangles are consistently oriented and their areas all have one sign (none degenerate):
-  // then the fold check, which gathers every edge's opposite vertices, is skipped.
+  // points (a pass of their own cost a tenth of the construction). The fold check gathers every
+  // edge's opposite vertices: it is skipped where no edge can fold (AreaSigns).
   this->ForTriangles([&](Id t) {
     const double area2 = SignedAreaUV(d, t);
     if (IsDegenerateArea(area2, this->Diag2))
     {
       this->Degenerate.Report(t);
     }
-    std::atomic<bool>& sign = area2 > 0 ? this->AnyPositive : this->AnyNegative;
-    if (!sign.load(std::memory_order_relaxed))
-    {
-      sign.store(true, std::memory_order_relaxed);
-    }
+    this->Signs.Report(area2);
     const Id* p = d.Triangles + 3 * t;
     const Vec3 tau = d.SplitTau ? d.SplitTau[t]
                                 : SplitPointBarycentric(this->Options.SplitPoint, this->U(t, 0),
@@ -309,8 +304,7 @@ void Builder::SplitPointsAndStep1()
       D[layout.Vertex(v)] = UVOf(d, v);
     }
   });
-  const bool checkFolds =
-    !this->Topo.ConsistentlyOriented || (this->AnyPositive.load() && this->AnyNegative.load());
+  const bool checkFolds = this->Signs.FoldsPossible(this->Topo);
   ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
     if (checkFolds && IsFoldedEdge(d, this->Topo, e))
     {

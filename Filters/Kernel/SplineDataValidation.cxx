@@ -253,13 +253,16 @@ BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topol
   }
   // The lowest degenerate triangle and folded edge, found in the locality order.
   LowestId degenerate, folded;
+  AreaSigns signs;
   ForTrianglesInOrder(parallelFor, data.NumberOfTriangles, order, [&](Id t) {
-    if (IsDegenerateTriangle(data, t, diag2))
+    const double area2 = SignedAreaUV(data, t);
+    if (IsDegenerateArea(area2, diag2))
     {
       degenerate.Report(t);
     }
+    signs.Report(area2);
   });
-  if (degenerate.Get() < 0)
+  if (degenerate.Get() < 0 && signs.FoldsPossible(topology))
   {
     ForEdgesInOrder(parallelFor, topology, order, [&](Id e) {
       if (IsFoldedEdge(data, topology, e))

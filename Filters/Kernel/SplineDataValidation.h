@@ -9,6 +9,7 @@
 #include "BezierTriangle.h"
 #include "CubicCloughTocher.h"
 
+#include <atomic>
 #include <cmath>
 
 namespace ctk
@@ -96,6 +97,30 @@ inline bool IsFoldedEdge(const SplineData& data, const MeshTopology& topology, I
   }
   return (side[0] > 0) == (side[1] > 0);
 }
+/// The signs of the triangles' areas in (u, v), reported from any thread. No edge can fold when
+/// every interior edge's triangles run along it in opposite directions
+/// (MeshTopology::ConsistentlyOriented) and the areas, none degenerate, all have one sign: their
+/// signs are then far above round-off, and the fold check (IsFoldedEdge) cannot fail.
+class AreaSigns
+{
+public:
+  void Report(double area2)
+  {
+    std::atomic<bool>& seen = area2 > 0 ? this->Positive : this->Negative;
+    if (!seen.load(std::memory_order_relaxed))
+    {
+      seen.store(true, std::memory_order_relaxed);
+    }
+  }
+  /// Whether the fold check is needed on `topology` after every triangle was reported.
+  bool FoldsPossible(const MeshTopology& topology) const
+  {
+    return !topology.ConsistentlyOriented || (this->Positive.load() && this->Negative.load());
+  }
+
+private:
+  std::atomic<bool> Positive{ false }, Negative{ false };
+};
 /// The failure naming the lowest degenerate triangle, else the lowest folded edge, or success.
 BuildStatus DomainFailure(const SplineData& data, const MeshTopology& topology,
   const LowestId& degenerate, const LowestId& folded);
