@@ -179,7 +179,11 @@ private:
   // Per interior edge: body(e, t0, l0, t1, l1), in parallel, in the locality order.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
-  void InitialEdgeCentres(Id t0, const MacroElementIds& ids0, int l0, Id t1, int l1);
+  // The macro-patch of the edge-based rules' first step (Fa's Q, or none).
+  std::array<Vec3, 10> InitialMacroPatch(const MacroElementIds& ids) const;
+  // Both central points at the interior edge (t0, l0) = (t1, l1) by an edge-based rule.
+  void InitialEdgeCentres(
+    Id t0, const MacroElementIds& ids0, const std::array<Vec3, 10>& macro0, int l0, Id t1, int l1);
   void MinimiseC2AcrossMacroEdges();
   void RestoreC1AcrossMacroEdges();
 
@@ -442,6 +446,8 @@ void Builder::ForInteriorEdges(Body&& body)
 void Builder::Step2Centres(Id t, const MacroElementIds& ids)
 {
   const bool edgeBased = Info(this->Options.Method).EdgeBased;
+  std::array<Vec3, 10> macro; // t's macro-patch, formed once for its edges
+  bool haveMacro = false;
   for (int l = 0; l < 3; ++l)
   {
     const Id e = this->Topo.TriangleEdges[t][l];
@@ -452,38 +458,50 @@ void Builder::Step2Centres(Id t, const MacroElementIds& ids)
     }
     else if (et[0] == t && this->Topo.EdgeLocalIndex[e][0] == l)
     {
-      this->InitialEdgeCentres(t, ids, l, et[1], this->Topo.EdgeLocalIndex[e][1]);
+      if (!haveMacro)
+      {
+        macro = this->InitialMacroPatch(ids);
+        haveMacro = true;
+      }
+      this->InitialEdgeCentres(t, ids, macro, l, et[1], this->Topo.EdgeLocalIndex[e][1]);
     }
   }
 }
 
-void Builder::InitialEdgeCentres(Id t0, const MacroElementIds& ids0, int l0, Id t1, int l1)
+std::array<Vec3, 10> Builder::InitialMacroPatch(const MacroElementIds& ids) const
 {
-  const Vec3* P = this->Spline.ControlPoints.data();
+  // Fa: the quadratic-precision macro-patch, eq. (18); FO, Ka, KaG: its central point is the
+  // unknown (MacroEdgeQ ignores it).
+  std::array<Vec3, 10> macro = MacroNet(ids, this->Spline.ControlPoints.data(), Vec3::Zero());
+  if (this->Options.Method == Construction::Fa)
+  {
+    macro[CubicCentre] = QuadraticPrecisionQ(macro.data());
+  }
+  return macro;
+}
+
+void Builder::InitialEdgeCentres(
+  Id t0, const MacroElementIds& ids0, const std::array<Vec3, 10>& macro0, int l0, Id t1, int l1)
+{
   const MacroElementIds ids1 = this->Ids(t1);
+  const std::array<Vec3, 10> macro1 = this->InitialMacroPatch(ids1);
   const Vec3& tau0 = this->Spline.SplitTau[t0];
   const Vec3& tau1 = this->Spline.SplitTau[t1];
   if (this->Options.Method == Construction::Fa)
   {
-    // Eq. (18)-(19): the quadratic-precision macro-patches subdivided at Z, then eq. (20)-(21),
-    // which read the rows 0-2 of t0's micro-net at the edge and row 2 of t1's (Rule A).
-    const std::array<Vec3, 10> macro0 = MacroNet(ids0, P, QuadraticPrecisionQ(ids0, P));
-    const std::array<Vec3, 10> macro1 = MacroNet(ids1, P, QuadraticPrecisionQ(ids1, P));
-    Vec3 PM[10], PMbar[10];
-    Vec2 AM[3], AMbar[3];
-    MacroPatchMicroNet(macro0.data(), l0, tau0, PM, 0, 2);
-    MacroPatchMicroNet(macro1.data(), l1, tau1, PMbar, 2, 2);
+    // Eq. (19)-(21) on the quadratic-precision macro-patches subdivided at Z and Zbar.
+    Vec2 AM[3];
     this->MicroDomain(t0, l0, AM);
-    this->MicroDomain(t1, l1, AMbar);
-    MinimiseMicroEdgeC2Jump(PM, AM, PMbar, AMbar, this->Centre(ids0, l0), this->Centre(ids1, l1));
+    const Vec3 x = Barycentric(AM[0], AM[1], AM[2], this->SplitPoints[t1]);
+    const bool sameDirection = this->Data.Triangles[3 * t1 + l1] == this->Data.Triangles[3 * t0 + l0];
+    FaMicroEdgeCentres({ macro0.data(), l0, tau0 }, { macro1.data(), l1, tau1 }, sameDirection, x,
+      this->Centre(ids0, l0), this->Centre(ids1, l1));
     return;
   }
   // FO (eq. 22), Ka and KaG (eq. 23); Kashyap's scheme starts from FO's cubic precision.
   const Vec2 A[3] = { this->U(t0, 0), this->U(t0, 1), this->U(t0, 2) };
   const Vec2 B[3] = { this->U(t1, 0), this->U(t1, 1), this->U(t1, 2) };
   const MacroEdgeRule rule = Info(this->Options.Method).EdgeRule;
-  const std::array<Vec3, 10> macro0 = MacroNet(ids0, P, Vec3::Zero());
-  const std::array<Vec3, 10> macro1 = MacroNet(ids1, P, Vec3::Zero());
   SharedCubicEdge edge;
   const Vec3 Q = MacroEdgeQ(rule, macro0.data(), A, macro1.data(), B, edge);
   const Vec3 Qbar = CubicRuleARow1(macro0.data(), Q, edge.A, edge.B, edge.X); // C1 (eq. 6)

@@ -84,16 +84,9 @@ inline Vec3 EdgeControlPoint(const Vec3& fi, const Vec3& fui, const Vec3& fvi, c
 /// central point Q.
 std::array<Vec3, 10> MacroNet(const MacroElementIds& ids, const Vec3* points, const Vec3& Q);
 
-/// Eq. (18): Q of the quadratic-precision macro-patch (Fa).
-Vec3 QuadraticPrecisionQ(const MacroElementIds& ids, const Vec3* points);
-
-/// Net (canonical order) of the micro-triangle (U_l, U_l+1, Z) of the cubic macro-patch `macro`
-/// over (U0, U1, U2), Z with barycentric tau: SubTriangle(3, macro, e_l, e_l+1, tau) in closed
-/// form, ordinate (a, b, c) being the blossom b(U_l^a, U_l+1^b, Z^c) (RuleA.h, rows 1 and 2).
-/// Only the rows c = firstRow .. lastRow are computed (a C^r condition across the macro-edge
-/// reads rows 0 .. r); the others are set to NaN.
-void MacroPatchMicroNet(
-  const Vec3* macro, int l, const Vec3& tau, Vec3* PM, int firstRow = 0, int lastRow = 3);
+/// Eq. (18): Q of the quadratic-precision macro-patch (Fa) from the boundary ordinates of a cubic
+/// macro net (canonical order; its central point is not read).
+Vec3 QuadraticPrecisionQ(const Vec3* macro);
 
 /// Step 1, eq. (12): I_i1 = tau_i V_i + tau_j T_ij + tau_k T_ik.
 void ComputeInnerRing1(const MacroElementIds& ids, const Vec3& tau, Vec3* points);

@@ -21,12 +21,15 @@
 
 namespace ctk
 {
+/// The size of a transparent huge page on x86-64 and of the blocks MapLargeBlock rounds to.
+constexpr std::size_t HugePageBytes = std::size_t(1) << 21;
+
 /// Asks for transparent huge pages on the whole 2 MiB pages inside [p, p + bytes). Contents are
 /// unchanged; ranges below a few MiB are left alone.
 inline void AdviseHugePages(const void* p, std::size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t huge = std::uintptr_t(1) << 21;
+  constexpr std::uintptr_t huge = HugePageBytes;
   if (!p || bytes < 4 * huge)
   {
     return;
@@ -70,12 +73,11 @@ constexpr std::size_t LargeBlockBytes = std::size_t(4) << 20;
 /// output. An unmapped block goes back to the system at once.
 inline std::size_t LargeBlockLength(std::size_t bytes)
 {
-  constexpr std::size_t huge = std::size_t(1) << 21;
-  return (bytes + huge - 1) & ~(huge - 1);
+  return (bytes + HugePageBytes - 1) & ~(HugePageBytes - 1);
 }
 inline void* MapLargeBlock(std::size_t bytes)
 {
-  constexpr std::size_t huge = std::size_t(1) << 21;
+  constexpr std::size_t huge = HugePageBytes;
   const std::size_t length = LargeBlockLength(bytes);
   // Mapped with a huge page of slack, whose unaligned ends are then unmapped.
   void* m = mmap(nullptr, length + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,

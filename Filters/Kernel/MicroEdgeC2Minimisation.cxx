@@ -18,4 +18,40 @@ void MinimiseMicroEdgeC2Jump(
   Cbar = CubicRuleARow1(PM, C, edge.A, edge.B, edge.X);
 }
 
+void FaMicroEdgeCentres(const MacroPatchAtEdge& T, const MacroPatchAtEdge& Tbar, bool sameDirection,
+  const Vec3& x, Vec3& C, Vec3& Cbar)
+{
+  // M's net is T's macro-patch subdivided, its centre m_111 = b(U_i, U_j, Z) replaced by C; M's
+  // blossom at points of M's coordinates is the macro-patch's at their images (e_i, e_j, tau), so
+  // b_M(U_s, x, x) = b(e_s, y, y) + w_s (C - m_111), y = x_0 e_i + x_1 e_j + x_2 tau, w_s the
+  // weight of m_111 (MinimiseMicroEdgeC2Jump). Mbar's row-2 ordinates are Tbar's
+  // b(e_s', taubar, taubar). The least squares of the two residuals then give
+  // C = m_111 + sum w_s (Mbar_s - b(e_s, y, y)) / sum w_s^2, and the C1 tie (row 1)
+  // Cbar = x_0 T_ij + x_1 T_ji + x_2 C.
+  const int i = T.L, j = (T.L + 1) % 3;
+  const Vec3* P = T.Net;
+  const Vec3& Q = P[CubicCentre];
+  const Vec3& Qbar = Tbar.Net[CubicCentre];
+  Vec3 y = x[2] * T.Tau;
+  y[i] += x[0];
+  y[j] += x[1];
+  const int vertex[2] = { i, j };
+  const int vertexBar[2] = { sameDirection ? Tbar.L : (Tbar.L + 1) % 3,
+    sameDirection ? (Tbar.L + 1) % 3 : Tbar.L };
+  const double w[2] = { 2.0 * x[1] * x[2], 2.0 * x[0] * x[2] };
+  Vec3 num = Vec3::Zero();
+  for (int s = 0; s < 2; ++s)
+  {
+    // b(e_s, y, y) and Tbar's b(e_s', taubar, taubar), their central points' weights q, qbar
+    // (set by the calls, so read after them).
+    double q = 0.0, qbar = 0.0;
+    const Vec3 b = CubicRuleARow2(P, vertex[s], y, q);
+    const Vec3 bbar = CubicRuleARow2(Tbar.Net, vertexBar[s], Tbar.Tau, qbar);
+    num += w[s] * (bbar + qbar * Qbar - b - q * Q);
+  }
+  C = CubicRuleARow1(P, Q, i, j, T.Tau) + num / (w[0] * w[0] + w[1] * w[1]);
+  const auto& row1 = detail::CubicRuleAIndexTable.Row1;
+  Cbar = x[0] * P[row1[i][i][j]] + x[1] * P[row1[j][j][i]] + x[2] * C;
+}
+
 } // namespace ctk

@@ -21,6 +21,23 @@ constexpr int CubicCentre = 4;
 void MinimiseMicroEdgeC2Jump(
   const Vec3* PM, const Vec2* AM, const Vec3* PMbar, const Vec2* AMbar, Vec3& C, Vec3& Cbar);
 
+/// One side of Fa's step: a cubic macro-patch (canonical net over its triangle's vertices, its
+/// central point included), the macro-edge (U_l, U_l+1) and the split point Z (barycentric).
+struct MacroPatchAtEdge
+{
+  const Vec3* Net;
+  int L;
+  Vec3 Tau;
+};
+
+/// Fa, eq. (18)-(21), straight from the two macro-patches: what MinimiseMicroEdgeC2Jump returns
+/// for the micro-nets of the macro-patches subdivided at their split points (SubTriangle), without
+/// forming them. T is the patch whose micro-triangle M = (U_l, U_l+1, Z) receives C; x is Tbar's
+/// split point in M's barycentric coordinates; Tbar's edge vertex U_Tbar.L is T's U_l+1 unless
+/// `sameDirection` (then T's U_l).
+void FaMicroEdgeCentres(const MacroPatchAtEdge& T, const MacroPatchAtEdge& Tbar, bool sameDirection,
+  const Vec3& x, Vec3& C, Vec3& Cbar);
+
 } // namespace ctk
 
 #endif

@@ -304,31 +304,27 @@ TEST(CubicConstructions, ClosedFormsAgreeWithTheRuleAMinimisation)
     net[CubicCentre] = refC;
     worst = std::max(worst, RelativeError(C, refC));
     worst = std::max(worst, RelativeError(Cbar, TiedCubicCentre(net, AM, B)));
-    // The micro-net of a macro-patch at a split point inside T.
+    // Fa's step straight from the macro-patches (FaMicroEdgeCentres) against the same step on
+    // their micro-nets, subdivided at split points inside T and Tbar.
     Vec3 tau(0.2 + 0.5 * std::abs(R(rng)), 0.2, 0.0);
     tau[2] = 1.0 - tau[0] - tau[1];
-    Vec3 closed[10], sub[10];
-    MacroPatchMicroNet(PA, l, tau, closed);
-    SubTriangle(3, PA, Vec3::Unit(l), Vec3::Unit((l + 1) % 3), tau, sub);
-    for (int a = 0; a < 10; ++a)
-    {
-      worst = std::max(worst, RelativeError(closed[a], sub[a]));
-    }
-    // Rows by the exponent of Z: the ones asked for have the full net's bits, the rest is NaN.
-    const int rowOf[10] = { 0, 0, 1, 0, 1, 2, 0, 1, 2, 3 };
-    for (int first = 0; first <= 3; ++first)
-    {
-      for (int last = first; last <= 3; ++last)
-      {
-        Vec3 part[10];
-        MacroPatchMicroNet(PA, l, tau, part, first, last);
-        for (int a = 0; a < 10; ++a)
-        {
-          const bool wanted = rowOf[a] >= first && rowOf[a] <= last;
-          EXPECT_TRUE(wanted ? part[a] == closed[a] : part[a].hasNaN()) << a << " " << first << last;
-        }
-      }
-    }
+    const Vec3 tauBar(0.25, 0.15 + 0.4 * std::abs(R(rng)), 0.3);
+    const Vec3 tauBarN = tauBar / tauBar.sum();
+    const int lBar = (3 - rot) % 3; // B[lBar] = edge0, B[lBar + 1] = edge1
+    const Vec2 Z = tau[0] * A[0] + tau[1] * A[1] + tau[2] * A[2];
+    const Vec2 Zbar = tauBarN[0] * B[0] + tauBarN[1] * B[1] + tauBarN[2] * B[2];
+    const Vec2 AZ[3] = { A[l], A[(l + 1) % 3], Z };
+    const Vec2 BZ[3] = { B[lBar], B[(lBar + 1) % 3], Zbar };
+    Vec3 PM[10], PMbar[10];
+    SubTriangle(3, PA, Vec3::Unit(l), Vec3::Unit((l + 1) % 3), tau, PM);
+    SubTriangle(3, PB, Vec3::Unit(lBar), Vec3::Unit((lBar + 1) % 3), tauBarN, PMbar);
+    Vec3 subC, subCbar, faC, faCbar;
+    MinimiseMicroEdgeC2Jump(PM, AZ, PMbar, BZ, subC, subCbar);
+    FaMicroEdgeCentres({ PA, l, tau }, { PB, lBar, tauBarN }, flip == 1,
+      Barycentric(AZ[0], AZ[1], AZ[2], Zbar), faC, faCbar);
+    worst = std::max(worst, RelativeError(faC, subC));
+    worst = std::max(worst, RelativeError(faCbar, subCbar));
+    worst = std::max(worst, RelativeError(faC, RuleAReferenceCentre(PM, AZ, PMbar, BZ, false)));
   }
   EXPECT_GT(checked, 100);
   EXPECT_LT(worst, 1e-12);
