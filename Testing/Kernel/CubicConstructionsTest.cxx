@@ -120,6 +120,52 @@ TEST(CubicConstructions, C1AcrossEveryEdgeIncludingAfterIterations)
   }
 }
 
+// How a triangle lists its vertices is no input of any construction: every triangle rotated by
+// t % 3 and, every other triple, reversed (so that interior edges also run the same way in both
+// of their triangles, the case the edge-based rules read from the vertex ids) gives the same
+// spline to round-off, evaluated at the same parameter points.
+TEST(CubicConstructions, EachTrianglesVertexOrderIsNoInput)
+{
+  std::vector<Variant> variants(std::begin(NonLocalVariants), std::end(NonLocalVariants));
+  for (Construction c : { Construction::CTo, Construction::CTi, Construction::MGo, Construction::MGi })
+  {
+    variants.push_back({ c, BoundaryMode::Midpoint, 0 });
+  }
+  for (const auto& [name, pm] : MeshSuite())
+  {
+    ParameterMesh permuted = pm;
+    for (Id t = 0; t < pm.NumberOfTriangles(); ++t)
+    {
+      Id* p = permuted.Triangles.data() + 3 * t;
+      std::rotate(p, p + t % 3, p + 3);
+      if ((t / 3) % 2 == 1)
+      {
+        std::swap(p[1], p[2]);
+      }
+    }
+    const SampledMesh a = Sample(name, pm, AnalyticSurface::Franke);
+    const SampledMesh b = Sample(name, permuted, AnalyticSurface::Franke);
+    const Vec3 at[3] = { Vec3(0.2, 0.3, 0.5), Vec3(0.7, 0.15, 0.15), Vec3(0.05, 0.5, 0.45) };
+    for (const Variant& v : variants)
+    {
+      const SplineOptions o = Options(v, SplitPointRule::Inc2);
+      const CubicSpline sa = BuildOrFail(a, o), sb = BuildOrFail(b, o);
+      double worst = 0.0;
+      for (Id t = 0; t < pm.NumberOfTriangles(); ++t)
+      {
+        for (const Vec3& w : at)
+        {
+          const Vec2 X = w[0] * VertexUV(a, t, 0) + w[1] * VertexUV(a, t, 1) + w[2] * VertexUV(a, t, 2);
+          const ParametricJet ja = EvaluateSpline(a, sa, t, X), jb = EvaluateSpline(b, sb, t, X);
+          worst = std::max({ worst, (ja.Value - jb.Value).norm(), (ja.Du - jb.Du).norm(),
+            (ja.Dv - jb.Dv).norm() });
+        }
+      }
+      EXPECT_LT(worst, 1e-12) << Describe(a, o);
+    }
+  }
+}
+
 TEST(CubicConstructions, AffineInvariance)
 {
   const ParameterMesh pm = JitteredGrid(5, 0.3, 31u);
