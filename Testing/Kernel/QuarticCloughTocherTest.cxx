@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -217,4 +218,41 @@ TEST(QuarticCloughTocher, StopsInsteadOfDivergingOnIrregularMeshes)
   const SampledMesh regular = Sample("grid", RegularGridMesh(5, GridDiagonal::Alternating), AnalyticSurface::Franke);
   QuarticSpline r;
   EXPECT_TRUE(BuildQuarticCloughTocher(regular.Data(), regular.Topology, o, r).Message.empty());
+}
+
+// As for the cubic constructions (CubicConstructions.EachTrianglesVertexOrderIsNoInput): every
+// triangle rotated by t % 3 and every other triple reversed gives the same quartic spline.
+TEST(QuarticCloughTocher, EachTrianglesVertexOrderIsNoInput)
+{
+  for (const auto& [name, pm] : MeshSuite())
+  {
+    ParameterMesh permuted = pm;
+    for (Id t = 0; t < pm.NumberOfTriangles(); ++t)
+    {
+      Id* p = permuted.Triangles.data() + 3 * t;
+      std::rotate(p, p + t % 3, p + 3);
+      if ((t / 3) % 2 == 1)
+      {
+        std::swap(p[1], p[2]);
+      }
+    }
+    const SampledMesh a = Sample(name, pm, AnalyticSurface::Franke);
+    const SampledMesh b = Sample(name, permuted, AnalyticSurface::Franke);
+    const SplineOptions o{ Construction::FO, SplitPointRule::Inc3, BoundaryMode::Midpoint, 3 };
+    QuarticSpline sa, sb;
+    ASSERT_TRUE(BuildQuarticCloughTocher(a.Data(), a.Topology, o, sa).Ok) << name;
+    ASSERT_TRUE(BuildQuarticCloughTocher(b.Data(), b.Topology, o, sb).Ok) << name;
+    double worst = 0.0;
+    for (Id t = 0; t < pm.NumberOfTriangles(); ++t)
+    {
+      const Vec2 U0 = pm.UV[pm.Triangles[3 * t]], U1 = pm.UV[pm.Triangles[3 * t + 1]],
+                 U2 = pm.UV[pm.Triangles[3 * t + 2]];
+      for (const Vec3& w : { Vec3(0.2, 0.3, 0.5), Vec3(0.7, 0.15, 0.15), Vec3(0.05, 0.5, 0.45) })
+      {
+        const Vec2 X = w[0] * U0 + w[1] * U1 + w[2] * U2;
+        worst = std::max(worst, (Evaluate(a, sa, t, X) - Evaluate(b, sb, t, X)).norm());
+      }
+    }
+    EXPECT_LT(worst, 1e-12) << name;
+  }
 }
