@@ -89,17 +89,15 @@ bool NotNearlyParallel(const Vec2& a, const Vec2& b)
   return std::abs(c) > 1e-12 * std::sqrt(a2) * std::sqrt(b2);
 }
 
-// Whether the 19 control points of a macro-element are finite, by their sum: one test instead of
-// 57. A sum of finite values may overflow; the caller then checks every point on its own.
+// Whether the 19 control points of a macro-element are finite, by S alone: S is a sum of the
+// I2 with finite weights (tau), each I2 of an I1 and two C, each I1 of a V and two T, and every
+// one of the 18 others enters that chain. Products and sums of finite numbers with inf or NaN
+// are never finite, so one non-finite point makes S non-finite (and so does an overflow of S
+// itself, which the caller's full check then finds harmless). Step 3 must have run on the
+// current points.
 bool AllFinite(const MacroElementIds& ids, const Vec3* P)
 {
-  Vec3 sum = P[ids.S];
-  for (int i = 0; i < 3; ++i)
-  {
-    const int j = (i + 1) % 3;
-    sum += P[ids.V[i]] + P[ids.I1[i]] + P[ids.I2[i]] + P[ids.C[i]] + P[ids.T[i][j]] + P[ids.T[j][i]];
-  }
-  return sum.allFinite();
+  return P[ids.S].allFinite();
 }
 
 // Shared state of one construction run and the per-edge and per-triangle steps.

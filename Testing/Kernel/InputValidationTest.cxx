@@ -161,8 +161,9 @@ TEST(InputValidation, ValuesCheckedByTheCallerAreNotReadAgain)
   EXPECT_FALSE(ValidateSplineData(mesh.Data(), mesh.Topology).Ok);
 }
 
-// The cubic constructions check their control points finite by each macro-element's sum (one
-// test per triangle): a sum that overflows while every point is finite must not fail the build.
+// The cubic constructions check a macro-element's control points through its split point S
+// (every other point enters S with finite weights; one test per triangle). Points whose sum over
+// a macro-element would overflow (an earlier test summed all 19) must not fail the build.
 TEST(InputValidation, FiniteControlPointsWhoseSumOverflowsAreAccepted)
 {
   SampledMesh mesh = Square();
@@ -189,6 +190,64 @@ TEST(InputValidation, FiniteControlPointsWhoseSumOverflowsAreAccepted)
       EXPECT_NEAR(p.x() / 1e307, 1.0, 1e-12) << ToString(options.Method);
     }
   }
+}
+
+// Values that pass the caller's checks yet overflow inside a construction: a build either fails,
+// naming the macro-element, or every control point it returns is finite (never silent inf or
+// NaN). Random vertices of a grid get values, derivatives and mid-edge gradients near the
+// largest double, so that the overflow happens in different control points (T, I1, C, I2, S).
+TEST(InputValidation, NoBuildReturnsANonFiniteControlPoint)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> magnitude(0.3, 1.79);
+  std::uniform_int_distribution<int> coin(0, 3);
+  int failed = 0, built = 0;
+  for (int trial = 0; trial < 24; ++trial)
+  {
+    SampledMesh mesh = Sample("grid", RegularGridMesh(3, GridDiagonal::Alternating),
+      AnalyticSurface::Franke);
+    mesh.ValuesChecked = true; // beyond what the validation lets through
+    const int v = trial % 16;
+    for (auto* a : { &mesh.F, &mesh.Fu, &mesh.Fv })
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        const int pick = coin(rng);
+        if (pick > 0)
+        {
+          (*a)[3 * v + c] = (pick == 1 ? -1.0 : 1.0) * magnitude(rng) * 1e308;
+        }
+      }
+    }
+    for (double& g : mesh.EdgeGradients)
+    {
+      g = coin(rng) == 0 ? magnitude(rng) * 1e308 : g;
+    }
+    for (int c = 0; c <= static_cast<int>(Construction::Kashyap); ++c)
+    {
+      for (int iterations : { 0, 2 })
+      {
+        SplineOptions options;
+        options.Method = static_cast<Construction>(c);
+        options.Iterations = iterations;
+        CubicSpline spline;
+        const BuildStatus s = BuildCubicCloughTocher(mesh.Data(), mesh.Topology, options, spline);
+        if (!s.Ok)
+        {
+          ++failed;
+          EXPECT_NE(s.Message.find("non-finite control point"), std::string::npos) << s.Message;
+          continue;
+        }
+        ++built;
+        for (const Vec3& p : spline.ControlPoints)
+        {
+          ASSERT_TRUE(p.allFinite()) << ToString(options.Method) << " trial " << trial;
+        }
+      }
+    }
+  }
+  EXPECT_GT(failed, 20);
+  EXPECT_GT(built, 20);
 }
 
 TEST(InputValidation, SplitPointsOutsideTheirTriangleAreRejected)
