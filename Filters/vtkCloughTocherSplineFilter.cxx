@@ -481,37 +481,39 @@ void KeepUsedPoints(CellId* conn, vtkIdType nConn,
 namespace
 {
 // The connectivity of cells 3 i + k of the i-th written triangle (keptTriangles[i], or i), in
-// the storage's id type; marks the points they use in `used` when it is not empty.
-template <typename CellId>
+// the storage's id type; marks the points they use in `used` when it is not empty. The degree
+// is a template argument: the cells' sizes are then constants, and the copies unrolled.
+template <int Degree, typename CellId>
 void WriteSplineConnectivity(const ctk::CloughTocherSpline& spline,
   const ctk::MeshTopology& topology, const ctk::SplineInput& in,
   const std::vector<ctk::Id>* keptTriangles, vtkIdType nT, CellId* offsets,
   CellId* connectivity, std::vector<std::atomic<unsigned char>>& used)
 {
-  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(spline.Degree);
-  const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
+  constexpr int n = ctk::BezierPointCount(Degree);
+  std::array<int, n> vtkOrder;
+  const std::vector<int> order = ctk::VtkBezierTriangleOrder(Degree);
+  std::copy_n(order.begin(), n, vtkOrder.begin());
   ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
-    // Locals: the entries written could alias the captured counts and pointers, which the loops
-    // would otherwise load again for every entry.
-    const vtkIdType n = perCell;
-    const int* order = vtkOrder.data();
+    // Locals: the entries written could alias the captured pointers and the order, which the
+    // loops would otherwise load again for every entry.
+    const std::array<int, n> o = vtkOrder;
     CellId* const conn = connectivity;
     CellId* const offs = offsets;
     std::atomic<unsigned char>* mark = used.empty() ? nullptr : used.data();
+    const ctk::Id* triangles = in.Triangles.data();
     for (vtkIdType i = b; i < e; ++i)
     {
       const vtkIdType t = keptTriangles ? (*keptTriangles)[i] : i;
-      const std::array<std::array<ctk::Id, 15>, 3> nets =
-        spline.MicroNets(topology, in.Triangles.data(), t);
+      const auto nets = spline.MicroNets<Degree>(topology, triangles, t);
       for (int k = 0; k < 3; ++k)
       {
         const vtkIdType c = 3 * i + k;
         CellId* cell = conn + n * c;
-        for (vtkIdType a = 0; a < n; ++a)
+        for (int a = 0; a < n; ++a)
         {
-          cell[a] = static_cast<CellId>(nets[k][order[a]]);
+          cell[a] = static_cast<CellId>(nets[k][o[a]]);
         }
-        for (vtkIdType a = 0; a < n && mark; ++a)
+        for (int a = 0; mark && a < n; ++a)
         {
           mark[nets[k][a]].store(1, std::memory_order_relaxed);
         }
@@ -519,7 +521,7 @@ void WriteSplineConnectivity(const ctk::CloughTocherSpline& spline,
       }
     }
   });
-  offsets[3 * nT] = static_cast<CellId>(perCell * 3 * nT);
+  offsets[3 * nT] = static_cast<CellId>(n * 3 * nT);
 }
 
 // The cell data of the same cells: type, MacroTriangleId (the caller's triangle id) and
@@ -571,7 +573,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   // With ghosts, the points the written cells use (threads may mark a point together).
   std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
   const auto write = [&](auto* offsets, auto* connectivity) {
-    WriteSplineConnectivity(spline, topology, in, keptTriangles, nT, offsets, connectivity, used);
+    if (spline.Degree == 4)
+    {
+      WriteSplineConnectivity<4>(spline, topology, in, keptTriangles, nT, offsets, connectivity, used);
+    }
+    else
+    {
+      WriteSplineConnectivity<3>(spline, topology, in, keptTriangles, nT, offsets, connectivity, used);
+    }
     if (keptTriangles)
     {
       KeepUsedPoints(connectivity, perCell * nCells, used, controlPoints, domainPoints);

@@ -20,27 +20,6 @@ std::array<Id, 15> CloughTocherSpline::MicroNet(
   return net;
 }
 
-std::array<std::array<Id, 15>, 3> CloughTocherSpline::MicroNets(
-  const MeshTopology& topology, const Id* triangles, Id t) const
-{
-  std::array<std::array<Id, 15>, 3> nets{};
-  if (this->Degree == 4)
-  {
-    for (int k = 0; k < 3; ++k)
-    {
-      nets[k] = QuarticMicroNet(this->Quartic.Layout, topology, triangles, t, k);
-    }
-    return nets;
-  }
-  const MacroElementIds ids = GetMacroElementIds(this->Cubic.Layout, topology, triangles, t);
-  for (int k = 0; k < 3; ++k)
-  {
-    const std::array<Id, 10> cubic = MicroTriangleNet(ids, k);
-    std::copy(cubic.begin(), cubic.end(), nets[k].begin());
-  }
-  return nets;
-}
-
 BuildStatus BuildCloughTocher(const SplineData& data, const MeshTopology& topology,
   const SplineOptions& options, CloughTocherSpline& spline, const ParallelFor& parallelFor,
   const QuarticObserver& observer)

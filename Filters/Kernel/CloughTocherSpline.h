@@ -32,10 +32,32 @@ struct CloughTocherSpline
   /// Control point ids of micro-triangle k of macro-triangle t (the one opposite U_k, over
   /// (U_{k+1}, U_{k+2}, Z)) in canonical order; the first BezierPointCount(Degree) are used.
   std::array<Id, 15> MicroNet(const MeshTopology& topology, const Id* triangles, Id t, int k) const;
-  /// The three micro-nets of macro-triangle t, MicroNet(..., k) for k = 0, 1, 2 (a cubic
-  /// macro-element's ids gathered once).
-  std::array<std::array<Id, 15>, 3> MicroNets(
-    const MeshTopology& topology, const Id* triangles, Id t) const;
+  /// The three micro-nets of macro-triangle t, MicroNet(..., k) for k = 0, 1, 2, of a spline of
+  /// degree `degree` (== Degree): their size known when compiled, and a cubic macro-element's
+  /// ids gathered once (the output's connectivity is written from these).
+  template <int degree>
+  std::array<std::array<Id, BezierPointCount(degree)>, 3> MicroNets(
+    const MeshTopology& topology, const Id* triangles, Id t) const
+  {
+    static_assert(degree == 3 || degree == 4, "cubic or quartic");
+    std::array<std::array<Id, BezierPointCount(degree)>, 3> nets;
+    if constexpr (degree == 3)
+    {
+      const MacroElementIds ids = GetMacroElementIds(this->Cubic.Layout, topology, triangles, t);
+      for (int k = 0; k < 3; ++k)
+      {
+        nets[k] = MicroTriangleNet(ids, k);
+      }
+    }
+    else
+    {
+      for (int k = 0; k < 3; ++k)
+      {
+        nets[k] = QuarticMicroNet(this->Quartic.Layout, topology, triangles, t, k);
+      }
+    }
+    return nets;
+  }
 };
 
 /// Builds the spline of options.Method, cubic or quartic (options.Iterations: IM steps or
