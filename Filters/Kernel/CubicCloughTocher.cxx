@@ -12,6 +12,7 @@
 #include "RuleA.h"
 
 #include <cmath>
+#include <limits>
 
 namespace ctk
 {
@@ -94,7 +95,12 @@ bool NotNearlyParallel(const Vec2& a, const Vec2& b)
 // one of the 18 others enters that chain. Products and sums of finite numbers with inf or NaN
 // are never finite, so one non-finite point makes S non-finite (and so does an overflow of S
 // itself, which the caller's full check then finds harmless). Step 3 must have run on the
-// current points.
+// current points. This needs IEEE infinities and NaN, which -ffinite-math-only (and -ffast-math)
+// would let the compiler assume away.
+#if defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
+#error "CTSplines' finiteness checks need IEEE arithmetic: do not build with -ffinite-math-only"
+#endif
+static_assert(std::numeric_limits<double>::is_iec559, "IEEE 754 doubles");
 bool AllFinite(const MacroElementIds& ids, const Vec3* P)
 {
   return P[ids.S].allFinite();
@@ -468,8 +474,8 @@ void Builder::Step2Centres(Id t, const MacroElementIds& ids)
 
 std::array<Vec3, 10> Builder::InitialMacroPatch(const MacroElementIds& ids) const
 {
-  // Fa: the quadratic-precision macro-patch, eq. (18); FO, Ka, KaG: its central point is the
-  // unknown (MacroEdgeQ ignores it).
+  // Fa: the quadratic-precision macro-patch, eq. (18); FO, Ka, KaG and Kashyap's start: its
+  // central point is the unknown (MacroEdgeQ ignores it).
   std::array<Vec3, 10> macro = MacroNet(ids, this->Spline.ControlPoints.data(), Vec3::Zero());
   if (this->Options.Method == Construction::Fa)
   {

@@ -30,11 +30,12 @@ struct MacroPatchAtEdge
   Vec3 Tau;
 };
 
-/// Fa, eq. (18)-(21), straight from the two macro-patches: what MinimiseMicroEdgeC2Jump returns
-/// for the micro-nets of the macro-patches subdivided at their split points (SubTriangle), without
-/// forming them. T is the patch whose micro-triangle M = (U_l, U_l+1, Z) receives C; x is Tbar's
-/// split point in M's barycentric coordinates; Tbar's edge vertex U_Tbar.L is T's U_l+1 unless
-/// `sameDirection` (then T's U_l).
+/// Fa, eq. (19)-(21), straight from the two macro-patches (their central points eq. (18)'s Q,
+/// set by the caller): what MinimiseMicroEdgeC2Jump returns for the micro-nets of the
+/// macro-patches subdivided at their split points (SubTriangle), without forming them. T is the
+/// patch whose micro-triangle M = (U_l, U_l+1, Z) receives C; x is Tbar's split point in M's
+/// barycentric coordinates; Tbar's edge vertex U_Tbar.L is T's U_l+1 unless `sameDirection`
+/// (then T's U_l).
 void FaMicroEdgeCentres(const MacroPatchAtEdge& T, const MacroPatchAtEdge& Tbar, bool sameDirection,
   const Vec3& x, Vec3& C, Vec3& Cbar);
 
