@@ -133,16 +133,7 @@ TEST(CubicConstructions, EachTrianglesVertexOrderIsNoInput)
   }
   for (const auto& [name, pm] : MeshSuite())
   {
-    ParameterMesh permuted = pm;
-    for (Id t = 0; t < pm.NumberOfTriangles(); ++t)
-    {
-      Id* p = permuted.Triangles.data() + 3 * t;
-      std::rotate(p, p + t % 3, p + 3);
-      if ((t / 3) % 2 == 1)
-      {
-        std::swap(p[1], p[2]);
-      }
-    }
+    const ParameterMesh permuted = WithTrianglesReordered(pm);
     const SampledMesh a = Sample(name, pm, AnalyticSurface::Franke);
     const SampledMesh b = Sample(name, permuted, AnalyticSurface::Franke);
     const Vec3 at[3] = { Vec3(0.2, 0.3, 0.5), Vec3(0.7, 0.15, 0.15), Vec3(0.05, 0.5, 0.45) };

@@ -189,6 +189,24 @@ inline std::vector<std::pair<std::string, ParameterMesh>> MeshSuite()
   return suite;
 }
 
+/// The same mesh with each triangle's vertices listed otherwise: triangle t rotated by t % 3 and,
+/// every other triple, reversed (so that interior edges also run the same way in both of their
+/// triangles).
+inline ParameterMesh WithTrianglesReordered(const ParameterMesh& m)
+{
+  ParameterMesh out = m;
+  for (Id t = 0; t < m.NumberOfTriangles(); ++t)
+  {
+    Id* p = out.Triangles.data() + 3 * t;
+    std::rotate(p, p + t % 3, p + 3);
+    if ((t / 3) % 2 == 1)
+    {
+      std::swap(p[1], p[2]);
+    }
+  }
+  return out;
+}
+
 /// Evaluates the spline at parameter X inside macro-triangle t.
 inline ParametricJet EvaluateSpline(
   const SampledMesh& mesh, const CubicSpline& spline, Id t, const Vec2& X, int order = 1)
