@@ -22,8 +22,11 @@ mark), against our spline's size. Ratios are the peer's time (or memory) over ou
 ours is faster (smaller). Everything runs in this process, back to back, on the same data;
 CTSPLINES_NUM_THREADS (default 1 here) sets our threads, NumPy's code is single-threaded.
 
+Each stage prints as it ends; --stages construction alone needs about 12 GB at --points 2000000
+(4e6 triangles), where Matplotlib's TriFinder and interpolator take 6 GB.
+
 Usage: PYTHONPATH=<build>/lib/python3.11/dist-packages /usr/bin/python3 delaunay_comparison.py
-       [--points 500000] [--queries 1000000] [--repeat 3] [--quick]
+       [--points 500000] [--queries 1000000] [--repeat 3] [--stages construction,probe] [--quick]
 """
 import argparse
 import os
@@ -161,6 +164,138 @@ def build_scipy(tri, z, zx, zy):
     return ip
 
 
+class Mesh:
+    """The random Delaunay mesh, its function values and the queries."""
+
+    def __init__(self, args):
+        rng = np.random.default_rng(args.seed)
+        self.uv = rng.random((args.points, 2))
+        self.tri = Delaunay(self.uv)
+        self.triangles = self.tri.simplices.astype(np.int64)
+        self.z, self.zx, self.zy = sine_cosine(self.uv)
+        side = int(round(np.sqrt(args.queries)))
+        g = (np.arange(side) + 0.5) / side
+        self.sorted_q = np.column_stack([np.tile(g, side), np.repeat(g, side)])  # rows of a grid
+        self.random_q = rng.random((len(self.sorted_q), 2))
+        self.polydata = mesh_polydata(self.uv, self.z, self.zx, self.zy, self.triangles)
+
+    def matplotlib_build(self):
+        """(seconds, interpolator): Matplotlib's construction, its TriFinder built before (not
+        counted)."""
+        triang = mtri.Triangulation(self.uv[:, 0], self.uv[:, 1], self.triangles)
+        finder = triang.get_trifinder()
+        t0 = clock()
+        ip = mtri.CubicTriInterpolator(triang, self.z, kind="user", dz=(self.zx, self.zy),
+                                       trifinder=finder)
+        return clock() - t0, ip
+
+    def scipy_build(self):
+        return build_scipy(self.tri, self.z, self.zx, self.zy)
+
+
+CTI, CTO = ctsplines.vtkCloughTocherSplineFilter.CTi, ctsplines.vtkCloughTocherSplineFilter.CTo
+
+
+def ratio(peer, ours):
+    return f"{peer / ours:8.2f}"
+
+
+def print_rows(rows):
+    print(f"\n{'stage':<34} {'ours s':>9} {'scipy s':>9} {'mpl s':>9} {'scipy/ours':>11} {'mpl/ours':>9}")
+    for name, ours, s, m in rows:
+        print(f"{name:<34} {ours:9.4f} {s:9.4f} {m:9.4f} {ratio(s, ours):>11} {ratio(m, ours):>9}")
+    sys.stdout.flush()
+
+
+def constructions(args, mesh):
+    """Construction times and the peak memory each construction adds; printed."""
+    # Alternating ours and theirs so that load changes hit both, and reversing the order every
+    # other round: a run's fresh pages are fast to touch only when another run freed them
+    # moments before. On a VM that reports free memory to its host (virtio-balloon, 2 MiB
+    # blocks), huge pages freed a few seconds earlier cost ~20x more to touch again; in a fixed
+    # order, the run after Matplotlib's (CTi) always paid that.
+    times = {k: float("inf") for k in ("CTi", "CTo", "scipy", "matplotlib")}
+    runs = [("CTi", lambda: best(lambda: build_ours(mesh.polydata, CTI), 1)[0]),
+            ("CTo", lambda: best(lambda: build_ours(mesh.polydata, CTO), 1)[0]),
+            ("scipy", lambda: best(mesh.scipy_build, 1)[0]),
+            ("matplotlib", lambda: mesh.matplotlib_build()[0])]
+    for r in range(args.repeat):
+        for name, run in runs if r % 2 == 0 else runs[::-1]:
+            times[name] = min(times[name], run())
+    print_rows([("construction CTi", times["CTi"], times["scipy"], times["matplotlib"]),
+                ("construction CTo", times["CTo"], times["scipy"], times["matplotlib"])])
+    spline_bytes = 1024 * build_ours(mesh.polydata, CTI).GetActualMemorySize()
+    memory = {
+        "CTi": peak_extra(lambda: build_ours(mesh.polydata, CTI))[0],
+        "CTo": peak_extra(lambda: build_ours(mesh.polydata, CTO))[0],
+        "scipy": peak_extra(mesh.scipy_build)[0],
+        "matplotlib": peak_extra(lambda: mesh.matplotlib_build()[1])[0],
+    }
+    print(f"\npeak memory added by the construction [MB] (our CTi spline: {spline_bytes / 1e6:.0f} MB)")
+    for name in ("CTi", "CTo", "scipy", "matplotlib"):
+        print(f"  {name:<11} {memory[name] / 1e6:9.0f} MB   {memory[name] / spline_bytes:5.2f} x our spline"
+              f"   {memory[name] / max(memory['CTi'], 1):5.2f} x ours (CTi)")
+    sys.stdout.flush()
+
+
+def probes(args, mesh):
+    """Probe times, printed, and the checks that the three interpolants agree; returns the
+    failed checks. Each peer's interpolator is freed before the next one is built (at 4e6
+    triangles, Matplotlib's TriFinder and interpolator take 6 GB)."""
+    # Ours: the first call builds the spline (in a locality order) and its locator, later calls
+    # reuse them.
+    spline = build_ours(mesh.polydata, CTI)
+    probe = Probe(spline)
+    t_first, _ = best(lambda: probe(mesh.sorted_q), 1)
+    t_second, _ = best(lambda: probe(mesh.sorted_q), 1)
+    t_sorted, ours_sorted = best(lambda: probe(mesh.sorted_q), args.repeat)
+    positions = Probe(spline, derivatives=False)
+    positions(mesh.sorted_q)
+    positions(mesh.sorted_q)
+    t_positions, ours_positions = best(lambda: positions(mesh.sorted_q), args.repeat)
+    t_random, ours_random = best(lambda: probe(mesh.random_q), args.repeat)
+    del probe, positions, spline
+    cto_sorted = Probe(build_ours(mesh.polydata, CTO))(mesh.sorted_q)
+
+    scipy_ip = mesh.scipy_build()
+    s_sorted, scipy_sorted = best(lambda: scipy_ip(mesh.sorted_q), args.repeat)
+    nr = min(args.scipy_random_queries, len(mesh.random_q))
+    s_random = best(lambda: scipy_ip(mesh.random_q[:nr]), 1)[0] * len(mesh.random_q) / nr
+    scipy_random = scipy_ip(mesh.random_q[:2000])
+    del scipy_ip
+
+    mpl_ip = mesh.matplotlib_build()[1]
+    m_sorted, mpl_sorted = best(
+        lambda: np.ma.filled(mpl_ip(mesh.sorted_q[:, 0], mesh.sorted_q[:, 1]), np.nan), args.repeat)
+    m_random = best(lambda: mpl_ip(mesh.random_q[:, 0], mesh.random_q[:, 1]), args.repeat)[0]
+    del mpl_ip
+
+    print_rows([
+        ("probe sorted (spline reused)", t_sorted, s_sorted, m_sorted),
+        ("probe sorted, positions only", t_positions, s_sorted, m_sorted),
+        ("probe sorted, first call", t_first, s_sorted, m_sorted),
+        ("probe sorted, second call", t_second, s_sorted, m_sorted),
+        ("probe random (spline reused)", t_random, s_random, m_random),
+    ])
+    print(f"(SciPy's random probe: {nr} points timed, scaled to {len(mesh.random_q)})")
+
+    # The same interpolants: SciPy's is CTi, Matplotlib's is CTo (to round-off).
+    failures = []
+    for what, a, b in (("CTi - scipy, sorted", ours_sorted, scipy_sorted),
+                       ("CTi - scipy, random", ours_random[:2000], scipy_random),
+                       ("CTo - matplotlib, sorted", cto_sorted, mpl_sorted)):
+        d = float(np.nanmax(np.abs(a - b)))
+        ok = d <= AGREEMENT_TOL
+        print(f"  [{'ok' if ok else 'FAIL'}] {what}: max |difference| {d:.2e}")
+        if not ok:
+            failures.append(what)
+    same = np.array_equal(ours_positions, ours_sorted, equal_nan=True)
+    print(f"  [{'ok' if same else 'FAIL'}] positions only: the same bits as with derivatives")
+    if not same:
+        failures.append("positions only")
+    return failures
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--points", type=int, default=500000, help="random points (about 2x triangles)")
@@ -171,6 +306,8 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--clock", choices=("wall", "cpu"), default="wall",
                     help="cpu: this process' CPU time (honest with one thread on a shared machine)")
+    ap.add_argument("--stages", default="construction,probe",
+                    help="construction (times and peak memory) and/or probe (times and agreement)")
     ap.add_argument("--quick", action="store_true", help="small sizes (smoke test)")
     args = ap.parse_args()
     global clock
@@ -178,112 +315,22 @@ def main():
         clock = time.process_time
     if args.quick:
         args.points, args.queries, args.scipy_random_queries, args.repeat = 2000, 10000, 2000, 1
+    stages = set(args.stages.split(","))
+    if not stages or not stages <= {"construction", "probe"}:
+        ap.error(f"--stages: construction and/or probe, not {args.stages!r}")
 
-    rng = np.random.default_rng(args.seed)
-    uv = rng.random((args.points, 2))
-    tri = Delaunay(uv)
-    triangles = tri.simplices.astype(np.int64)
-    z, zx, zy = sine_cosine(uv)
-    side = int(round(np.sqrt(args.queries)))
-    g = (np.arange(side) + 0.5) / side
-    sorted_q = np.column_stack([np.tile(g, side), np.repeat(g, side)])  # rows of a grid
-    random_q = rng.random((len(sorted_q), 2))
+    mesh = Mesh(args)
     with open("/proc/loadavg") as f:
         load = " ".join(f.read().split()[:3])
-    print(f"{len(uv)} random points, {len(triangles)} triangles (SciPy's Delaunay, qhull's order), "
-          f"z = sin 3x cos 2y with exact gradients; {len(sorted_q)} queries; best of {args.repeat}")
+    print(f"{len(mesh.uv)} random points, {len(mesh.triangles)} triangles (SciPy's Delaunay, qhull's "
+          f"order), z = sin 3x cos 2y with exact gradients; {len(mesh.sorted_q)} queries; best of "
+          f"{args.repeat}")
     print(f"CTSplines threads {os.environ.get('CTSPLINES_NUM_THREADS')}, load average {load}, "
           f"{'process CPU' if args.clock == 'cpu' else 'wall-clock'} time")
-
-    mesh = mesh_polydata(uv, z, zx, zy, triangles)
-    CTi, CTo = ctsplines.vtkCloughTocherSplineFilter.CTi, ctsplines.vtkCloughTocherSplineFilter.CTo
-
-    def mpl_build():
-        triang = mtri.Triangulation(uv[:, 0], uv[:, 1], triangles)
-        finder = triang.get_trifinder()
-        t0 = clock()
-        ip = mtri.CubicTriInterpolator(triang, z, kind="user", dz=(zx, zy), trifinder=finder)
-        return clock() - t0, ip
-
-    # Construction, alternating ours and theirs so that load changes hit both, and reversing the
-    # order every other round: a run's fresh pages are fast to touch only when another run freed
-    # them moments before. On a VM that reports free memory to its host (virtio-balloon, 2 MiB
-    # blocks), huge pages freed a few seconds earlier cost ~20x more to touch again; in a fixed
-    # order, the run after Matplotlib's (CTi) always paid that.
-    times = {k: float("inf") for k in ("CTi", "CTo", "scipy", "matplotlib")}
-    runs = [("CTi", lambda: best(lambda: build_ours(mesh, CTi), 1)[0]),
-            ("CTo", lambda: best(lambda: build_ours(mesh, CTo), 1)[0]),
-            ("scipy", lambda: best(lambda: build_scipy(tri, z, zx, zy), 1)[0]),
-            ("matplotlib", lambda: mpl_build()[0])]
-    for r in range(args.repeat):
-        for name, run in runs if r % 2 == 0 else runs[::-1]:
-            times[name] = min(times[name], run())
-    spline = build_ours(mesh, CTi)
-    spline_bytes = 1024 * spline.GetActualMemorySize()
-    memory = {
-        "CTi": peak_extra(lambda: build_ours(mesh, CTi))[0],
-        "CTo": peak_extra(lambda: build_ours(mesh, CTo))[0],
-        "scipy": peak_extra(lambda: build_scipy(tri, z, zx, zy))[0],
-        "matplotlib": peak_extra(lambda: mpl_build()[1])[0],
-    }
-
-    # Probes. Ours: the first call builds the spline (in a locality order) and its locator, later
-    # calls reuse them.
-    probe = Probe(spline)
-    t_first, _ = best(lambda: probe(sorted_q), 1)
-    t_second, _ = best(lambda: probe(sorted_q), 1)
-    t_sorted, ours_sorted = best(lambda: probe(sorted_q), args.repeat)
-    positions = Probe(spline, derivatives=False)
-    positions(sorted_q)
-    positions(sorted_q)
-    t_positions, ours_positions = best(lambda: positions(sorted_q), args.repeat)
-    t_random, ours_random = best(lambda: probe(random_q), args.repeat)
-    scipy_ip = build_scipy(tri, z, zx, zy)
-    s_sorted, scipy_sorted = best(lambda: scipy_ip(sorted_q), args.repeat)
-    nr = min(args.scipy_random_queries, len(random_q))
-    s_random = best(lambda: scipy_ip(random_q[:nr]), 1)[0] * len(random_q) / nr
-    scipy_random = scipy_ip(random_q[:2000])
-    mpl_ip = mpl_build()[1]
-    m_sorted, mpl_sorted = best(lambda: np.ma.filled(mpl_ip(sorted_q[:, 0], sorted_q[:, 1]), np.nan),
-                                args.repeat)
-    m_random = best(lambda: mpl_ip(random_q[:, 0], random_q[:, 1]), args.repeat)[0]
-
-    def ratio(peer, ours):
-        return f"{peer / ours:8.2f}"
-
-    print(f"\n{'stage':<34} {'ours s':>9} {'scipy s':>9} {'mpl s':>9} {'scipy/ours':>11} {'mpl/ours':>9}")
-    rows = [
-        ("construction CTi", times["CTi"], times["scipy"], times["matplotlib"]),
-        ("construction CTo", times["CTo"], times["scipy"], times["matplotlib"]),
-        ("probe sorted (spline reused)", t_sorted, s_sorted, m_sorted),
-        ("probe sorted, positions only", t_positions, s_sorted, m_sorted),
-        ("probe sorted, first call", t_first, s_sorted, m_sorted),
-        ("probe sorted, second call", t_second, s_sorted, m_sorted),
-        ("probe random (spline reused)", t_random, s_random, m_random),
-    ]
-    for name, ours, s, m in rows:
-        print(f"{name:<34} {ours:9.4f} {s:9.4f} {m:9.4f} {ratio(s, ours):>11} {ratio(m, ours):>9}")
-    print(f"(SciPy's random probe: {nr} points timed, scaled to {len(random_q)})")
-    print(f"\npeak memory added by the construction [MB] (our CTi spline: {spline_bytes / 1e6:.0f} MB)")
-    for name in ("CTi", "CTo", "scipy", "matplotlib"):
-        print(f"  {name:<11} {memory[name] / 1e6:9.0f} MB   {memory[name] / spline_bytes:5.2f} x our spline"
-              f"   {memory[name] / max(memory['CTi'], 1):5.2f} x ours (CTi)")
-
-    # The same interpolants: SciPy's is CTi, Matplotlib's is CTo (to round-off).
-    failures = []
-    cto_probe = Probe(build_ours(mesh, CTo))
-    for what, a, b in (("CTi - scipy, sorted", ours_sorted, scipy_sorted),
-                       ("CTi - scipy, random", ours_random[:2000], scipy_random),
-                       ("CTo - matplotlib, sorted", cto_probe(sorted_q), mpl_sorted)):
-        d = float(np.nanmax(np.abs(a - b)))
-        ok = d <= AGREEMENT_TOL
-        print(f"  [{'ok' if ok else 'FAIL'}] {what}: max |difference| {d:.2e}")
-        if not ok:
-            failures.append(what)
-    same = np.array_equal(ours_positions, ours_sorted, equal_nan=True)
-    print(f"  [{'ok' if same else 'FAIL'}] positions only: the same bits as with derivatives")
-    if not same:
-        failures.append("positions only")
+    sys.stdout.flush()
+    if "construction" in stages:
+        constructions(args, mesh)
+    failures = probes(args, mesh) if "probe" in stages else []
     return 1 if failures else 0
 
 
