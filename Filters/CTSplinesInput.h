@@ -32,8 +32,7 @@ std::string CheckTuples(
 std::string CheckShape(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element);
 
-/// The value checks of CopyArray on an array of the right shape, copying into out unless it is
-/// null (then the values are only checked).
+/// The value checks of CopyArray on an array of the right shape, copying into out.
 std::string ReadValues(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element, double* out, int nanGroup);
 
@@ -55,9 +54,10 @@ std::string CopyArray(vtkDataArray* array, const std::string& what, int componen
   return error;
 }
 
-/// CopyArray's checks, without the copy when `array` stores row-major doubles (vtkDoubleArray):
-/// values then points at its storage, which the caller reads in place while the array lives;
-/// otherwise at `copy`, filled as by CopyArray. nullptr with an error.
+/// CheckShape, without a copy when `array` stores row-major doubles (vtkDoubleArray): values
+/// then points at its storage, which the caller reads in place while the array lives and checks
+/// where it reads it (the mid-edge gradients: ctk::UnusableEdgeGradients); otherwise at `copy`,
+/// filled and checked as by CopyArray. nullptr with an error.
 std::string ShareOrCopyArray(vtkDataArray* array, const std::string& what, int components,
   vtkIdType tuples, const char* element, std::vector<double>& copy, const double*& values);
 

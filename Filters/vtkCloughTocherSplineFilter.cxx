@@ -321,7 +321,8 @@ std::string ReadSplineInput(vtkPointSet* input, vtkCloughTocherSplineFilter* sel
     const std::string what = "cell data array '" + egName + "' (mid-edge gradients, needed by " +
       info.Name + " with boundary mode " +
       vtkCloughTocherSplineFilter::GetBoundaryModeName(self->GetBoundaryMode()) + ")";
-    // Read in place: the construction reads them through a row map (SplineInput::Renumber).
+    // Read in place: the construction reads them through a row map (SplineInput::Renumber) and
+    // checks the values it reads (all for MGo and MGi, the boundary edges' for the others).
     error = ctsplines::ShareOrCopyArray(ctsplines::FindArray(input->GetCellData(), egName), what,
       18, nCells, "cell", in.EdgeGradients, in.SharedEdgeGradients);
     in.SharedEdgeGradients = in.EdgeGradients.empty() ? in.SharedEdgeGradients : nullptr;

@@ -8,7 +8,9 @@
  * components; falls back to the active texture coordinates) and the first derivatives `dFdu`,
  * `dFdv` (3 components each). The MG constructions, KaG and the gradient boundary modes also
  * read the cell data `EdgeGradients` (18 components: for the local edges (p0,p1), (p1,p2),
- * (p2,p0) in that order, f_u then f_v at the edge midpoint). Array names are settable.
+ * (p2,p0) in that order, f_u then f_v at the edge midpoint); their values are checked where
+ * read (every edge's for MGo and MGi, the boundary edges' for the others), so that KaG does not
+ * pass over all 18 per triangle for the few it reads. Array names are settable.
  * Meshes without dFdu/dFdv (a scan, an exported mesh with texture coordinates) are accepted
  * when DerivativeEstimation is set: the derivatives are then estimated from the positions.
  *

@@ -4,6 +4,7 @@
 #include "SplineInput.h"
 
 #include "CrossDerivativeRules.h"
+#include "SplineDataValidation.h"
 
 #include <algorithm>
 
@@ -251,13 +252,26 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
   x.EdgeDofs.assign(nE, -1);
   x.EdgeDirections.clear();
   x.NumberOfDofs = 3 * nV;
+  LowestId badGradients; // DegreesOfFreedom reads these edges' gradients, some the build did not
   for (Id e = 0; e < nE; ++e)
   {
     if (allEdges || (boundaryEdges && topo.IsBoundaryEdge(e)))
     {
       x.EdgeDofs[e] = x.NumberOfDofs++;
       x.EdgeDirections.push_back(EdgeDirection(data, topo, options, splitPoints, e));
+      for (int s = 0; s < 2; ++s)
+      {
+        const Id t = topo.EdgeTriangles[e][s];
+        if (t >= 0 && UnusableEdgeGradients(EdgeGradientsOf(data, t) + 6 * topo.EdgeLocalIndex[e][s]))
+        {
+          badGradients.Report(t);
+        }
+      }
     }
+  }
+  if (badGradients.Get() >= 0)
+  {
+    return EdgeGradientFailure(data, badGradients.Get());
   }
 
   constexpr int M = BezierExtraction::MaxElementDofs;

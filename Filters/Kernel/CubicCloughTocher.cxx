@@ -170,10 +170,39 @@ private:
   void Step2Centres(Id t, const MacroElementIds& ids);
   void Step3();
   // The mid-edge gradient (f_u, f_v) of edge e: the mean of its triangles' (SplineData), taken
-  // where it is used (boundary edges only, for most constructions).
-  void MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const;
+  // where it is used (boundary edges only, for most constructions), and checked there: a triangle
+  // giving an unusable value is reported to BadGradients.
+  void MidEdgeGradient(Id e, Vec3& gu, Vec3& gv);
+  // Whether the main pass prefetches mid-edge gradients: read on every edge (MGo, MGi), in place
+  // through a row map (the input's order, scattered in the visit order), the triangles visited
+  // t after t.
+  bool GradientRowsAreScattered() const
+  {
+    return Info(this->Options.Method).EdgeGradients == EdgeGradientUse::AllEdges &&
+      this->Data.EdgeGradients && this->Data.EdgeGradientRows && this->Order.empty();
+  }
+  // Asks for the rows of mid-edge gradients (144 bytes: three cache lines) of triangle t
+  // and its neighbours, which Step 2 at t reads.
+  void PrefetchEdgeGradients(Id t) const
+  {
+    if (t >= this->Data.NumberOfTriangles)
+    {
+      return;
+    }
+    for (int l = -1; l < 3; ++l)
+    {
+      const Id s = l < 0 ? t : this->Topo.Neighbor(t, l);
+      if (s >= 0)
+      {
+        const double* row = EdgeGradientsOf(this->Data, s);
+        PrefetchRead(row);
+        PrefetchRead(row + 8);
+        PrefetchRead(row + 17);
+      }
+    }
+  }
   // Central point from a cross-boundary derivative rule (eq. 15 or 25).
-  Vec3 CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const;
+  Vec3 CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l);
   // body(t) per triangle, in parallel, in the locality order.
   template <typename Body>
   void ForTriangles(Body&& body)
@@ -201,7 +230,7 @@ private:
   // place in the input's numbering, so the result does not depend on it.
   const std::vector<Id>& Order;
   const double Diag2; // the (u, v) domain's squared diagonal
-  LowestId Degenerate, Folded;
+  LowestId Degenerate, Folded, BadGradients;
   AreaSigns Signs;
   std::vector<Vec2> SplitPoints;
 };
@@ -231,7 +260,12 @@ BuildStatus Builder::Run()
       nonFinite.store(true, std::memory_order_relaxed);
     }
   };
+  const bool prefetchGradients = this->GradientRowsAreScattered();
   this->ForTriangles([&](Id t) {
+    if (prefetchGradients)
+    {
+      this->PrefetchEdgeGradients(t + PrefetchDistance);
+    }
     const MacroElementIds ids = this->Ids(t);
     this->InnerRing1(t, ids);
     this->Step2Centres(t, ids);
@@ -240,6 +274,11 @@ BuildStatus Builder::Run()
       step3(t, ids);
     }
   });
+  if (this->BadGradients.Get() >= 0) // read in Step 2 only
+  {
+    this->Spline = CubicSpline();
+    return EdgeGradientFailure(this->Data, this->BadGradients.Get());
+  }
   if (edgeBased)
   {
     this->ForTriangles([&](Id t) { step3(t, this->Ids(t)); });
@@ -344,7 +383,7 @@ void Builder::SplitPointsAndStep1()
   });
 }
 
-void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const
+void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv)
 {
   gu = Vec3::Zero();
   gv = Vec3::Zero();
@@ -357,6 +396,10 @@ void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv) const
       continue;
     }
     const double* g = EdgeGradientsOf(this->Data, t) + 6 * this->Topo.EdgeLocalIndex[e][s];
+    if (UnusableEdgeGradients(g))
+    {
+      this->BadGradients.Report(t);
+    }
     gu += Vec3(g[0], g[1], g[2]);
     gv += Vec3(g[3], g[4], g[5]);
     ++count;
@@ -379,7 +422,7 @@ void Builder::InnerRing1(Id t, const MacroElementIds& ids)
   D[ids.S] = Z;
 }
 
-Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l) const
+Vec3 Builder::CrossDerivativeCentre(Id t, const MacroElementIds& ids, int l)
 {
   const Vec3* P = this->Spline.ControlPoints.data();
   const int i = l, j = (l + 1) % 3;

@@ -63,9 +63,10 @@ struct SplineData
   /// every macro-patch stays C1 inside; C1 across interior macro-edges at a boundary vertex
   /// needs the points to agree with the vertex derivatives (eq. 11).
   const double* BoundaryCurvePoints = nullptr;
-  /// Set by a caller that has checked every value of UV, F, Fu, Fv, EdgeGradients and
-  /// BoundaryCurvePoints as ValidateSplineData does (vtkCloughTocherSplineFilter, while copying
-  /// its input): the values are then not read a second time, serially, before the construction.
+  /// Set by a caller that has checked every value of UV, F, Fu, Fv and BoundaryCurvePoints as
+  /// ValidateSplineData does (vtkCloughTocherSplineFilter, while copying its input): the values
+  /// are then not read a second time, serially, before the construction. EdgeGradients are
+  /// checked by the constructions where they read them (UnusableEdgeGradients), either way.
   bool ValuesChecked = false;
 };
 

@@ -49,6 +49,24 @@ Id FirstBadValue(const double* values, Id rows, int columns, int nanGroup = 0)
   return -1;
 }
 
+BuildStatus UnusableValueFailure(const char* name, IdKind element, Id row, double value)
+{
+  MessageBuilder os;
+  os << "the " << name << " of ";
+  if (element == IdKind::Vertex)
+  {
+    os << "vertex " << VertexId{ row };
+  }
+  else
+  {
+    os << "triangle " << TriangleId{ row };
+  }
+  os << " include " << value;
+  os << (std::isfinite(value) ? "; magnitudes must stay below 1e100 (rescale the data)"
+                              : ": values must be finite");
+  return os.Failure<BuildStatus>();
+}
+
 BuildStatus CheckValues(const SplineData& data)
 {
   struct Array
@@ -60,45 +78,19 @@ BuildStatus CheckValues(const SplineData& data)
     IdKind Element;
   };
   const Id nV = data.NumberOfVertices, nT = data.NumberOfTriangles;
-  auto failure = [](const char* name, IdKind element, Id row, double value) {
-    MessageBuilder os;
-    os << "the " << name << " of ";
-    if (element == IdKind::Vertex)
-    {
-      os << "vertex " << VertexId{ row };
-    }
-    else
-    {
-      os << "triangle " << TriangleId{ row };
-    }
-    os << " include " << value;
-    os << (std::isfinite(value) ? "; magnitudes must stay below 1e100 (rescale the data)"
-                                : ": values must be finite");
-    return os.Failure<BuildStatus>();
-  };
   constexpr IdKind V = IdKind::Vertex, T = IdKind::Triangle;
-  const char* gradients = "mid-edge gradients";
-  // Mid-edge gradients through a row map are checked row by row below.
-  const double* directGradients = data.EdgeGradientRows ? nullptr : data.EdgeGradients;
+  // Not the mid-edge gradients: most constructions read a few of them, and those who read all
+  // read each once (UnusableEdgeGradients).
   const Array arrays[] = { { data.UV, nV, 2, 0, "parameter coordinates (u, v)", V },
     { data.F, nV, 3, 0, "positions", V }, { data.Fu, nV, 3, 0, "derivatives d/du", V },
-    { data.Fv, nV, 3, 0, "derivatives d/dv", V }, { directGradients, nT, 18, 0, gradients, T },
+    { data.Fv, nV, 3, 0, "derivatives d/dv", V },
     { data.BoundaryCurvePoints, nT, 18, 6, "boundary curve points", T } };
   for (const Array& a : arrays)
   {
     const Id k = FirstBadValue(a.Values, a.Rows, a.Columns, a.NanGroup);
     if (k >= 0)
     {
-      return failure(a.Name, a.Element, k / a.Columns, a.Values[k]);
-    }
-  }
-  for (Id t = 0; data.EdgeGradients && !directGradients && t < nT; ++t)
-  {
-    const double* row = EdgeGradientsOf(data, t);
-    const Id k = FirstBadValue(row, 1, 18);
-    if (k >= 0)
-    {
-      return failure(gradients, T, t, row[k]);
+      return UnusableValueFailure(a.Name, a.Element, k / a.Columns, a.Values[k]);
     }
   }
   return {};
@@ -123,6 +115,13 @@ BuildStatus CheckSplitPoints(const SplineData& data)
 }
 
 } // namespace
+
+BuildStatus EdgeGradientFailure(const SplineData& data, Id t)
+{
+  const double* row = EdgeGradientsOf(data, t);
+  const Id k = std::max<Id>(FirstBadValue(row, 1, 18), 0);
+  return UnusableValueFailure("mid-edge gradients", IdKind::Triangle, t, row[k]);
+}
 
 BuildStatus CheckDomainSize(const SplineData& data, const ParallelFor& parallelFor, double& diag2)
 {

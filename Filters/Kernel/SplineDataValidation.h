@@ -26,6 +26,22 @@ inline bool IsUsablePoint(const Vec3& p)
 {
   return IsUsableValue(p.x()) && IsUsableValue(p.y()) && IsUsableValue(p.z());
 }
+/// Whether any of the six values g[0..5] that a triangle gives an edge (f_u then f_v at its
+/// midpoint, SplineData::EdgeGradients) is not usable. The readers of the mid-edge gradients
+/// (the cubic constructions, the Bézier extraction) check those they read with it: the
+/// boundary-edge constructions read few, and MGo's and MGi's single pass over them is the check.
+inline bool UnusableEdgeGradients(const double* g)
+{
+  bool usable = true;
+  for (int k = 0; k < 6; ++k)
+  {
+    usable &= IsUsableValue(g[k]);
+  }
+  return !usable;
+}
+/// The failure naming triangle t of data, one of whose mid-edge gradients read by a construction
+/// is not usable (UnusableEdgeGradients), and that value.
+BuildStatus EdgeGradientFailure(const SplineData& data, Id t);
 /// Bulk checks of raw arrays (a source read in place), out of line so that each loop is
 /// vectorised on its own (inlined into a large caller, GCC left them scalar):
 /// whether all n values are usable (IsUsableValue) and, with `positive`, > 0;
@@ -41,8 +57,9 @@ bool AllIdsInRange(const IdT* ids, Id n, Id nPoints);
 constexpr double MinDomainDiagonal = 1e-100;
 
 /// Checks data (and its topology) before any construction:
-/// - UV, F, Fu, Fv and the optional arrays are finite and below MaxInputMagnitude (NaN groups
-///   of BoundaryCurvePoints mean "none"; skipped when data.ValuesChecked); given split points
+/// - UV, F, Fu, Fv and BoundaryCurvePoints are finite and below MaxInputMagnitude (NaN groups
+///   of BoundaryCurvePoints mean "none"; skipped when data.ValuesChecked; the mid-edge
+///   gradients are checked where they are read, UnusableEdgeGradients); given split points
 ///   lie inside their triangles; the domain is not too small (CheckDomainSize);
 /// - no parameter triangle is degenerate (IsDegenerateTriangle);
 /// - no interior edge is folded (IsFoldedEdge).

@@ -402,7 +402,83 @@ TEST(vtkCloughTocherSplineFilter, RejectsNonFiniteValues)
   input = Franke(2);
   input->GetCellData()->GetArray("EdgeGradients")->SetComponent(3, 11, std::nan(""));
   msg = ExpectFailure(input, vtkCloughTocherSplineFilter::MGo);
-  EXPECT_NE(msg.find("cell 3"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("the mid-edge gradients of triangle 3 include nan"), std::string::npos)
+    << msg;
+
+  // Gradients of another type are copied, and checked on the way.
+  input = Franke(2);
+  vtkNew<vtkFloatArray> single;
+  single->DeepCopy(input->GetCellData()->GetArray("EdgeGradients"));
+  single->SetComponent(5, 2, std::numeric_limits<float>::infinity());
+  input->GetCellData()->AddArray(single); // replaces the array of the same name
+  msg = ExpectFailure(input, vtkCloughTocherSplineFilter::MGo);
+  EXPECT_NE(msg.find("cell data array 'EdgeGradients'"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("cell 5"), std::string::npos) << msg;
+}
+
+// The mid-edge gradients are checked where a construction reads them: every edge's for MGo, the
+// boundary edges' for KaG, whose spline does not depend on the others (the same bits with a NaN
+// there). The message names the input cell, after the locality renumbering too.
+TEST(vtkCloughTocherSplineFilter, ChecksTheMidEdgeGradientsItReads)
+{
+  const vtkSmartPointer<vtkPolyData> clean = Franke(3);
+  std::map<std::pair<vtkIdType, vtkIdType>, int> edgeUses;
+  auto edgeOf = [&](vtkIdType c, int l) {
+    vtkIdType n = 0;
+    const vtkIdType* p = nullptr;
+    clean->GetCellPoints(c, n, p);
+    const vtkIdType a = p[l], b = p[(l + 1) % 3];
+    return std::make_pair(std::min(a, b), std::max(a, b));
+  };
+  for (vtkIdType c = 0; c < clean->GetNumberOfCells(); ++c)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      ++edgeUses[edgeOf(c, l)];
+    }
+  }
+  const vtkSmartPointer<vtkUnstructuredGrid> reference =
+    Convert(clean, vtkCloughTocherSplineFilter::KaG);
+  int boundary = 0, interior = 0;
+  for (vtkIdType c = 0; c < clean->GetNumberOfCells(); ++c)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      vtkNew<vtkPolyData> input;
+      input->DeepCopy(clean);
+      input->GetCellData()->GetArray("EdgeGradients")->SetComponent(c, 6 * l + 4, std::nan(""));
+      const std::string cell = "the mid-edge gradients of triangle " + std::to_string(c) + " ";
+      std::string msg = ExpectFailure(input, vtkCloughTocherSplineFilter::MGo);
+      EXPECT_NE(msg.find(cell), std::string::npos) << msg;
+      if (edgeUses[edgeOf(c, l)] == 1)
+      {
+        ++boundary;
+        msg = ExpectFailure(input, vtkCloughTocherSplineFilter::KaG);
+        EXPECT_NE(msg.find(cell), std::string::npos) << msg;
+        continue;
+      }
+      ++interior;
+      const vtkSmartPointer<vtkUnstructuredGrid> out =
+        Convert(input, vtkCloughTocherSplineFilter::KaG);
+      ASSERT_EQ(out->GetNumberOfPoints(), reference->GetNumberOfPoints());
+      for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+      {
+        double p[3], q[3];
+        out->GetPoint(i, p);
+        reference->GetPoint(i, q);
+        ASSERT_TRUE(p[0] == q[0] && p[1] == q[1] && p[2] == q[2]) << "cell " << c << " edge " << l;
+      }
+    }
+  }
+  EXPECT_EQ(boundary, 12); // a 3 x 3 grid's boundary
+  EXPECT_GT(interior, 12);
+
+  // Above ctk::MinTrianglesForLocalityOrder the kernel's triangle ids are not the cells'.
+  const vtkSmartPointer<vtkPolyData> large = Franke(130);
+  ASSERT_GE(large->GetNumberOfCells(), ctk::MinTrianglesForLocalityOrder);
+  large->GetCellData()->GetArray("EdgeGradients")->SetComponent(20001, 7, -std::nan(""));
+  const std::string msg = ExpectFailure(large, vtkCloughTocherSplineFilter::MGo);
+  EXPECT_NE(msg.find("the mid-edge gradients of triangle 20001 "), std::string::npos) << msg;
 }
 
 TEST(vtkCloughTocherSplineFilter, RejectsZeroAreaParameterTriangles)
