@@ -262,7 +262,8 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
       for (int s = 0; s < 2; ++s)
       {
         const Id t = topo.EdgeTriangles[e][s];
-        if (t >= 0 && UnusableEdgeGradients(EdgeGradientsOf(data, t) + 6 * topo.EdgeLocalIndex[e][s]))
+        const int l = topo.EdgeLocalIndex[e][s];
+        if (t >= 0 && UnusableEdgeGradients(EdgeGradientsOf(data, t) + 6 * l))
         {
           badGradients.Report(t);
         }
