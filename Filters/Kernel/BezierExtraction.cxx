@@ -4,7 +4,6 @@
 #include "SplineInput.h"
 
 #include "CrossDerivativeRules.h"
-#include "SplineDataValidation.h"
 
 #include <algorithm>
 
@@ -252,27 +251,16 @@ BuildStatus BuildBezierExtraction(const SplineData& data, const MeshTopology& to
   x.EdgeDofs.assign(nE, -1);
   x.EdgeDirections.clear();
   x.NumberOfDofs = 3 * nV;
-  LowestId badGradients; // DegreesOfFreedom reads these edges' gradients, some the build did not
+  // The gradients of these edges, which DegreesOfFreedom reads, were checked by the build above:
+  // it reads every one of them (MGo, MGi: every edge; the others: the boundary edges, where the
+  // boundary mode is a gradient mode whenever these edges carry degrees of freedom).
   for (Id e = 0; e < nE; ++e)
   {
     if (allEdges || (boundaryEdges && topo.IsBoundaryEdge(e)))
     {
       x.EdgeDofs[e] = x.NumberOfDofs++;
       x.EdgeDirections.push_back(EdgeDirection(data, topo, options, splitPoints, e));
-      for (int s = 0; s < 2; ++s)
-      {
-        const Id t = topo.EdgeTriangles[e][s];
-        const int l = topo.EdgeLocalIndex[e][s];
-        if (t >= 0 && UnusableEdgeGradients(EdgeGradientsOf(data, t) + 6 * l))
-        {
-          badGradients.Report(t);
-        }
-      }
     }
-  }
-  if (badGradients.Get() >= 0)
-  {
-    return EdgeGradientFailure(data, badGradients.Get());
   }
 
   constexpr int M = BezierExtraction::MaxElementDofs;

@@ -27,9 +27,9 @@ inline bool IsUsablePoint(const Vec3& p)
   return IsUsableValue(p.x()) && IsUsableValue(p.y()) && IsUsableValue(p.z());
 }
 /// Whether any of the six values g[0..5] that a triangle gives an edge (f_u then f_v at its
-/// midpoint, SplineData::EdgeGradients) is not usable. The readers of the mid-edge gradients
-/// (the cubic constructions, the Bézier extraction) check those they read with it: the
-/// boundary-edge constructions read few, and MGo's and MGi's single pass over them is the check.
+/// midpoint, SplineData::EdgeGradients) is not usable. The cubic constructions check the ones
+/// they read with it (the Bézier extraction reads no others): the boundary-edge constructions
+/// read few, and MGo's and MGi's single pass over them is the check.
 inline bool UnusableEdgeGradients(const double* g)
 {
   bool usable = true;
