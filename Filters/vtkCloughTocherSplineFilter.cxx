@@ -617,7 +617,9 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   vtkNew<vtkPoints> points;
   points->SetData(coords);
   output->SetPoints(points);
-  output->SetCells(types, cells);
+  // No faces: the two-argument overload scans every cell type for polyhedra, serially (1.5-4 ms
+  // at 1e6 cells, 1-2 % of CTi on two threads).
+  output->SetCells(types, cells, nullptr, nullptr);
   output->GetPointData()->AddArray(uvOut);
   output->GetCellData()->AddArray(macroIds);
   output->GetCellData()->AddArray(microIds);
@@ -634,7 +636,7 @@ template <typename Status>
 std::string InInputIds(const Status& status, const std::vector<ctk::Id>& cells,
   const ctk::LocalityRenumbering& order)
 {
-  auto map = [](const std::vector<ctk::Id>& m, ctk::Id id) {
+  auto map = [](const auto& m, ctk::Id id) { // cells or order.Triangles; order.Vertices
     return id >= 0 && static_cast<size_t>(id) < m.size() ? m[id] : id;
   };
   return ctk::RenameIds(status.Message, status.Ids, [&](ctk::IdKind kind, ctk::Id id) {
@@ -680,9 +682,7 @@ std::string BuildSpline(ctk::SplineInput& in, const std::vector<ctk::Id>& cells,
   }
   if (renumber)
   {
-    order = ctk::MakeLocalityRenumbering(in.NumberOfVertices(), in.NumberOfTriangles(),
-      in.Triangles.data(), in.UV.data(), ctsplines::SMPCopyFor);
-    in.Renumber(order, false, ctsplines::SMPCopyFor);
+    order = in.RenumberToLocalityOrder(ctsplines::SMPCopyFor);
   }
   if ((estimation == vtkCloughTocherSplineFilter::NoEstimation || !order.IsIdentity()) &&
     !(error = buildTopology()).empty())

@@ -658,10 +658,10 @@ bool IsCoherentOrder(const QueryPoints& queries, vtkIdType nPoints, const ctk::T
 // nearly in memory order, whatever the order of the queries (random queries on 1e6 triangles
 // were ~10x slower per query than on 1e4 without this); the results are scattered back. Each
 // query is computed independently, so the order changes no result.
-std::vector<std::uint64_t> LocalityOrder(
+ctk::OverwriteVector<std::uint64_t> LocalityOrder(
   const QueryPoints& queries, vtkIdType nPoints, const ctk::TriangleBucketGrid& grid)
 {
-  std::vector<std::uint64_t> keyed;
+  ctk::OverwriteVector<std::uint64_t> keyed;
   if (nPoints > vtkIdType(UINT32_MAX))
   {
     return keyed;
@@ -719,7 +719,7 @@ struct QueryBatch
   /// Locates queries k0 .. k1 - 1 of the processing order (queryOrder, or k itself when empty),
   /// k1 - k0 <= Size.
   template <typename Arrays>
-  void Locate(const QueryPoints& queries, const std::vector<std::uint64_t>& queryOrder,
+  void Locate(const QueryPoints& queries, const ctk::OverwriteVector<std::uint64_t>& queryOrder,
     vtkIdType k0, vtkIdType k1, const ctk::TriangleBucketGrid& grid, const Arrays& arrays)
   {
     this->Count = static_cast<int>(k1 - k0);
@@ -933,7 +933,7 @@ int vtkSplineParameterProbe::RequestData(
   ProbeArrays out(nPoints, this->ComputeDerivatives);
   const int order = this->ComputeDerivatives ? 1 : 0;
   const QueryPoints queries(input);
-  const std::vector<std::uint64_t> queryOrder = LocalityOrder(queries, nPoints, spline.Grid);
+  const ctk::OverwriteVector<std::uint64_t> queryOrder = LocalityOrder(queries, nPoints, spline.Grid);
   auto probe = [&](const auto& arrays, vtkIdType begin, vtkIdType end) {
     ctk::Vec3 P[ctk::MaxBezierPoints];
     double w[ctk::MaxBezierPoints];

@@ -41,8 +41,9 @@ constexpr Id MinTrianglesForLocalityOrder = Id(1) << 15;
 
 /// The triangles sorted by the Morton key of their centroid in (u, v) (16 bits per axis over
 /// the vertices' bounding box; ties keep the input's order), or empty (the input's order) below
-/// MinTrianglesForLocalityOrder triangles. triangles: #T by 3 vertex ids, uv: #V by 2. The keys
-/// are computed in chunks of parallelFor.
+/// MinTrianglesForLocalityOrder triangles or when a vertex id is out of range (left to the
+/// topology's validation). triangles: #T by 3 vertex ids, uv: #V by 2. The keys are computed in
+/// chunks of parallelFor.
 std::vector<Id> TriangleLocalityOrder(Id numVertices, Id numTriangles, const Id* triangles,
   const double* uv, const ParallelFor& parallelFor = SerialFor);
 
@@ -58,8 +59,9 @@ std::uint32_t MortonKey16(std::uint32_t x, std::uint32_t y);
 /// Sorts values by their upper 32 bits (a key; the lower 32 typically hold an index), stable:
 /// LSD radix sort, 11 + 11 + 10 bits per pass (digits that all values share are skipped), each
 /// pass in blocks on parallelFor; the same result on any thread count. Fewer than 2^32 values.
+/// The scatter's buffer is an OverwriteVector, first written by the parallel passes.
 void SortByUpperHalf(
-  std::vector<std::uint64_t>& values, const ParallelFor& parallelFor = SerialFor);
+  OverwriteVector<std::uint64_t>& values, const ParallelFor& parallelFor = SerialFor);
 
 /// A renumbering of a mesh into its locality order (issue #12), for building and writing a spline
 /// in that order: renumbered triangle k is input triangle Triangles[k] (TriangleLocalityOrder),
@@ -67,18 +69,26 @@ void SortByUpperHalf(
 /// (vertices no triangle uses follow, in the input's order). Both empty: the input's order.
 struct LocalityRenumbering
 {
-  std::vector<Id> Triangles, Vertices;
+  std::vector<Id> Triangles;
+  OverwriteVector<Id> Vertices; // VerticesByFirstUse's
   bool IsIdentity() const { return this->Triangles.empty(); }
 };
 
+/// The vertices 0 .. numVertices - 1 by first use in orderedTriangles (#T by 3 vertex ids, read
+/// in sequence), then those no triangle uses, by id.
+OverwriteVector<Id> VerticesByFirstUse(
+  Id numVertices, Id numTriangles, const Id* orderedTriangles);
+
 /// The locality renumbering of a mesh (empty below MinTrianglesForLocalityOrder triangles).
+/// SplineInput::RenumberToLocalityOrder does this and the renumbering with one gather of the
+/// triangles instead of two.
 LocalityRenumbering MakeLocalityRenumbering(Id numVertices, Id numTriangles, const Id* triangles,
   const double* uv, const ParallelFor& parallelFor = SerialFor);
 
 /// Rows of `width` values of v (renumbered row k = input row from[k]) put in the renumbered
 /// order, or back in the input's order (back = true), chunked by parallelFor over the rows.
-template <typename T, typename A>
-void PermuteRows(std::vector<T, A>& v, std::size_t width, const std::vector<Id>& from, bool back,
+template <typename T, typename A, typename B>
+void PermuteRows(std::vector<T, A>& v, std::size_t width, const std::vector<Id, B>& from, bool back,
   const ParallelFor& parallelFor = SerialFor)
 {
   if (v.empty() || from.empty())

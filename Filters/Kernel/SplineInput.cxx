@@ -102,8 +102,45 @@ void SplineInput::Renumber(const LocalityRenumbering& r, bool back, const Parall
   {
     return;
   }
+  this->PermuteTriangleRows(r, back, parallelFor);
+  this->RenumberVertices(r, back, parallelFor);
+}
+
+LocalityRenumbering SplineInput::RenumberToLocalityOrder(const ParallelFor& parallelFor)
+{
+  LocalityRenumbering r;
+  r.Triangles = TriangleLocalityOrder(this->NumberOfVertices(), this->NumberOfTriangles(),
+    this->Triangles.data(), this->UV.data(), parallelFor);
+  if (r.Triangles.empty())
+  {
+    return r;
+  }
+  this->PermuteTriangleRows(r, false, parallelFor);
+  // Read in sequence from the gathered rows: serial, but no longer a gather of its own (which
+  // was 17 ms of CTi's 0.27 s on two threads at 1e6 triangles).
+  r.Vertices =
+    VerticesByFirstUse(this->NumberOfVertices(), this->NumberOfTriangles(), this->Triangles.data());
+  this->RenumberVertices(r, false, parallelFor);
+  return r;
+}
+
+void SplineInput::PermuteTriangleRows(
+  const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor)
+{
+  PermuteRows(this->Triangles, 3, r.Triangles, back, parallelFor);
+  if (this->HasEdgeGradients())
+  {
+    PermuteRows(this->EdgeGradientRowMap(), 1, r.Triangles, back, parallelFor);
+  }
+  PermuteRows(this->BoundaryCurvePoints, 18, r.Triangles, back, parallelFor);
+  PermuteRows(this->SplitTau, 1, r.Triangles, back, parallelFor);
+}
+
+void SplineInput::RenumberVertices(
+  const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor)
+{
   // Vertex ids in the triangles: to the new numbering (newId) or back (r.Vertices).
-  std::vector<Id> newId;
+  OverwriteVector<Id> newId; // every entry written below (Vertices is a permutation)
   if (!back)
   {
     newId.resize(r.Vertices.size());
@@ -128,17 +165,10 @@ void SplineInput::Renumber(const LocalityRenumbering& r, bool back, const Parall
       triangles[h] = map[static_cast<std::size_t>(triangles[h])];
     }
   });
-  PermuteRows(this->Triangles, 3, r.Triangles, back, parallelFor);
   PermuteRows(this->UV, 2, r.Vertices, back, parallelFor);
   for (OverwriteVector<double>* a : { &this->F, &this->Fu, &this->Fv })
   {
     PermuteRows(*a, 3, r.Vertices, back, parallelFor);
   }
-  if (this->HasEdgeGradients())
-  {
-    PermuteRows(this->EdgeGradientRowMap(), 1, r.Triangles, back, parallelFor);
-  }
-  PermuteRows(this->BoundaryCurvePoints, 18, r.Triangles, back, parallelFor);
-  PermuteRows(this->SplitTau, 1, r.Triangles, back, parallelFor);
 }
 } // namespace ctk

@@ -39,6 +39,9 @@ struct SplineInput
   /// moving; most constructions read few).
   void Renumber(
     const LocalityRenumbering& r, bool back = false, const ParallelFor& parallelFor = SerialFor);
+  /// MakeLocalityRenumbering, then Renumber, with one gather of the triangles instead of two;
+  /// returns the renumbering (the identity, nothing moved, where MakeLocalityRenumbering's is).
+  LocalityRenumbering RenumberToLocalityOrder(const ParallelFor& parallelFor = SerialFor);
   /// Whether there are edge gradients, owned or shared.
   bool HasEdgeGradients() const
   {
@@ -47,6 +50,12 @@ struct SplineInput
   /// EdgeGradientRows, made explicit (triangle t at row t) when empty, for a caller that
   /// renumbers or drops triangles.
   std::vector<Id>& EdgeGradientRowMap();
+
+private:
+  // The rows per triangle (triangles, edge gradients' row map, boundary curves, split points).
+  void PermuteTriangleRows(const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor);
+  // The ids in the triangles and the rows per vertex ((u, v), values, derivatives).
+  void RenumberVertices(const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor);
 };
 
 } // namespace ctk

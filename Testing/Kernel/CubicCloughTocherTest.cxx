@@ -379,6 +379,17 @@ TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
     SplineInput there = mesh;
     there.Renumber(r, false, split);
     EXPECT_EQ(there.Triangles, renumbered.Triangles);
+    // The filter's route: one gather of the triangles, the same renumbering and data.
+    SplineInput direct = mesh;
+    const LocalityRenumbering q = direct.RenumberToLocalityOrder(split);
+    EXPECT_EQ(q.Triangles, r.Triangles);
+    EXPECT_EQ(q.Vertices, r.Vertices);
+    EXPECT_EQ(direct.Triangles, renumbered.Triangles);
+    EXPECT_EQ(direct.UV, renumbered.UV);
+    EXPECT_EQ(direct.F, renumbered.F);
+    EXPECT_EQ(direct.Fu, renumbered.Fu);
+    EXPECT_EQ(direct.Fv, renumbered.Fv);
+    EXPECT_EQ(direct.EdgeGradientRows, renumbered.EdgeGradientRows);
     EXPECT_EQ(there.UV, renumbered.UV);
     EXPECT_EQ(there.Fv, renumbered.Fv);
     EXPECT_EQ(there.EdgeGradients, renumbered.EdgeGradients);
@@ -390,6 +401,68 @@ TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
   }
 }
 
+TEST(LocalityOrder, VerticesByFirstUseOnEveryThreadCount)
+{
+  // Against the definition, one corner after another: a triangle with a repeated vertex id and
+  // points that no triangle uses (they follow by id), on 1-3 threads.
+  const int n = 128;
+  const SampledMesh mesh =
+    Shuffled(Sample("jittered", JitteredGrid(n, 0.15, 11u), AnalyticSurface::Franke), 9u);
+  const Id nT = mesh.NumberOfTriangles(), w = mesh.NumberOfVertices(), nV = w + 5;
+  std::vector<Id> triangles(mesh.Triangles.begin(), mesh.Triangles.end());
+  std::vector<double> uv(mesh.UV.begin(), mesh.UV.end());
+  uv.insert(uv.end(), { 0.5, 0.5, 0.25, 0.75, 0.75, 0.25, 0.1, 0.1, 0.9, 0.9 });
+  // New points w and w + 1 used only by these two triangles, each twice, so that the repeat
+  // follows their first use: (a, w, w) and (w + 1, b, w + 1).
+  triangles[3 * 4321 + 1] = triangles[3 * 4321 + 2] = w;
+  triangles[3 * 1234] = triangles[3 * 1234 + 2] = w + 1;
+  const std::vector<Id> order = TriangleLocalityOrder(nV, nT, triangles.data(), uv.data());
+  ASSERT_EQ(static_cast<Id>(order.size()), nT);
+  std::vector<Id> expected;
+  std::vector<bool> seen(nV, false);
+  for (const Id t : order)
+  {
+    for (int l = 0; l < 3; ++l)
+    {
+      const Id v = triangles[3 * t + l];
+      if (!seen[v])
+      {
+        seen[v] = true;
+        expected.push_back(v);
+      }
+    }
+  }
+  for (Id v = 0; v < nV; ++v)
+  {
+    if (!seen[v])
+    {
+      expected.push_back(v);
+    }
+  }
+  ASSERT_TRUE(seen[w] && seen[w + 1]);
+  ASSERT_GE(static_cast<Id>(std::count(seen.begin(), seen.end(), false)), 3);
+  for (const auto& [threads, chunk] : { std::pair<int, Id>{ 1, nT }, { 2, 4999 }, { 3, 777 } })
+  {
+    const LocalityRenumbering r =
+      MakeLocalityRenumbering(nV, nT, triangles.data(), uv.data(), ThreadedFor(threads, chunk));
+    EXPECT_EQ(r.Triangles, order) << threads << " threads";
+    EXPECT_TRUE(std::equal(r.Vertices.begin(), r.Vertices.end(), expected.begin(), expected.end()))
+      << threads << " threads";
+  }
+  // An id out of range: no order (the topology's validation names it), nothing moved.
+  for (const Id bad : { nV, Id(-1) })
+  {
+    triangles[3 * 777 + 1] = bad;
+    EXPECT_TRUE(TriangleLocalityOrder(nV, nT, triangles.data(), uv.data()).empty()) << bad;
+    SplineInput input = mesh;
+    input.Triangles[3 * 777 + 1] = bad < 0 ? bad : mesh.NumberOfVertices();
+    const SplineInput before = input;
+    EXPECT_TRUE(input.RenumberToLocalityOrder(ThreadedFor(2, 4999)).IsIdentity()) << bad;
+    EXPECT_EQ(input.Triangles, before.Triangles);
+    EXPECT_EQ(input.UV, before.UV);
+  }
+}
+
 TEST(LocalityOrder, RadixSortIsStableOnEveryThreadCount)
 {
   // Five blocks of the sort's 2^16 values; keys from a few values (ties keep the input order)
@@ -397,20 +470,20 @@ TEST(LocalityOrder, RadixSortIsStableOnEveryThreadCount)
   std::mt19937_64 random(5u);
   for (const std::uint64_t keyRange : { std::uint64_t(7), std::uint64_t(2048), std::uint64_t(1) << 32 })
   {
-    std::vector<std::uint64_t> values(300001);
+    OverwriteVector<std::uint64_t> values(300001);
     for (std::size_t i = 0; i < values.size(); ++i)
     {
       values[i] = ((random() % keyRange) << 32) | i;
     }
-    std::vector<std::uint64_t> expected = values;
+    OverwriteVector<std::uint64_t> expected = values;
     std::stable_sort(expected.begin(), expected.end(),
       [](std::uint64_t a, std::uint64_t b) { return (a >> 32) < (b >> 32); });
-    std::vector<std::uint64_t> serial = values;
+    OverwriteVector<std::uint64_t> serial = values;
     SortByUpperHalf(serial);
     EXPECT_EQ(serial, expected) << "keys below " << keyRange;
     for (const auto& [threads, chunk] : { std::pair<int, Id>{ 2, 4999 }, { 3, 70001 } })
     {
-      std::vector<std::uint64_t> split = values;
+      OverwriteVector<std::uint64_t> split = values;
       SortByUpperHalf(split, ThreadedFor(threads, chunk));
       EXPECT_EQ(split, expected) << "keys below " << keyRange << ", " << threads << " threads";
     }
