@@ -2,11 +2,11 @@
 #include "vtkSampledSurfaceSource.h"
 
 #include "AnalyticSurfaces.h"
+#include "DelaunayTriangulation.h"
 #include "CTSplinesSMP.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
-#include "vtkDelaunay2D.h"
 #include "vtkDoubleArray.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
@@ -62,9 +62,8 @@ private:
 };
 
 /// Corners, evenly spaced boundary points and `count` seeded random interior points of the
-/// convex polygon `corners`, triangulated by vtkDelaunay2D. Unused points (merged by Delaunay's
-/// tolerance) and zero-area triangles (collinear boundary points) are removed; triangles are
-/// oriented counter-clockwise.
+/// convex polygon `corners`, triangulated by ctk::DelaunayTriangulation. Unused points (exact
+/// duplicates) and zero-area triangles are removed; triangles are oriented counter-clockwise.
 std::string RandomDelaunayMesh(const std::vector<ctk::Vec2>& corners, int count,
   std::uint64_t seed, ctk::ParameterMesh& mesh)
 {
@@ -129,28 +128,16 @@ std::string RandomDelaunayMesh(const std::vector<ctk::Vec2>& corners, int count,
     uv.push_back(centroid + shrink * (p - centroid));
   }
 
-  vtkNew<vtkPoints> points;
-  points->SetDataTypeToDouble();
-  points->SetNumberOfPoints(static_cast<vtkIdType>(uv.size()));
+  std::vector<double> xy(2 * uv.size());
   for (size_t i = 0; i < uv.size(); ++i)
   {
-    points->SetPoint(static_cast<vtkIdType>(i), uv[i].x(), uv[i].y(), 0.0);
+    xy[2 * i] = uv[i].x();
+    xy[2 * i + 1] = uv[i].y();
   }
-  vtkNew<vtkPolyData> cloud;
-  cloud->SetPoints(points);
-  vtkNew<vtkDelaunay2D> delaunay;
-  delaunay->SetInputData(cloud);
-  // The default tolerance (1e-5 of the bounds) would drop close random points; we drop only
-  // exact duplicates and compact afterwards anyway.
-  delaunay->SetTolerance(1e-12);
-  // With the default Offset the bounding triangulation sits so close that hull triangles of
-  // small point sets get deleted with it (measured: a third of the triangle domain missing).
-  delaunay->SetOffset(10.0);
-  delaunay->Update();
-  vtkCellArray* polys = delaunay->GetOutput()->GetPolys();
-  if (!polys || polys->GetNumberOfCells() == 0)
+  const std::vector<ctk::Id> triangles = ctk::DelaunayTriangulation(xy);
+  if (triangles.empty())
   {
-    return "vtkDelaunay2D produced no triangles";
+    return "the Delaunay triangulation has no triangles";
   }
 
   double domainArea2 = 0.0;
@@ -161,15 +148,9 @@ std::string RandomDelaunayMesh(const std::vector<ctk::Vec2>& corners, int count,
   std::vector<ctk::Id> newId(uv.size(), -1);
   mesh.UV.clear();
   mesh.Triangles.clear();
-  vtkIdType npts;
-  const vtkIdType* pts;
-  for (polys->InitTraversal(); polys->GetNextCell(npts, pts);)
+  for (size_t k = 0; k < triangles.size(); k += 3)
   {
-    if (npts != 3)
-    {
-      continue;
-    }
-    ctk::Id t[3] = { pts[0], pts[1], pts[2] };
+    ctk::Id t[3] = { triangles[k], triangles[k + 1], triangles[k + 2] };
     const double a2 = ctk::SignedArea2(uv[t[0]], uv[t[1]], uv[t[2]]);
     if (std::abs(a2) <= 1e-12 * domainArea2)
     {

@@ -16,9 +16,10 @@
  *   GridDiagonal. Not available for SphereOctant.
  * - EquilateralTriangle: the triangle (0,0), (1,0), (1/2, sqrt(3)/2) (ctk::SphereOctantDomain())
  *   refined Resolution times by midpoint subdivision, 4^Resolution triangles. Any surface.
- * - RandomDelaunay: the Delaunay triangulation (vtkDelaunay2D) of the domain corners, evenly
- *   spaced boundary points and Resolution random interior points drawn from Seed. The domain is
- *   [0, 1]^2 for functional surfaces and the equilateral triangle for SphereOctant.
+ * - RandomDelaunay: the Delaunay triangulation (CGAL's, ctk::DelaunayTriangulation; 0.2 s for
+ *   1e5 points, 1.7 s for 5e5) of the domain corners, evenly spaced boundary points and
+ *   Resolution random interior points drawn from Seed. The domain is [0, 1]^2 for functional
+ *   surfaces and the equilateral triangle for SphereOctant.
  *
  * An optional affine reparameterisation U' = A U + t (AffineMatrix row-major, AffineTranslation)
  * is applied consistently: UV = A U + t, derivatives and edge gradients J A^{-1} (columns f_u,

@@ -86,7 +86,7 @@ struct SplineOptions
   /// the same either way, bit for bit. Off by default: on CGAL-numbered random Delaunay meshes
   /// (1e6 triangles) it measured 1.5x slower than the input's order, the triangle-indexed arrays
   /// being then reached at random. vtkCloughTocherSplineFilter renumbers the mesh instead
-  /// (MakeLocalityRenumbering, SplineInput::Renumber, BuildMeshTopology by rank; issue #12).
+  /// (SplineInput::RenumberToLocalityOrder, BuildMeshTopology by rank; issue #12).
   bool LocalityOrder = false;
 };
 

@@ -74,12 +74,13 @@ struct LocalityRenumbering
   bool IsIdentity() const { return this->Triangles.empty(); }
 };
 
-/// The vertices 0 .. numVertices - 1 by first use in orderedTriangles (#T by 3 vertex ids, read
-/// in sequence), then those no triangle uses, by id.
+/// The vertices 0 .. numVertices - 1 by first use in orderedTriangles (#T by 3 vertex ids, all
+/// in that range, read in sequence), then those no triangle uses, by id.
 OverwriteVector<Id> VerticesByFirstUse(
   Id numVertices, Id numTriangles, const Id* orderedTriangles);
 
-/// The locality renumbering of a mesh (empty below MinTrianglesForLocalityOrder triangles).
+/// The locality renumbering of a mesh (empty below MinTrianglesForLocalityOrder triangles or
+/// when an id is out of range, as TriangleLocalityOrder).
 /// SplineInput::RenumberToLocalityOrder does this and the renumbering with one gather of the
 /// triangles instead of two.
 LocalityRenumbering MakeLocalityRenumbering(Id numVertices, Id numTriangles, const Id* triangles,

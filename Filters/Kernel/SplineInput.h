@@ -34,7 +34,8 @@ struct SplineInput
   /// then ValidateSplineData: finite values, no zero-area or folded triangle.
   BuildStatus Validate(const MeshTopology& topology) const;
   /// Puts the mesh and every array in the numbering of r (triangles' vertex order kept), or back
-  /// in the input's numbering (back = true), chunked by parallelFor over the rows. The edge
+  /// in the input's numbering (back = true), chunked by parallelFor over the rows. r must be this
+  /// mesh's (MakeLocalityRenumbering): its maps are permutations of the triangles and vertices. The edge
   /// gradients stay in place: their row map is renumbered (18 values per triangle are not worth
   /// moving; most constructions read few).
   void Renumber(

@@ -5,11 +5,8 @@
 #define CTSplines_BenchmarkSupport_h
 
 #include "BezierTriangle.h"
+#include "DelaunayTriangulation.h"
 #include "LargeArrays.h"
-
-#include <CGAL/Delaunay_triangulation_2.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Triangulation_vertex_base_with_info_2.h>
 
 #include <sys/mman.h>
 #include <sys/resource.h>
@@ -213,39 +210,25 @@ inline void SineCosine(double x, double y, double* f, double* fu, double* fv)
 /// iteration order, counter-clockwise; z = sin 3x cos 2y with its exact gradient.
 inline SampledMesh RandomDelaunayMesh(std::int64_t points, unsigned seed)
 {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using Vb = CGAL::Triangulation_vertex_base_with_info_2<std::int64_t, K>;
-  using Tds = CGAL::Triangulation_data_structure_2<Vb>;
-  using DT = CGAL::Delaunay_triangulation_2<K, Tds>;
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<std::pair<K::Point_2, std::int64_t>> cloud(points);
+  std::vector<double> xy(2 * points);
   for (std::int64_t i = 0; i < points; ++i)
   {
-    const double x = U(rng);
-    cloud[i] = { K::Point_2(x, U(rng)), i };
+    xy[2 * i] = U(rng); // x before y, as drawn since the first benchmarks
+    xy[2 * i + 1] = U(rng);
   }
-  DT dt;
-  dt.insert(cloud.begin(), cloud.end()); // spatially sorted insertion; info keeps our ids
   SampledMesh m;
-  m.UV.resize(2 * points);
+  m.UV.assign(xy.begin(), xy.end());
   m.F.resize(3 * points);
   m.Fu.resize(3 * points);
   m.Fv.resize(3 * points);
   for (std::int64_t i = 0; i < points; ++i)
   {
-    m.UV[2 * i] = cloud[i].first.x();
-    m.UV[2 * i + 1] = cloud[i].first.y();
     SineCosine(m.UV[2 * i], m.UV[2 * i + 1], &m.F[3 * i], &m.Fu[3 * i], &m.Fv[3 * i]);
   }
-  m.Triangles.reserve(3 * dt.number_of_faces());
-  for (auto f = dt.finite_faces_begin(); f != dt.finite_faces_end(); ++f)
-  {
-    for (int l = 0; l < 3; ++l)
-    {
-      m.Triangles.push_back(f->vertex(l)->info());
-    }
-  }
+  const std::vector<ctk::Id> triangles = ctk::DelaunayTriangulation(xy);
+  m.Triangles.assign(triangles.begin(), triangles.end());
   const std::size_t nT = m.Triangles.size() / 3;
   m.EdgeGradients.resize(18 * nT);
   for (std::size_t t = 0; t < nT; ++t)

@@ -449,6 +449,14 @@ TEST(LocalityOrder, VerticesByFirstUseOnEveryThreadCount)
     EXPECT_TRUE(std::equal(r.Vertices.begin(), r.Vertices.end(), expected.begin(), expected.end()))
       << threads << " threads";
   }
+  // Every vertex used, then the last corners repeat them: the branch-free pass writes them into its spare
+  // slot (an overflow without it, which ASan and the sanitizer CI job catch).
+  const std::vector<Id> twice = { 0, 1, 2, 2, 1, 0, 1, 2, 0 };
+  const OverwriteVector<Id> all = VerticesByFirstUse(3, 3, twice.data());
+  EXPECT_EQ(std::vector<Id>(all.begin(), all.end()), (std::vector<Id>{ 0, 1, 2 }));
+  const OverwriteVector<Id> none = VerticesByFirstUse(2, 0, nullptr);
+  EXPECT_EQ(std::vector<Id>(none.begin(), none.end()), (std::vector<Id>{ 0, 1 }));
+  EXPECT_TRUE(VerticesByFirstUse(0, 0, nullptr).empty());
   // An id out of range: no order (the topology's validation names it), nothing moved.
   for (const Id bad : { nV, Id(-1) })
   {
