@@ -27,6 +27,7 @@
 #include <cmath>
 #include <limits>
 #include <cstdint>
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -134,7 +135,16 @@ std::string RandomDelaunayMesh(const std::vector<ctk::Vec2>& corners, int count,
     xy[2 * i] = uv[i].x();
     xy[2 * i + 1] = uv[i].y();
   }
-  const std::vector<ctk::Id> triangles = ctk::DelaunayTriangulation(xy);
+  std::vector<ctk::Id> triangles;
+  try
+  {
+    triangles = ctk::DelaunayTriangulation(xy);
+  }
+  catch (const std::exception& e)
+  {
+    return std::string("the Delaunay triangulation of ") + std::to_string(uv.size()) +
+      " points failed: " + e.what();
+  }
   if (triangles.empty())
   {
     return "the Delaunay triangulation has no triangles";

@@ -212,14 +212,13 @@ inline SampledMesh RandomDelaunayMesh(std::int64_t points, unsigned seed)
 {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> U(0.0, 1.0);
-  std::vector<double> xy(2 * points);
+  SampledMesh m;
+  m.UV.resize(2 * points);
   for (std::int64_t i = 0; i < points; ++i)
   {
-    xy[2 * i] = U(rng); // x before y, as drawn since the first benchmarks
-    xy[2 * i + 1] = U(rng);
+    m.UV[2 * i] = U(rng); // x before y, as drawn since the first benchmarks
+    m.UV[2 * i + 1] = U(rng);
   }
-  SampledMesh m;
-  m.UV.assign(xy.begin(), xy.end());
   m.F.resize(3 * points);
   m.Fu.resize(3 * points);
   m.Fv.resize(3 * points);
@@ -227,8 +226,7 @@ inline SampledMesh RandomDelaunayMesh(std::int64_t points, unsigned seed)
   {
     SineCosine(m.UV[2 * i], m.UV[2 * i + 1], &m.F[3 * i], &m.Fu[3 * i], &m.Fv[3 * i]);
   }
-  const std::vector<ctk::Id> triangles = ctk::DelaunayTriangulation(xy);
-  m.Triangles.assign(triangles.begin(), triangles.end());
+  m.Triangles = ctk::DelaunayTriangulation(m.UV);
   const std::size_t nT = m.Triangles.size() / 3;
   m.EdgeGradients.resize(18 * nT);
   for (std::size_t t = 0; t < nT; ++t)
