@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkApproximationErrorFilter.h"
 
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
 #include "PointToMeshDistance.h"
@@ -246,9 +247,14 @@ int vtkApproximationErrorFilter::RequestData(
   vtkSmartPointer<vtkDataSet> splineCopy;
   splineCopy.TakeReference(spline->NewInstance());
   splineCopy->ShallowCopy(spline);
-  return this->Mode == Parametric
+  const int ok = this->Mode == Parametric
     ? this->ComputeParametric(splineCopy, reference, referencePoints, output)
     : this->ComputeMeshDistance(splineCopy, reference, referencePoints, output);
+  if (ok)
+  {
+    ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
+  }
+  return ok;
 }
 
 int vtkApproximationErrorFilter::ComputeParametric(vtkDataSet* spline, vtkPolyData* reference,

@@ -2,6 +2,7 @@
 #include "vtkBezierCurvatureFilter.h"
 
 #include "BezierTriangle.h"
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
 #include "SurfaceCurvatures.h"
@@ -210,6 +211,7 @@ int vtkBezierCurvatureFilter::RequestData(
   data.AddTo(output->GetPointData());
   ctsplines::CopyCellDataBySource(input, output->GetCellData(), source, nOutCells);
   output->GetCellData()->AddArray(bezierCellId);
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   this->UpdateProgress(1.0);
   return 1;
 }

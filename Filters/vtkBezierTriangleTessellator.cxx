@@ -2,6 +2,7 @@
 #include "vtkBezierTriangleTessellator.h"
 
 #include "BezierTriangle.h"
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesCellPatterns.h"
 #include "CTSplinesInput.h"
@@ -434,6 +435,7 @@ int vtkBezierTriangleTessellator::RequestData(
   ctsplines::CopyCellDataBySource(
     input, output->GetCellData(), bezierCellId->GetPointer(0), nOutCells);
   output->GetCellData()->AddArray(bezierCellId);
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   this->UpdateProgress(1.0);
   return 1;
 }

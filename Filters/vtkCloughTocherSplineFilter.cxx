@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkCloughTocherSplineFilter.h"
 
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
@@ -981,6 +982,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   {
     AddMacroGlobalIds(output, globalIds);
   }
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   this->UpdateProgress(1.0);
   return 1;
 }

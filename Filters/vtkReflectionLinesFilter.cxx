@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkReflectionLinesFilter.h"
 
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
 #include "SplineDataValidation.h"
@@ -163,6 +164,7 @@ int vtkReflectionLinesFilter::RequestData(
   outPD->AddArray(isophotes);
   outPD->AddArray(stripes);
   outPD->SetActiveScalars("ReflectionLines");
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   return 1;
 }
 

@@ -3,6 +3,7 @@
 
 #include "AnalyticSurfaces.h"
 #include "DelaunayTriangulation.h"
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesSMP.h"
 
 #include "vtkCellArray.h"
@@ -383,6 +384,7 @@ int vtkSampledSurfaceSource::RequestData(
   output->GetCellData()->AddArray(eg);
   AddFieldString(output->GetFieldData(), "Surface", GetSurfaceName(this->Surface));
   AddFieldString(output->GetFieldData(), "Domain", GetDomainName(this->Domain));
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   this->UpdateProgress(1.0);
   return 1;
 }

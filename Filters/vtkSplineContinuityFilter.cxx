@@ -2,6 +2,7 @@
 #include "vtkSplineContinuityFilter.h"
 
 #include "BezierTriangle.h"
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
 #include "EdgeContinuity.h"
@@ -479,6 +480,7 @@ int vtkSplineContinuityFilter::RequestData(
   // 4. Geometry and cell data; 5. summary per kind.
   FillGeometry(in.Cells, edges, arrays, output);
   Summarise(arrays, output->GetFieldData());
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -2,6 +2,7 @@
 #include "vtkSplineParameterProbe.h"
 
 #include "BezierTriangle.h"
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
 #include "CTSplinesSMP.h"
@@ -998,6 +999,7 @@ int vtkSplineParameterProbe::RequestData(
   }
   outPD->AddArray(out.MacroIds);
   outPD->AddArray(out.Mask);
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -1,0 +1,308 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// The ranges the filters store in their output arrays (CTSplinesArrayRanges.h) are the ones VTK
+// computes itself, and VTK serves them instead of computing them until an array is modified.
+#include "CTSplinesArrayRanges.h"
+#include "FilterTestUtilities.h"
+#include "vtkApproximationErrorFilter.h"
+#include "vtkBezierCurvatureFilter.h"
+#include "vtkBezierTriangleTessellator.h"
+#include "vtkCloughTocherSplineFilter.h"
+#include "vtkReflectionLinesFilter.h"
+#include "vtkSampledSurfaceSource.h"
+#include "vtkSplineContinuityFilter.h"
+#include "vtkSplineParameterProbe.h"
+
+#include "vtkCellData.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
+#include "vtkInformation.h"
+#include "vtkInformationInformationVectorKey.h"
+#include "vtkInformationVector.h"
+#include "vtkIntArray.h"
+#include "vtkPointData.h"
+#include "vtkPointSet.h"
+#include "vtkSignedCharArray.h"
+#include "vtkUnsignedLongLongArray.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace
+{
+// The module's thread count for the scope of a test (CTSPLINES_NUM_THREADS).
+struct ModuleThreads
+{
+  explicit ModuleThreads(int n) { setenv("CTSPLINES_NUM_THREADS", std::to_string(n).c_str(), 1); }
+  ~ModuleThreads() { unsetenv("CTSPLINES_NUM_THREADS"); }
+};
+
+// The same values in a new array of the same type, without information: VTK computes its
+// ranges when asked.
+vtkSmartPointer<vtkDataArray> FreshCopy(vtkDataArray* a)
+{
+  auto copy = vtkSmartPointer<vtkDataArray>::Take(vtkDataArray::CreateDataArray(a->GetDataType()));
+  copy->SetNumberOfComponents(a->GetNumberOfComponents());
+  copy->SetNumberOfTuples(a->GetNumberOfTuples());
+  std::memcpy(copy->GetVoidPointer(0), a->GetVoidPointer(0),
+    static_cast<size_t>(a->GetNumberOfValues()) * a->GetDataTypeSize());
+  return copy;
+}
+
+bool HasComponentRanges(vtkDataArray* a, vtkInformationInformationVectorKey* key)
+{
+  vtkInformationVector* v = a->GetInformation()->Get(key);
+  if (!v || v->GetNumberOfInformationObjects() != a->GetNumberOfComponents())
+  {
+    return false;
+  }
+  for (int c = 0; c < a->GetNumberOfComponents(); ++c)
+  {
+    if (!v->GetInformationObject(c)->Has(vtkDataArray::COMPONENT_RANGE()))
+    {
+      return false;
+    }
+  }
+  return true;
+}
+
+// a's ranges are cached (every kind CacheRanges stores, newer than the array) and equal to
+// those VTK computes from the same values: each component's and the L2 norm's, plain and finite.
+void ExpectCachedVTKRanges(vtkDataArray* a, const std::string& what)
+{
+  vtkInformation* info = a->GetInformation();
+  ASSERT_LE(a->GetMTime(), info->GetMTime()) << what;
+  ASSERT_TRUE(HasComponentRanges(a, vtkDataArray::PER_COMPONENT())) << what;
+  ASSERT_TRUE(HasComponentRanges(a, vtkDataArray::PER_FINITE_COMPONENT())) << what;
+  const int nc = a->GetNumberOfComponents();
+  if (nc > 1 && a->GetDataType() == VTK_DOUBLE)
+  {
+    ASSERT_TRUE(info->Has(vtkDataArray::L2_NORM_RANGE())) << what;
+    ASSERT_TRUE(info->Has(vtkDataArray::L2_NORM_FINITE_RANGE())) << what;
+  }
+  vtkSmartPointer<vtkDataArray> fresh = FreshCopy(a);
+  for (int c = nc > 1 ? -1 : 0; c < nc; ++c)
+  {
+    double cached[2], computed[2], cachedFinite[2], computedFinite[2];
+    a->GetRange(cached, c);
+    fresh->GetRange(computed, c);
+    a->GetFiniteRange(cachedFinite, c);
+    fresh->GetFiniteRange(computedFinite, c);
+    for (int k = 0; k < 2; ++k)
+    {
+      EXPECT_EQ(cached[k], computed[k]) << what << " component " << c;
+      EXPECT_EQ(cachedFinite[k], computedFinite[k]) << what << " component " << c;
+    }
+  }
+}
+
+// Every data array of the output with cacheable values (finite, at most 32 components):
+// points, point data and cell data.
+void ExpectCachedVTKRanges(vtkDataSet* output, const std::string& what)
+{
+  ASSERT_NE(output, nullptr) << what;
+  std::vector<std::pair<std::string, vtkDataArray*>> arrays;
+  if (vtkPointSet* ps = vtkPointSet::SafeDownCast(output))
+  {
+    ASSERT_NE(ps->GetPoints(), nullptr) << what;
+    arrays.emplace_back("points", ps->GetPoints()->GetData());
+  }
+  for (vtkFieldData* fd : { static_cast<vtkFieldData*>(output->GetPointData()),
+         static_cast<vtkFieldData*>(output->GetCellData()) })
+  {
+    for (int i = 0; i < fd->GetNumberOfArrays(); ++i)
+    {
+      if (vtkDataArray* a = fd->GetArray(i))
+      {
+        arrays.emplace_back(a->GetName() ? a->GetName() : "(unnamed)", a);
+      }
+    }
+  }
+  int checked = 0;
+  for (const auto& named : arrays)
+  {
+    vtkDataArray* a = named.second;
+    bool finite = true;
+    for (vtkIdType i = 0; finite && i < a->GetNumberOfValues(); ++i)
+    {
+      finite = std::isfinite(a->GetComponent(i / a->GetNumberOfComponents(),
+        static_cast<int>(i % a->GetNumberOfComponents())));
+    }
+    if (finite && a->GetNumberOfTuples() > 0)
+    {
+      ExpectCachedVTKRanges(a, what + " " + named.first);
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 2) << what;
+}
+
+template <typename ArrayT>
+vtkSmartPointer<ArrayT> RandomArray(vtkIdType tuples, int nc, double lo, double hi, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> U(lo, hi);
+  auto a = vtkSmartPointer<ArrayT>::New();
+  a->SetNumberOfComponents(nc);
+  a->SetNumberOfTuples(tuples);
+  for (vtkIdType i = 0; i < a->GetNumberOfValues(); ++i)
+  {
+    a->SetValue(i, static_cast<typename ArrayT::ValueType>(U(rng)));
+  }
+  return a;
+}
+} // namespace
+
+// Types and component counts through every loop of the scan (SSE2 pairs with an odd last tuple,
+// one component, many), on arrays split over threads and not.
+TEST(CachedArrayRanges, AreVTKsOwnForEveryLoop)
+{
+  for (int threads : { 1, 3 })
+  {
+    ModuleThreads scope(threads);
+    for (vtkIdType tuples : { vtkIdType(1), vtkIdType(7), vtkIdType(300001) })
+    {
+      const std::string size = std::to_string(tuples) + " tuples, " +
+        std::to_string(threads) + " threads: ";
+      for (int nc : { 1, 2, 3, 5, 18 })
+      {
+        auto a = RandomArray<vtkDoubleArray>(tuples, nc, -3.0, 7.0, 11 + nc);
+        ASSERT_TRUE(ctsplines::CacheRanges(a)) << size << nc;
+        ExpectCachedVTKRanges(a, size + "double x " + std::to_string(nc));
+      }
+      auto f = RandomArray<vtkFloatArray>(tuples, 3, -2.0, 2.0, 5);
+      ASSERT_TRUE(ctsplines::CacheRanges(f));
+      ExpectCachedVTKRanges(f, size + "float x 3");
+      auto i = RandomArray<vtkIntArray>(tuples, 1, -1e6, 1e6, 6);
+      ASSERT_TRUE(ctsplines::CacheRanges(i));
+      ExpectCachedVTKRanges(i, size + "int");
+      auto s = RandomArray<vtkSignedCharArray>(tuples, 1, -100, 100, 7);
+      ASSERT_TRUE(ctsplines::CacheRanges(s));
+      ExpectCachedVTKRanges(s, size + "signed char");
+      auto id = RandomArray<vtkIdTypeArray>(tuples, 2, 0, 1e12, 8);
+      ASSERT_TRUE(ctsplines::CacheRanges(id));
+      ExpectCachedVTKRanges(id, size + "id x 2");
+      auto u = RandomArray<vtkUnsignedLongLongArray>(tuples, 1, 0, 1e15, 9);
+      ASSERT_TRUE(ctsplines::CacheRanges(u));
+      ExpectCachedVTKRanges(u, size + "unsigned long long");
+    }
+  }
+}
+
+// The extremes are found wherever they are: first, last, or in a tuple split across the SSE2
+// pairs' registers.
+TEST(CachedArrayRanges, FindExtremesAtEveryPosition)
+{
+  for (int nc : { 2, 3 })
+  {
+    for (vtkIdType at : { vtkIdType(0), vtkIdType(1), vtkIdType(2), vtkIdType(4998),
+           vtkIdType(4999) })
+    {
+      for (int c = 0; c < nc; ++c)
+      {
+        auto a = RandomArray<vtkDoubleArray>(5000, nc, -1.0, 1.0, 3);
+        a->SetComponent(at, c, -50.0 - c);
+        a->SetComponent(4999 - at, c, 60.0 + c);
+        ASSERT_TRUE(ctsplines::CacheRanges(a));
+        double r[2];
+        a->GetRange(r, c);
+        EXPECT_EQ(r[0], -50.0 - c) << nc << " components, tuple " << at << ", component " << c;
+        EXPECT_EQ(r[1], 60.0 + c) << nc << " components, tuple " << at << ", component " << c;
+        ExpectCachedVTKRanges(a, "extremes");
+      }
+    }
+  }
+}
+
+// VTK serves the stored ranges (a value changed behind its back is not seen) until the array is
+// modified; then it computes them again.
+TEST(CachedArrayRanges, AreServedUntilTheArrayIsModified)
+{
+  auto a = RandomArray<vtkDoubleArray>(100000, 3, 0.0, 1.0, 4);
+  ASSERT_TRUE(ctsplines::CacheRanges(a));
+  double before[2];
+  a->GetRange(before, 1);
+  a->GetPointer(0)[3 * 500 + 1] = 42.0; // no Modified()
+  double served[2], norm[2];
+  a->GetRange(served, 1);
+  EXPECT_EQ(served[0], before[0]);
+  EXPECT_EQ(served[1], before[1]);
+  a->GetRange(norm, -1);
+  EXPECT_LT(norm[1], 2.0);
+  a->Modified();
+  double computed[2];
+  a->GetRange(computed, 1);
+  EXPECT_EQ(computed[1], 42.0);
+  a->GetRange(norm, -1);
+  EXPECT_GT(norm[1], 42.0);
+  // Stored again from the new values.
+  ASSERT_TRUE(ctsplines::CacheRanges(a));
+  ExpectCachedVTKRanges(a, "after Modified");
+}
+
+// Values that are not finite make VTK's plain and finite ranges differ: nothing is stored, and
+// VTK computes both itself. Empty arrays store nothing either.
+TEST(CachedArrayRanges, LeaveNonFiniteAndEmptyArraysToVTK)
+{
+  for (double bad : { std::numeric_limits<double>::quiet_NaN(),
+         std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity() })
+  {
+    for (vtkIdType at : { vtkIdType(0), vtkIdType(77), vtkIdType(99999) })
+    {
+      for (int nc : { 1, 2, 3, 4 })
+      {
+        auto a = RandomArray<vtkDoubleArray>(100000, nc, 0.0, 1.0, 2);
+        a->SetComponent(at, nc - 1, bad);
+        EXPECT_FALSE(ctsplines::CacheRanges(a)) << bad << " at " << at << ", " << nc;
+        EXPECT_FALSE(a->GetInformation()->Has(vtkDataArray::PER_COMPONENT()));
+        EXPECT_FALSE(a->GetInformation()->Has(vtkDataArray::L2_NORM_RANGE()));
+      }
+    }
+  }
+  vtkNew<vtkDoubleArray> empty;
+  empty->SetNumberOfComponents(3);
+  EXPECT_FALSE(ctsplines::CacheRanges(empty));
+  EXPECT_FALSE(ctsplines::CacheRanges(static_cast<vtkDataArray*>(nullptr)));
+}
+
+// Every filter's output: the source, the spline, its tessellation, curvature, reflection lines,
+// continuity, approximation error and a probe.
+TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
+{
+  vtkNew<vtkSampledSurfaceSource> source;
+  source->SetDomainToRandomDelaunay();
+  source->SetResolution(600);
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputConnection(source->GetOutputPort());
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  tessellator->SetInputConnection(spline->GetOutputPort());
+  tessellator->SetSubdivisionLevel(3);
+  vtkNew<vtkBezierCurvatureFilter> curvature;
+  curvature->SetInputConnection(spline->GetOutputPort());
+  vtkNew<vtkReflectionLinesFilter> reflection;
+  reflection->SetInputConnection(tessellator->GetOutputPort());
+  vtkNew<vtkSplineContinuityFilter> continuity;
+  continuity->SetInputConnection(spline->GetOutputPort());
+  vtkNew<vtkApproximationErrorFilter> error;
+  error->SetInputConnection(spline->GetOutputPort());
+  error->SetReferenceConnection(source->GetOutputPort());
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetInputConnection(source->GetOutputPort());
+  probe->SetSourceConnection(spline->GetOutputPort());
+  const std::vector<std::pair<std::string, vtkAlgorithm*>> filters = { { "source", source },
+    { "spline", spline }, { "tessellator", tessellator }, { "curvature", curvature },
+    { "reflection lines", reflection }, { "continuity", continuity }, { "error", error },
+    { "probe", probe } };
+  for (const auto& f : filters)
+  {
+    f.second->Update();
+    ExpectCachedVTKRanges(vtkDataSet::SafeDownCast(f.second->GetOutputDataObject(0)), f.first);
+  }
+}
