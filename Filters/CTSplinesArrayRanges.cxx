@@ -4,6 +4,8 @@
 #include "CTSplinesSMP.h" // for ParallelFor
 
 #include "vtkCellData.h"
+#include "vtkCompositeDataIterator.h"
+#include "vtkCompositeDataSet.h"
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkInformation.h"
@@ -14,7 +16,9 @@
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
+#include "vtkSmartPointer.h"
 #include "vtkType.h"
+#include "vtkTypeTraits.h"
 
 #include <algorithm>
 #include <cmath>
@@ -31,14 +35,24 @@ namespace
 // Arrays with more components are left to VTK (the module writes at most 18: mid-edge gradients).
 constexpr int MaxComponents = 32;
 
-// Ranges of a part of an array: each component's, the squared L2 norm's, and whether a value
-// that is not finite was seen.
+// Minimum and maximum that skip NaN (as VTK does) when it comes second.
+inline double Lower(double a, double b)
+{
+  return b < a ? b : a;
+}
+inline double Upper(double a, double b)
+{
+  return b > a ? b : a;
+}
+
+// Ranges of a part of an array: each component's, the squared L2 norm's, and whether a NaN was
+// seen (comparisons skip it; inf shows in the extremes).
 struct Ranges
 {
   double Lo[MaxComponents], Hi[MaxComponents];
   double SquaredNormLo = std::numeric_limits<double>::infinity();
   double SquaredNormHi = -std::numeric_limits<double>::infinity();
-  bool NotFinite = false;
+  bool NaN = false;
 
   Ranges()
   {
@@ -49,18 +63,18 @@ struct Ranges
   {
     for (int c = 0; c < nc; ++c)
     {
-      this->Lo[c] = std::min(this->Lo[c], o.Lo[c]);
-      this->Hi[c] = std::max(this->Hi[c], o.Hi[c]);
+      this->Lo[c] = Lower(this->Lo[c], o.Lo[c]);
+      this->Hi[c] = Upper(this->Hi[c], o.Hi[c]);
     }
     this->SquaredNormLo = std::min(this->SquaredNormLo, o.SquaredNormLo);
     this->SquaredNormHi = std::max(this->SquaredNormHi, o.SquaredNormHi);
-    this->NotFinite = this->NotFinite || o.NotFinite;
+    this->NaN = this->NaN || o.NaN;
   }
 };
 
 // Tuples [b, e) of v (nc components, a constant when NC > 0). The squared norm is summed over
-// the components in order, as VTK sums it; min and max are exact, so the result does not depend
-// on how the array is cut. Inf shows in the extremes, NaN in its flag (comparisons ignore it).
+// the components in order, in double, as VTK sums it (this file is built without contracting
+// a * b + c into fused multiply-adds, which would change its bits).
 template <int NC, typename T>
 void ScanTuples(const T* v, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges& r)
 {
@@ -76,8 +90,8 @@ void ScanTuples(const T* v, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges
     for (int c = 0; c < n; ++c)
     {
       const double x = static_cast<double>(v[i * n + c]);
-      lo[c] = x < lo[c] ? x : lo[c];
-      hi[c] = x > hi[c] ? x : hi[c];
+      lo[c] = Lower(lo[c], x);
+      hi[c] = Upper(hi[c], x);
       nan |= x != x;
       s += x * x;
     }
@@ -91,20 +105,21 @@ void ScanTuples(const T* v, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges
   std::copy_n(hi, n, r.Hi);
   r.SquaredNormLo = nlo;
   r.SquaredNormHi = nhi;
-  r.NotFinite = r.NotFinite || nan;
+  r.NaN = r.NaN || nan;
 }
 
 #if defined(__SSE2__)
 // ScanTuples for doubles, two tuples at a time in SSE2 pairs (the scalar loop ran at 7.5 GB/s, a
 // fifth of the spline filter on one thread at 1e6 triangles). Lane l of register k holds value
 // 2 k + l of the pair: components (x, y) (z, x) (y, z) for three, (x, y) twice for two, and the
-// squared norms add the same squares in the same order as the scalar loop.
+// squared norms add the same squares in the same order as the scalar loop. A NaN shows in its
+// tuple's squared norm (squares are never -inf, so inf + -inf cannot make one).
 template <int NC>
 void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
 {
   static_assert(NC == 2 || NC == 3, "two or three components");
   const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
-  const __m128d minusInf = _mm_sub_pd(_mm_setzero_pd(), inf);
+  const __m128d minusInf = _mm_set1_pd(-std::numeric_limits<double>::infinity());
   __m128d lo[3] = { inf, inf, inf }, hi[3] = { minusInf, minusInf, minusInf };
   __m128d normLo = inf, normHi = minusInf, nan = _mm_setzero_pd();
   vtkIdType i = b;
@@ -117,7 +132,6 @@ void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
       a[k] = _mm_loadu_pd(p + 2 * k);
       lo[k] = _mm_min_pd(lo[k], a[k]);
       hi[k] = _mm_max_pd(hi[k], a[k]);
-      nan = _mm_or_pd(nan, _mm_cmpunord_pd(a[k], a[k]));
     }
     __m128d s;
     if (NC == 3)
@@ -134,6 +148,7 @@ void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
     }
     normLo = _mm_min_pd(normLo, s);
     normHi = _mm_max_pd(normHi, s);
+    nan = _mm_or_pd(nan, _mm_cmpunord_pd(s, s)); // a NaN component, and only then
   }
   double l[6], h[6], n[4];
   for (int k = 0; k < NC; ++k)
@@ -145,12 +160,12 @@ void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
   _mm_storeu_pd(n + 2, normHi);
   for (int j = 0; j < 2 * NC; ++j)
   {
-    r.Lo[j % NC] = std::min(r.Lo[j % NC], l[j]);
-    r.Hi[j % NC] = std::max(r.Hi[j % NC], h[j]);
+    r.Lo[j % NC] = Lower(r.Lo[j % NC], l[j]);
+    r.Hi[j % NC] = Upper(r.Hi[j % NC], h[j]);
   }
   r.SquaredNormLo = std::min({ r.SquaredNormLo, n[0], n[1] });
   r.SquaredNormHi = std::max({ r.SquaredNormHi, n[2], n[3] });
-  r.NotFinite = r.NotFinite || _mm_movemask_pd(nan) != 0;
+  r.NaN = r.NaN || _mm_movemask_pd(nan) != 0;
   ScanTuples<NC>(v, NC, i, e, true, r); // an odd last tuple
 }
 #endif
@@ -160,17 +175,21 @@ void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
 template <typename T>
 void ScanValues(const T* v, vtkIdType b, vtkIdType e, Ranges& r)
 {
-  T lo = v[b], hi = v[b];
-  bool nan = false;
-  for (vtkIdType i = b; i < e; ++i)
+  if constexpr (std::is_floating_point<T>::value)
   {
-    lo = v[i] < lo ? v[i] : lo;
-    hi = v[i] > hi ? v[i] : hi;
-    nan |= v[i] != v[i];
+    ScanTuples<1>(v, 1, b, e, false, r);
   }
-  r.Lo[0] = std::min(r.Lo[0], static_cast<double>(lo));
-  r.Hi[0] = std::max(r.Hi[0], static_cast<double>(hi));
-  r.NotFinite = r.NotFinite || nan;
+  else
+  {
+    T lo = v[b], hi = v[b];
+    for (vtkIdType i = b; i < e; ++i)
+    {
+      lo = v[i] < lo ? v[i] : lo;
+      hi = v[i] > hi ? v[i] : hi;
+    }
+    r.Lo[0] = std::min(r.Lo[0], static_cast<double>(lo));
+    r.Hi[0] = std::max(r.Hi[0], static_cast<double>(hi));
+  }
 }
 
 // Tuples [b, e) of v, by the fastest loop for its type and component count.
@@ -178,11 +197,13 @@ template <typename T>
 void ScanPart(const T* values, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges& part)
 {
 #if defined(__SSE2__)
-  if (std::is_same<T, double>::value && norms && (nc == 2 || nc == 3))
+  if constexpr (std::is_same<T, double>::value)
   {
-    const double* v = reinterpret_cast<const double*>(values);
-    nc == 2 ? ScanDoublePairs<2>(v, b, e, part) : ScanDoublePairs<3>(v, b, e, part);
-    return;
+    if (norms && (nc == 2 || nc == 3))
+    {
+      nc == 2 ? ScanDoublePairs<2>(values, b, e, part) : ScanDoublePairs<3>(values, b, e, part);
+      return;
+    }
   }
 #endif
   switch (nc)
@@ -201,6 +222,7 @@ void ScanPart(const T* values, int nc, vtkIdType b, vtkIdType e, bool norms, Ran
   }
 }
 
+// The ranges of a whole array; min and max are exact, so chunks merge in any order.
 template <typename T>
 Ranges ScanArray(const T* values, vtkIdType tuples, int nc, bool norms)
 {
@@ -212,11 +234,31 @@ Ranges ScanArray(const T* values, vtkIdType tuples, int nc, bool norms)
     std::lock_guard<std::mutex> lock(merge);
     all.Merge(part, nc);
   });
-  for (int c = 0; c < nc; ++c)
-  {
-    all.NotFinite = all.NotFinite || !std::isfinite(all.Lo[c]) || !std::isfinite(all.Hi[c]);
-  }
   return all;
+}
+
+// What VTK would compute differently, so that nothing is stored: VTK skips NaN in both ranges and
+// inf in the finite one; it starts from +-vtkTypeTraits<T>::Max() (1e299 for doubles, 1e38 for
+// floats), which hides extremes beyond it, and the squared norms' from +-1e299.
+template <typename T>
+bool ComponentsLikeVTK(const Ranges& r, int nc)
+{
+  if constexpr (std::is_floating_point<T>::value)
+  {
+    const double limit = vtkTypeTraits<T>::Max();
+    for (int c = 0; c < nc; ++c)
+    {
+      if (!(std::abs(r.Lo[c]) < limit && std::abs(r.Hi[c]) < limit)) // inf too
+      {
+        return false;
+      }
+    }
+  }
+  return !r.NaN;
+}
+bool NormsLikeVTK(const Ranges& r)
+{
+  return r.SquaredNormHi < vtkTypeTraits<double>::Max();
 }
 
 // Whether the information holds ranges of every kind CacheRanges stores, newer than the array.
@@ -244,10 +286,12 @@ bool RangesCached(vtkDataArray* array, bool norms)
       }
     }
   }
-  return !norms ||
-    (info->Has(vtkDataArray::L2_NORM_RANGE()) && info->Has(vtkDataArray::L2_NORM_FINITE_RANGE()));
+  return !norms || info->Has(vtkDataArray::L2_NORM_RANGE());
 }
 
+// The finite L2 range is not stored: vtkDataArray::CopyInformation keeps that key (and drops the
+// others), so arrays that VTK's filters derive from this one (thresholds, extractions) would
+// report it for their own, fewer values. VTK computes it when asked.
 void StoreRanges(vtkDataArray* array, const Ranges& r, bool norms)
 {
   const int nc = array->GetNumberOfComponents();
@@ -268,7 +312,6 @@ void StoreRanges(vtkDataArray* array, const Ranges& r, bool norms)
   {
     const double range[2] = { std::sqrt(r.SquaredNormLo), std::sqrt(r.SquaredNormHi) };
     info->Set(vtkDataArray::L2_NORM_RANGE(), range, 2);
-    info->Set(vtkDataArray::L2_NORM_FINITE_RANGE(), range, 2);
   }
 }
 
@@ -294,25 +337,32 @@ bool CacheRanges(vtkDataArray* array)
   {
     return false;
   }
-  // VTK sums the squared norm in the array's own type: only doubles' are the same bits here.
-  const bool norms = nc > 1 && array->GetDataType() == VTK_DOUBLE;
+  const bool norms = nc > 1;
   if (RangesCached(array, norms))
   {
     return true;
   }
   Ranges r;
+  bool components = false;
   switch (array->GetDataType())
   {
     vtkTemplateMacro(
-      r = ScanArray(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), tuples, nc, norms));
+      r = ScanArray(static_cast<const VTK_TT*>(array->GetVoidPointer(0)), tuples, nc, norms);
+      components = ComponentsLikeVTK<VTK_TT>(r, nc));
     default:
       return false;
   }
-  if (r.NotFinite)
+  if (!components)
   {
     return false;
   }
-  StoreRanges(array, r, norms);
+  // Which zero min and max keep depends on the order they see them in, so on the chunks.
+  for (int c = 0; c < nc; ++c)
+  {
+    r.Lo[c] = r.Lo[c] == 0.0 ? 0.0 : r.Lo[c];
+    r.Hi[c] = r.Hi[c] == 0.0 ? 0.0 : r.Hi[c];
+  }
+  StoreRanges(array, r, norms && NormsLikeVTK(r));
   return true;
 }
 
@@ -332,5 +382,18 @@ void CacheRanges(vtkDataSet* output)
   CacheRangesOf(output->GetPointData());
   CacheRangesOf(output->GetCellData());
 }
-} // namespace ctsplines
 
+void CacheRanges(vtkCompositeDataSet* output)
+{
+  if (!output)
+  {
+    return;
+  }
+  vtkSmartPointer<vtkCompositeDataIterator> it;
+  it.TakeReference(output->NewIterator());
+  for (it->InitTraversal(); !it->IsDoneWithTraversal(); it->GoToNextItem())
+  {
+    CacheRanges(vtkDataSet::SafeDownCast(it->GetCurrentDataObject()));
+  }
+}
+} // namespace ctsplines

@@ -11,16 +11,23 @@
 #ifndef CTSplinesArrayRanges_h
 #define CTSplinesArrayRanges_h
 
+class vtkCompositeDataSet;
 class vtkDataArray;
 class vtkDataSet;
 
 namespace ctsplines
 {
 /// Stores the ranges of `array` in its information as vtkDataArray caches them (each component's
-/// range and finite range, and the L2 norm's for arrays of doubles with several components),
-/// from one parallel pass. Nothing is stored for an empty array, an array with a value that is
-/// not finite (VTK's two ranges then differ; it computes them when asked) or one that is not
-/// contiguous; nor computed when its ranges are cached already. Returns whether they are cached
+/// range and finite range, and the L2 norm's range when it has several components), from one
+/// parallel pass. The values are VTK's own, except that a zero extreme is stored as +0 (VTK keeps
+/// the first zero it meets, -0 or +0; here the first depends on the thread count). Nothing is
+/// stored where VTK would compute
+/// something else or the key would outlive the values: an empty or non-contiguous array, one
+/// with NaN or inf, extremes beyond VTK's starting values (1e299, or 1e38 for floats), more than
+/// 32 components; the L2 norm's when a squared norm reaches 1e299; never the L2 norm's finite
+/// range, which vtkDataArray::CopyInformation passes on to the derived arrays of VTK's filters.
+/// Nothing is computed when the ranges are cached already. An array shared with the filter's
+/// input has its information written, as GetRange would. Returns whether the ranges are cached
 /// on return.
 bool CacheRanges(vtkDataArray* array);
 
@@ -28,6 +35,9 @@ bool CacheRanges(vtkDataArray* array);
 /// called by the filters as the last step of RequestData, on the arrays they wrote and those
 /// they passed through.
 void CacheRanges(vtkDataSet* output);
+
+/// CacheRanges of every data set of a composite output.
+void CacheRanges(vtkCompositeDataSet* output);
 } // namespace ctsplines
 
 #endif

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkCADFaceSampler.h"
 
+#include "CTSplinesArrayRanges.h"
+
 #include "CADArrayNames.h"
 #include "CADStitchedConstruction.h"
 
@@ -151,6 +153,7 @@ int vtkCADFaceSampler::RequestData(
   this->AddModelFields(output, faceTime);
   this->Internals->Model = std::move(this->Internals->Current);
   this->Internals->Meshes.clear();
+  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   return 1;
 }
 

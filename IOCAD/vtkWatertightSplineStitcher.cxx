@@ -7,6 +7,7 @@
 #include "CADStitch.h"
 #include "CADArrayNames.h"
 #include "CADStitchedConstruction.h"
+#include "CTSplinesArrayRanges.h"
 #include "CTSplinesSplineGrid.h"
 
 #include "vtkCADFaceSampler.h"
@@ -385,6 +386,8 @@ int vtkWatertightSplineStitcher::RequestData(
     times->InsertNextValue(v);
   }
   fd->AddArray(times);
+  ctsplines::CacheRanges(faces); // for ParaView's data information and colour maps
+  ctsplines::CacheRanges(merged);
   return 1;
 }
 

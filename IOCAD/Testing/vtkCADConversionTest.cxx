@@ -19,6 +19,8 @@
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+#include "vtkPointSet.h"
+#include "vtkPoints.h"
 #include "vtkSmartPointer.h"
 #include "vtkUnstructuredGrid.h"
 
@@ -601,11 +603,35 @@ int CheckInterfacesBitIdentical(Conversion& c)
 }
 } // namespace
 
+/// The points' ranges of a data set are stored (CTSplinesArrayRanges.h) and are those VTK
+/// computes from the same values.
+void ExpectStoredPointRanges(vtkDataSet* ds, const std::string& what)
+{
+  vtkPointSet* ps = vtkPointSet::SafeDownCast(ds);
+  ASSERT_TRUE(ps && ps->GetPoints()) << what;
+  vtkDataArray* a = ps->GetPoints()->GetData();
+  ASSERT_TRUE(a->GetInformation()->Has(vtkDataArray::PER_COMPONENT())) << what;
+  vtkSmartPointer<vtkDataArray> fresh;
+  fresh.TakeReference(a->NewInstance());
+  fresh->DeepCopy(a);
+  fresh->Modified(); // drops the keys DeepCopy passed on: VTK computes
+  for (int c = 0; c < 3; ++c)
+  {
+    double stored[2], computed[2];
+    a->GetRange(stored, c);
+    fresh->GetRange(computed, c);
+    EXPECT_TRUE(stored[0] == computed[0] && stored[1] == computed[1]) << what << " " << c;
+  }
+}
+
 TEST(CADConversion, SphereIsClosedAndWatertight)
 {
   Conversion c;
   c.Run(TempStep("sphere", Sphere()), 1e-4);
   EXPECT_EQ(c.Faces->GetNumberOfBlocks(), 1u);
+  ExpectStoredPointRanges(c.Face(0), "sampled face");
+  ExpectStoredPointRanges(vtkDataSet::SafeDownCast(c.Splines->GetBlock(0)), "face spline");
+  ExpectStoredPointRanges(c.Merged, "merged spline");
   CheckSharedNodes(c);
   CheckDerivatives(c);
   EXPECT_GT(CheckInterfacesBitIdentical(c), 0) << "the seam's two sides";

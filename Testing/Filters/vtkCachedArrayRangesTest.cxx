@@ -20,6 +20,7 @@
 #include "vtkInformationInformationVectorKey.h"
 #include "vtkInformationVector.h"
 #include "vtkIntArray.h"
+#include "vtkMultiBlockDataSet.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
 #include "vtkSignedCharArray.h"
@@ -73,22 +74,22 @@ bool HasComponentRanges(vtkDataArray* a, vtkInformationInformationVectorKey* key
   return true;
 }
 
-// a's ranges are cached (every kind CacheRanges stores, newer than the array) and equal to
-// those VTK computes from the same values: each component's and the L2 norm's, plain and finite.
-void ExpectCachedVTKRanges(vtkDataArray* a, const std::string& what)
+// a's ranges are cached (every kind CacheRanges stores, newer than the array; the L2 norm's
+// finite range not by CacheRanges, unless VTK computed it since: `stored`) and equal to those VTK
+// computes from the same values: each component's and the L2 norm's, plain and finite (-1 on one
+// component is component 0).
+void ExpectCachedVTKRanges(
+  vtkDataArray* a, const std::string& what, bool norms = true, bool stored = true)
 {
   vtkInformation* info = a->GetInformation();
   ASSERT_LE(a->GetMTime(), info->GetMTime()) << what;
   ASSERT_TRUE(HasComponentRanges(a, vtkDataArray::PER_COMPONENT())) << what;
   ASSERT_TRUE(HasComponentRanges(a, vtkDataArray::PER_FINITE_COMPONENT())) << what;
   const int nc = a->GetNumberOfComponents();
-  if (nc > 1 && a->GetDataType() == VTK_DOUBLE)
-  {
-    ASSERT_TRUE(info->Has(vtkDataArray::L2_NORM_RANGE())) << what;
-    ASSERT_TRUE(info->Has(vtkDataArray::L2_NORM_FINITE_RANGE())) << what;
-  }
+  EXPECT_EQ(info->Has(vtkDataArray::L2_NORM_RANGE()), nc > 1 && norms) << what;
+  EXPECT_TRUE(!stored || !info->Has(vtkDataArray::L2_NORM_FINITE_RANGE())) << what;
   vtkSmartPointer<vtkDataArray> fresh = FreshCopy(a);
-  for (int c = nc > 1 ? -1 : 0; c < nc; ++c)
+  for (int c = -1; c < nc; ++c)
   {
     double cached[2], computed[2], cachedFinite[2], computedFinite[2];
     a->GetRange(cached, c);
@@ -104,8 +105,9 @@ void ExpectCachedVTKRanges(vtkDataArray* a, const std::string& what)
 }
 
 // Every data array of the output with cacheable values (finite, at most 32 components):
-// points, point data and cell data.
-void ExpectCachedVTKRanges(vtkDataSet* output, const std::string& what)
+// points, point data and cell data. Arrays passed through from an input checked before have
+// their L2 norm's finite range computed by VTK then (stored = false).
+void ExpectCachedVTKRanges(vtkDataSet* output, const std::string& what, bool stored = true)
 {
   ASSERT_NE(output, nullptr) << what;
   std::vector<std::pair<std::string, vtkDataArray*>> arrays;
@@ -137,7 +139,7 @@ void ExpectCachedVTKRanges(vtkDataSet* output, const std::string& what)
     }
     if (finite && a->GetNumberOfTuples() > 0)
     {
-      ExpectCachedVTKRanges(a, what + " " + named.first);
+      ExpectCachedVTKRanges(a, what + " " + named.first, true, stored);
       ++checked;
     }
   }
@@ -186,7 +188,7 @@ TEST(CachedArrayRanges, AreVTKsOwnForEveryLoop)
       auto s = RandomArray<vtkSignedCharArray>(tuples, 1, -100, 100, 7);
       ASSERT_TRUE(ctsplines::CacheRanges(s));
       ExpectCachedVTKRanges(s, size + "signed char");
-      auto id = RandomArray<vtkIdTypeArray>(tuples, 2, 0, 1e12, 8);
+      auto id = RandomArray<vtkIdTypeArray>(tuples, 2, -1e17, 1e17, 8); // beyond 2^53
       ASSERT_TRUE(ctsplines::CacheRanges(id));
       ExpectCachedVTKRanges(id, size + "id x 2");
       auto u = RandomArray<vtkUnsignedLongLongArray>(tuples, 1, 0, 1e15, 9);
@@ -272,6 +274,106 @@ TEST(CachedArrayRanges, LeaveNonFiniteAndEmptyArraysToVTK)
   EXPECT_FALSE(ctsplines::CacheRanges(static_cast<vtkDataArray*>(nullptr)));
 }
 
+// A squared norm that overflows, or reaches VTK's starting value 1e299, leaves the norm's range
+// to VTK (its finite range skips such tuples); the components' ranges are stored.
+TEST(CachedArrayRanges, LeaveOverflowingNormsToVTK)
+{
+  for (double big : { 1e200, 1e150 })
+  {
+    vtkNew<vtkDoubleArray> a;
+    a->SetNumberOfComponents(3);
+    a->InsertNextTuple3(1.0, 0.0, 0.0);
+    a->InsertNextTuple3(big, 0.0, 0.0);
+    ASSERT_TRUE(ctsplines::CacheRanges(a)) << big;
+    EXPECT_FALSE(a->GetInformation()->Has(vtkDataArray::L2_NORM_RANGE())) << big;
+    ExpectCachedVTKRanges(a, "norm of " + std::to_string(big), false);
+  }
+}
+
+// Values beyond VTK's starting values (1e38 for floats, 1e299 for doubles), from which its ranges
+// start, would not be VTK's ranges: nothing is stored.
+TEST(CachedArrayRanges, LeaveValuesBeyondVTKsStartToVTK)
+{
+  vtkNew<vtkFloatArray> f;
+  f->InsertNextValue(2e38f);
+  f->InsertNextValue(3e38f);
+  EXPECT_FALSE(ctsplines::CacheRanges(f));
+  vtkNew<vtkDoubleArray> d;
+  d->InsertNextValue(-2e299);
+  d->InsertNextValue(1.0);
+  EXPECT_FALSE(ctsplines::CacheRanges(d));
+  d->SetValue(0, -0.9e299);
+  d->Modified();
+  EXPECT_TRUE(ctsplines::CacheRanges(d));
+  ExpectCachedVTKRanges(d, "just below VTK's start");
+}
+
+// A zero extreme is stored as +0 wherever the zeros of either sign are, on any thread count
+// (chunks of odd length included).
+TEST(CachedArrayRanges, ZeroExtremesDoNotDependOnTheThreads)
+{
+  const vtkIdType n = 48 * 65537 + 3; // 3 threads: chunks of 65,537 tuples, starting at odd ones
+  for (int nc : { 1, 2, 3 })
+  {
+    for (vtkIdType negativeAt : { vtkIdType(0), vtkIdType(65537), n - 1 })
+    {
+      auto a = RandomArray<vtkDoubleArray>(n, nc, 0.5, 1.0, 12);
+      auto b = RandomArray<vtkDoubleArray>(n, nc, -1.0, -0.5, 13);
+      for (int c = 0; c < nc; ++c)
+      {
+        for (vtkIdType at : { vtkIdType(1), vtkIdType(70001), n - 2 })
+        {
+          a->SetComponent(at, c, 0.0);
+          b->SetComponent(at, c, 0.0);
+        }
+        a->SetComponent(negativeAt, c, -0.0);
+        b->SetComponent(negativeAt, c, -0.0);
+      }
+      for (int threads : { 1, 2, 3 })
+      {
+        ModuleThreads scope(threads);
+        a->Modified();
+        b->Modified();
+        ASSERT_TRUE(ctsplines::CacheRanges(a));
+        ASSERT_TRUE(ctsplines::CacheRanges(b));
+        for (int c = 0; c < nc; ++c)
+        {
+          const std::string what = std::to_string(nc) + " components, -0 at " +
+            std::to_string(negativeAt) + ", " + std::to_string(threads) + " threads";
+          double ra[2], rb[2];
+          a->GetRange(ra, c);
+          b->GetRange(rb, c);
+          EXPECT_TRUE(ra[0] == 0.0 && !std::signbit(ra[0])) << what;
+          EXPECT_TRUE(rb[1] == 0.0 && !std::signbit(rb[1])) << what;
+        }
+      }
+    }
+  }
+}
+
+// The data sets of a composite output, each as a data set's.
+TEST(CachedArrayRanges, CoverEveryBlockOfACompositeOutput)
+{
+  vtkNew<vtkMultiBlockDataSet> blocks;
+  for (unsigned int k = 0; k < 2; ++k)
+  {
+    vtkNew<vtkPolyData> pd;
+    vtkNew<vtkPoints> points;
+    points->SetData(RandomArray<vtkDoubleArray>(100 + k, 3, -1.0, 1.0, 20 + k));
+    pd->SetPoints(points);
+    auto values = RandomArray<vtkDoubleArray>(100 + k, 2, 0.0, 5.0, 30 + k);
+    values->SetName("values");
+    pd->GetPointData()->AddArray(values);
+    blocks->SetBlock(k, pd);
+  }
+  ctsplines::CacheRanges(blocks.Get());
+  for (unsigned int k = 0; k < 2; ++k)
+  {
+    vtkPolyData* pd = vtkPolyData::SafeDownCast(blocks->GetBlock(k));
+    ExpectCachedVTKRanges(pd, "block " + std::to_string(k));
+  }
+}
+
 // Every filter's output: the source, the spline, its tessellation, curvature, reflection lines,
 // continuity, approximation error and a probe.
 TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
@@ -303,6 +405,7 @@ TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
   for (const auto& f : filters)
   {
     f.second->Update();
-    ExpectCachedVTKRanges(vtkDataSet::SafeDownCast(f.second->GetOutputDataObject(0)), f.first);
+    ExpectCachedVTKRanges(
+      vtkDataSet::SafeDownCast(f.second->GetOutputDataObject(0)), f.first, f.first == "source");
   }
 }
