@@ -237,9 +237,10 @@ Ranges ScanArray(const T* values, vtkIdType tuples, int nc, bool norms)
   return all;
 }
 
-// What VTK would compute differently, so that nothing is stored: VTK skips NaN in both ranges and
-// inf in the finite one; it starts from +-vtkTypeTraits<T>::Max() (1e299 for doubles, 1e38 for
-// floats), which hides extremes beyond it, and the squared norms' from +-1e299.
+// Whether the ranges are VTK's, or nothing is stored. VTK starts from +-vtkTypeTraits<T>::Max()
+// (1e299 for doubles, 1e38 for floats), which hides extremes beyond it, and the squared norms'
+// from +-1e299. Inf (its finite range skips it) is beyond too. NaN, which VTK skips in both, is
+// left to it as well: a component of NaN alone would need VTK's starting values.
 template <typename T>
 bool ComponentsLikeVTK(const Ranges& r, int nc)
 {
