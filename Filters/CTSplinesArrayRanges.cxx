@@ -35,16 +35,6 @@ namespace
 // Arrays with more components are left to VTK (the module writes at most 18: mid-edge gradients).
 constexpr int MaxComponents = 32;
 
-// Minimum and maximum that skip NaN (as VTK does) when it comes second.
-inline double Lower(double a, double b)
-{
-  return b < a ? b : a;
-}
-inline double Upper(double a, double b)
-{
-  return b > a ? b : a;
-}
-
 // Ranges of a part of an array: each component's, the squared L2 norm's, and whether a NaN was
 // seen (comparisons skip it; inf shows in the extremes).
 struct Ranges
@@ -63,8 +53,8 @@ struct Ranges
   {
     for (int c = 0; c < nc; ++c)
     {
-      this->Lo[c] = Lower(this->Lo[c], o.Lo[c]);
-      this->Hi[c] = Upper(this->Hi[c], o.Hi[c]);
+      this->Lo[c] = std::min(this->Lo[c], o.Lo[c]);
+      this->Hi[c] = std::max(this->Hi[c], o.Hi[c]);
     }
     this->SquaredNormLo = std::min(this->SquaredNormLo, o.SquaredNormLo);
     this->SquaredNormHi = std::max(this->SquaredNormHi, o.SquaredNormHi);
@@ -90,8 +80,8 @@ void ScanTuples(const T* v, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges
     for (int c = 0; c < n; ++c)
     {
       const double x = static_cast<double>(v[i * n + c]);
-      lo[c] = Lower(lo[c], x);
-      hi[c] = Upper(hi[c], x);
+      lo[c] = std::min(lo[c], x); // a NaN x is skipped: it comes second
+      hi[c] = std::max(hi[c], x);
       nan |= x != x;
       s += x * x;
     }
@@ -160,8 +150,8 @@ void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
   _mm_storeu_pd(n + 2, normHi);
   for (int j = 0; j < 2 * NC; ++j)
   {
-    r.Lo[j % NC] = Lower(r.Lo[j % NC], l[j]);
-    r.Hi[j % NC] = Upper(r.Hi[j % NC], h[j]);
+    r.Lo[j % NC] = std::min(r.Lo[j % NC], l[j]);
+    r.Hi[j % NC] = std::max(r.Hi[j % NC], h[j]);
   }
   r.SquaredNormLo = std::min({ r.SquaredNormLo, n[0], n[1] });
   r.SquaredNormHi = std::max({ r.SquaredNormHi, n[2], n[3] });
