@@ -2,6 +2,7 @@
 #include "CTSplinesBezierCells.h"
 
 #include "CTSplinesInput.h"
+#include "CTSplinesRecycledArrays.h"
 #include "LargeArrays.h"
 #include "SplineDataValidation.h"
 
@@ -62,7 +63,7 @@ void BezierCells::ValueNet(
 }
 
 std::string PointDataInterpolator::Gather(
-  vtkDataSet* ds, const std::string& uvName, vtkIdType outputPoints)
+  vtkDataSet* ds, const std::string& uvName, vtkIdType outputPoints, RecycledArrays* recycled)
 {
   this->Arrays.clear();
   this->Nets = 0;
@@ -91,10 +92,8 @@ std::string PointDataInterpolator::Gather(
     {
       return error;
     }
-    array.Out = vtkSmartPointer<vtkDoubleArray>::New();
+    array.Out = NewOutputArray<vtkDoubleArray>(recycled, array.Components, outputPoints);
     array.Out->SetName(array.Name.c_str());
-    array.Out->SetNumberOfComponents(array.Components);
-    AllocateTuples(array.Out, outputPoints);
     this->Nets += (array.Components + 2) / 3;
     this->Components += array.Components;
     this->Arrays.push_back(std::move(array));
@@ -510,9 +509,10 @@ LatticeNumbering::LatticeNumbering(
   // that uses it. Edges are bucketed by their lower corner: O(n).
   const int L = lattice.L;
   // Per cell its corners' ids and what it owns (read cell by cell, not at random, later).
-  std::vector<vtkIdType> cornerOf(cells.Points.size(), -1);
-  this->CellCorner.resize(3 * nCells);
-  this->CellOwns.assign(nCells, 0);
+  std::vector<vtkIdType> cornerOf;
+  ctk::AssignLarge(cornerOf, cells.Points.size(), vtkIdType(-1));
+  ctk::ResizeForOverwrite(this->CellCorner, 3 * nCells);
+  ctk::AssignLarge(this->CellOwns, nCells, decltype(this->CellOwns)::value_type(0));
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int a = 0; a < 3; ++a)
@@ -534,7 +534,8 @@ LatticeNumbering::LatticeNumbering(
   auto upper = [this](vtkIdType c, int l) {
     return std::max(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
   };
-  std::vector<vtkIdType> bucketStart(nCorners + 1, 0);
+  std::vector<vtkIdType> bucketStart;
+  ctk::AssignLarge(bucketStart, nCorners + 1, vtkIdType(0));
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int l = 0; l < 3; ++l)
@@ -546,7 +547,10 @@ LatticeNumbering::LatticeNumbering(
   {
     bucketStart[v + 1] += bucketStart[v];
   }
-  std::vector<vtkIdType> bucketItems(3 * nCells), fill(bucketStart.begin(), bucketStart.end() - 1);
+  ctk::OverwriteVector<vtkIdType> bucketItems, fill;
+  ctk::ResizeForOverwrite(bucketItems, 3 * nCells);
+  ctk::ResizeForOverwrite(fill, nCorners);
+  std::copy(bucketStart.begin(), bucketStart.end() - 1, fill.begin());
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int l = 0; l < 3; ++l)
@@ -554,7 +558,7 @@ LatticeNumbering::LatticeNumbering(
       bucketItems[fill[lower(c, l)]++] = 3 * c + l;
     }
   }
-  this->CellEdge.resize(3 * nCells);
+  ctk::ResizeForOverwrite(this->CellEdge, 3 * nCells);
   for (vtkIdType v = 0; v < nCorners; ++v)
   {
     for (vtkIdType i = bucketStart[v]; i < bucketStart[v + 1]; ++i)
@@ -672,20 +676,20 @@ void CopyTuples(const char* from, char* to, const vtkIdType* source, vtkIdType b
 } // namespace
 
 vtkSmartPointer<vtkAbstractArray> GatherTuples(
-  vtkAbstractArray* in, const vtkIdType* source, vtkIdType n)
+  vtkAbstractArray* in, const vtkIdType* source, vtkIdType n, RecycledArrays* recycled)
 {
-  vtkSmartPointer<vtkAbstractArray> array =
-    vtkSmartPointer<vtkAbstractArray>::Take(in->NewInstance());
-  array->SetName(in->GetName());
-  array->SetNumberOfComponents(in->GetNumberOfComponents());
-  if (vtkDataArray* data = vtkDataArray::SafeDownCast(array))
+  vtkSmartPointer<vtkAbstractArray> array;
+  if (vtkDataArray* data = vtkDataArray::SafeDownCast(in))
   {
-    AllocateTuples(data, n); // large outputs: huge pages
+    array = NewOutputArrayLike(recycled, data, data->GetNumberOfComponents(), n);
   }
   else
   {
+    array = vtkSmartPointer<vtkAbstractArray>::Take(in->NewInstance());
+    array->SetNumberOfComponents(in->GetNumberOfComponents());
     array->SetNumberOfTuples(n);
   }
+  array->SetName(in->GetName());
   auto copy = [&](vtkIdType begin, vtkIdType end) {
     for (vtkIdType k = begin; k < end; ++k)
     {
@@ -730,9 +734,8 @@ vtkSmartPointer<vtkAbstractArray> GatherTuples(
   return array;
 }
 
-void GatherAttributes(
-  vtkDataSetAttributes* in, vtkDataSetAttributes* out, const vtkIdType* source, vtkIdType n,
-  bool skipGlobalIds)
+void GatherAttributes(vtkDataSetAttributes* in, vtkDataSetAttributes* out,
+  const vtkIdType* source, vtkIdType n, bool skipGlobalIds, RecycledArrays* recycled)
 {
   for (int a = 0; a < in->GetNumberOfArrays(); ++a)
   {
@@ -741,7 +744,7 @@ void GatherAttributes(
     {
       continue;
     }
-    vtkSmartPointer<vtkAbstractArray> array = GatherTuples(from, source, n);
+    vtkSmartPointer<vtkAbstractArray> array = GatherTuples(from, source, n, recycled);
     const int attribute = in->IsArrayAnAttribute(a);
     if (attribute >= 0)
     {
@@ -754,10 +757,10 @@ void GatherAttributes(
   }
 }
 
-void CopyCellDataBySource(
-  vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells)
+void CopyCellDataBySource(vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell,
+  vtkIdType outputCells, RecycledArrays* recycled)
 {
-  GatherAttributes(input->GetCellData(), out, sourceCell, outputCells, true);
+  GatherAttributes(input->GetCellData(), out, sourceCell, outputCells, true, recycled);
 }
 
 std::string GatherBezierCellsAndCellData(vtkDataSet* ds, BezierCells& cells)

@@ -30,6 +30,8 @@ class vtkDataSetAttributes;
 
 namespace ctsplines
 {
+class RecycledArrays;
+
 /// Copies the net of a cell (point ids `ids` in VTK order; order = VtkBezierTriangleOrder of its
 /// degree) from points xyz (3 per point) and weights (1 per point, or nullptr) into canonical
 /// order (P, and w when rational); returns the weights to pass to the kernel (w or nullptr).
@@ -81,8 +83,10 @@ struct BezierCells
 class PointDataInterpolator
 {
 public:
-  /// Reads and checks the arrays of ds (one tuple per point, finite) and allocates the outputs.
-  std::string Gather(vtkDataSet* ds, const std::string& uvName, vtkIdType outputPoints);
+  /// Reads and checks the arrays of ds (one tuple per point, finite) and allocates the outputs
+  /// (from recycled when it has them).
+  std::string Gather(vtkDataSet* ds, const std::string& uvName, vtkIdType outputPoints,
+    RecycledArrays* recycled = nullptr);
   /// Number of 3-component nets per cell (LoadNets fills that many times MaxBezierPoints).
   int NumberOfNets() const { return this->Nets; }
   void LoadNets(const BezierCells& cells, vtkIdType c, ctk::Vec3* nets) const;
@@ -191,7 +195,8 @@ private:
   const SamplingLattice& Lattice;
   bool Shared;
   vtkIdType NPoints = 0, EdgeBase = 0, InteriorBase = 0;
-  std::vector<vtkIdType> CellCorner, CornerOwner, CellEdge, EdgeOwner;
+  ctk::OverwriteVector<vtkIdType> CellCorner, CellEdge; // written whole after ResizeForOverwrite
+  std::vector<vtkIdType> CornerOwner, EdgeOwner;
   std::vector<unsigned char> CellOwns; // bits 0-2: corners, 3-5: edges the cell owns
 };
 
@@ -202,18 +207,19 @@ std::string CheckCellDataArrays(vtkDataSet* input, const std::string& arrayPrefi
 /// Adds to `out` every cell data array of the input (CheckCellDataArrays must have passed;
 /// GatherBezierCellsWithUV checks them), output cell k taking the tuple of input cell
 /// sourceCell[k]; the active attributes stay active. Global ids are not copied: they would no
-/// longer be unique.
-void CopyCellDataBySource(
-  vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell, vtkIdType outputCells);
+/// longer be unique. Data arrays are allocated from recycled when it has them.
+void CopyCellDataBySource(vtkDataSet* input, vtkCellData* out, const vtkIdType* sourceCell,
+  vtkIdType outputCells, RecycledArrays* recycled = nullptr);
 
-/// A new array of the same type, name and components holding in's tuples source[0..n).
+/// A new array of the same type, name and components holding in's tuples source[0..n) (a data
+/// array from recycled when it has one).
 vtkSmartPointer<vtkAbstractArray> GatherTuples(
-  vtkAbstractArray* in, const vtkIdType* source, vtkIdType n);
+  vtkAbstractArray* in, const vtkIdType* source, vtkIdType n, RecycledArrays* recycled = nullptr);
 
 /// Adds to `out` every named array of `in` gathered by GatherTuples, the active attributes
 /// staying active; the global ids are left out when skipGlobalIds is set.
 void GatherAttributes(vtkDataSetAttributes* in, vtkDataSetAttributes* out,
-  const vtkIdType* source, vtkIdType n, bool skipGlobalIds);
+  const vtkIdType* source, vtkIdType n, bool skipGlobalIds, RecycledArrays* recycled = nullptr);
 
 /// Runs body (a kernel evaluation per element) over [0, n) in at most `blocks` consecutive
 /// parallel loops (ParallelFor), reporting progress from progress0 to progress1 and checking

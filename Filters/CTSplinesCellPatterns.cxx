@@ -77,7 +77,7 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
   const vtkIdType nCells = cells.NumberOfCells();
   const vtkIdType nEdges = this->Topology.NumberOfEdges();
   // Each edge: the finer side's level; each cell: at least its edges' segments.
-  this->EdgeSegments.assign(nEdges, 1);
+  ctk::AssignLarge(this->EdgeSegments, nEdges, decltype(this->EdgeSegments)::value_type(1));
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int l = 0; l < 3; ++l)
@@ -86,11 +86,11 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
       n = std::max(n, levels[c]);
     }
   }
-  this->Of.resize(nCells);
-  this->BasisOf.resize(nCells);
-  this->InteriorStart.resize(nCells + 1);
-  this->TriangleStart.resize(nCells + 1);
-  this->EdgeStart.resize(nEdges + 1);
+  ctk::ResizeForOverwrite(this->Of, nCells);
+  ctk::ResizeForOverwrite(this->BasisOf, nCells);
+  ctk::ResizeForOverwrite(this->InteriorStart, nCells + 1);
+  ctk::ResizeForOverwrite(this->TriangleStart, nCells + 1);
+  ctk::ResizeForOverwrite(this->EdgeStart, nEdges + 1);
   this->EdgeStart[0] = this->Topology.NumberOfCorners();
   for (vtkIdType e = 0; e < nEdges; ++e)
   {
@@ -98,8 +98,8 @@ CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& lev
   }
   this->InteriorStart[0] = this->EdgeStart[nEdges];
   this->TriangleStart[0] = 0;
-  this->CellEdgeStart.resize(3 * nCells);
-  this->CellEdgeSegments.resize(3 * nCells);
+  ctk::ResizeForOverwrite(this->CellEdgeStart, 3 * nCells);
+  ctk::ResizeForOverwrite(this->CellEdgeSegments, 3 * nCells);
   std::array<int, 5> lastKey{};
   for (vtkIdType c = 0; c < nCells; ++c)
   {

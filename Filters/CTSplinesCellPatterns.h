@@ -67,14 +67,14 @@ private:
   LatticeNumbering Topology; // corners, edges and their owners (level-independent)
   std::map<std::array<int, 4>, SnappedLattice> Patterns;
   std::map<int, SamplingLattice> Lattices;
-  std::vector<const SnappedLattice*> Of;
+  ctk::OverwriteVector<const SnappedLattice*> Of;
   std::map<std::array<int, 5>, ctk::BezierBasisTable> Bases; // pattern key and degree
-  std::vector<const ctk::BezierBasisTable*> BasisOf;
+  ctk::OverwriteVector<const ctk::BezierBasisTable*> BasisOf;
   std::vector<int> EdgeSegments;
-  std::vector<vtkIdType> EdgeStart, InteriorStart, TriangleStart;
+  ctk::OverwriteVector<vtkIdType> EdgeStart, InteriorStart, TriangleStart;
   // Per cell and local edge: EdgeStart and EdgeSegments of the edge (read in cell order).
-  std::vector<vtkIdType> CellEdgeStart;
-  std::vector<int> CellEdgeSegments;
+  ctk::OverwriteVector<vtkIdType> CellEdgeStart;
+  ctk::OverwriteVector<int> CellEdgeSegments;
   vtkIdType NPoints = 0;
 };
 

@@ -271,27 +271,6 @@ inline void AllocateTuples(vtkDataArray* array, vtkIdType tuples)
   }
 }
 
-/// A cell array of nCells cells and connectivitySize ids below maxId, its offsets and
-/// connectivity allocated (AllocateTuples, not initialised): 32-bit storage whenever every offset
-/// and id fits. VTK reads both; they are a large part of an output's bytes, all faulted in fresh.
-inline vtkSmartPointer<vtkCellArray> NewCellArray(
-  vtkIdType nCells, vtkIdType connectivitySize, vtkIdType maxId)
-{
-  const vtkIdType limit = std::numeric_limits<vtkTypeInt32>::max();
-  const bool narrow = connectivitySize <= limit && maxId <= limit;
-  vtkSmartPointer<vtkDataArray> offsets, connectivity;
-  for (vtkSmartPointer<vtkDataArray>* a : { &offsets, &connectivity })
-  {
-    *a = narrow ? vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType32>::New())
-                : vtkSmartPointer<vtkDataArray>(vtkSmartPointer<vtkCellArray::ArrayType64>::New());
-  }
-  AllocateTuples(offsets, nCells + 1);
-  AllocateTuples(connectivity, connectivitySize);
-  auto cells = vtkSmartPointer<vtkCellArray>::New();
-  cells->SetData(offsets, connectivity);
-  return cells;
-}
-
 } // namespace ctsplines
 
 #endif

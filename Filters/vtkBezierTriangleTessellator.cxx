@@ -6,7 +6,8 @@
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesCellPatterns.h"
 #include "CTSplinesInput.h"
-#include "CTSplinesSMP.h" // for AllocateTuples
+#include "CTSplinesRecycledArrays.h"
+#include "CTSplinesSMP.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
@@ -31,8 +32,20 @@
 
 vtkStandardNewMacro(vtkBezierTriangleTessellator);
 
-vtkBezierTriangleTessellator::vtkBezierTriangleTessellator() = default;
+struct vtkBezierTriangleTessellator::RecycledOutput : ctsplines::RecycledArrays
+{
+};
+
+vtkBezierTriangleTessellator::vtkBezierTriangleTessellator()
+  : Recycled(new RecycledOutput)
+{
+}
 vtkBezierTriangleTessellator::~vtkBezierTriangleTessellator() = default;
+
+vtkTypeUInt64 vtkBezierTriangleTessellator::GetReusedOutputBytes() const
+{
+  return this->Recycled->GetReusedBytes();
+}
 
 int vtkBezierTriangleTessellator::FillInputPortInformation(int, vtkInformation* info)
 {
@@ -355,6 +368,8 @@ int vtkBezierTriangleTessellator::RequestData(
     vtkErrorMacro(<< "missing input or output data object");
     return 0;
   }
+  // Whichever way this returns before the end, nothing of the previous output is kept.
+  ctsplines::RecycledArraysScope recycling(*this->Recycled);
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
   output->SetPoints(outPoints);
@@ -382,8 +397,11 @@ int vtkBezierTriangleTessellator::RequestData(
   const ctsplines::CellPatterns patterns(cells, levels);
   const vtkIdType nOutPoints = patterns.NumberOfPoints();
   const vtkIdType nOutCells = patterns.NumberOfTriangles();
+  // The previous output's arrays when this one has their sizes (see ReuseOutputArrays).
+  ctsplines::RecycledArrays& recycled = *this->Recycled;
+  recycled.Begin(this->ReuseOutputArrays, { nOutPoints, nOutCells });
   ctsplines::PointDataInterpolator data;
-  error = data.Gather(input, this->UVArrayName, nOutPoints);
+  error = data.Gather(input, this->UVArrayName, nOutPoints, &recycled);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -391,22 +409,20 @@ int vtkBezierTriangleTessellator::RequestData(
   }
 
   // 3. Output arrays, then every cell fills its triangles and the points it owns.
-  vtkNew<vtkDoubleArray> coords, normals;
+  auto coords = ctsplines::NewOutputArray<vtkDoubleArray>(&recycled, 3, nOutPoints);
+  auto normals = ctsplines::NewOutputArray<vtkDoubleArray>(&recycled, 3, nOutPoints);
   normals->SetName("Normals");
-  for (vtkDoubleArray* a : { coords.Get(), normals.Get() })
-  {
-    a->SetNumberOfComponents(3);
-    ctsplines::AllocateTuples(a, nOutPoints);
-  }
   // 32-bit cell storage whenever the ids fit, split copies included (each is a triangle corner).
   vtkSmartPointer<vtkCellArray> polys =
-    ctsplines::NewCellArray(nOutCells, 3 * nOutCells, nOutPoints + 3 * nOutCells);
+    ctsplines::NewCellArray(nOutCells, 3 * nOutCells, nOutPoints + 3 * nOutCells, &recycled);
   const bool narrow = !polys->IsStorage64Bit();
   vtkDataArray* offsets = polys->GetOffsetsArray();
   vtkDataArray* connectivity = polys->GetConnectivityArray();
-  vtkNew<vtkIdTypeArray> bezierCellId;
+  auto bezierCellId = ctsplines::NewOutputArray<vtkIdTypeArray>(&recycled, 1, nOutCells);
   bezierCellId->SetName("BezierCellId");
-  ctsplines::AllocateTuples(bezierCellId, nOutCells);
+  // Only the cell data copies may still take kept arrays: the others are released before the
+  // output is written (peak memory; points split at creases have other counts).
+  recycled.ReleaseIf([&](vtkDataArray* a) { return a->GetNumberOfTuples() != nOutCells; });
   Tessellation tessellation{ cells, patterns, data, coords, normals, offsets->GetVoidPointer(0),
     connectivity->GetVoidPointer(0), narrow, bezierCellId->GetPointer(0) };
   const auto tessellate = [&](vtkIdType begin, vtkIdType end) {
@@ -433,9 +449,11 @@ int vtkBezierTriangleTessellator::RequestData(
   output->GetPointData()->SetNormals(normals);
   data.AddTo(output->GetPointData());
   ctsplines::CopyCellDataBySource(
-    input, output->GetCellData(), bezierCellId->GetPointer(0), nOutCells);
+    input, output->GetCellData(), bezierCellId->GetPointer(0), nOutCells, &recycled);
   output->GetCellData()->AddArray(bezierCellId);
   ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
+  recycling.End(
+    output, ctsplines::RecycledArrays::MayKeepOutput(this, this->ReuseOutputArrays));
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -465,4 +483,6 @@ void vtkBezierTriangleTessellator::PrintSelf(ostream& os, vtkIndent indent)
      << (this->RelativeChordalTolerance ? " (relative to the bounding-box diagonal)" : "") << "\n";
   os << indent << "AngularTolerance: " << this->AngularTolerance << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
+  os << indent << "ReuseOutputArrays: " << this->ReuseOutputArrays << "\n";
+  os << indent << "ReusedOutputBytes: " << this->GetReusedOutputBytes() << "\n";
 }

@@ -40,6 +40,7 @@
 #include "CTSplinesFiltersModule.h" // For export macro
 #include "vtkPolyDataAlgorithm.h"
 
+#include <memory> // for std::unique_ptr
 #include <string> // for std::string
 
 class CTSPLINESFILTERS_EXPORT vtkBezierTriangleTessellator : public vtkPolyDataAlgorithm
@@ -100,6 +101,24 @@ public:
   vtkGetCharFromStdStringMacro(UVArrayName);
   ///@}
 
+  ///@{
+  /// Write the output of an execution into the previous output's large arrays (points,
+  /// normals, triangles, point and cell data) when nothing else references them any more and
+  /// they have the sizes needed: time steps of one spline, a property that keeps the sizes.
+  /// Their pages are resident already; a new array's first touch costs the zeroing of every page.
+  /// The filter then holds those arrays between executions as its output does, and releases
+  /// them when the output's data is released by the pipeline (ReleaseDataFlag), when an
+  /// execution fails, or when this is turned off. Arrays a downstream filter or the caller still
+  /// holds are never written. Default on.
+  vtkSetMacro(ReuseOutputArrays, bool);
+  vtkGetMacro(ReuseOutputArrays, bool);
+  vtkBooleanMacro(ReuseOutputArrays, bool);
+  ///@}
+
+  /// Bytes of the previous output's arrays that the last execution wrote again
+  /// (ReuseOutputArrays); 0 when it allocated its output anew.
+  vtkTypeUInt64 GetReusedOutputBytes() const;
+
 protected:
   vtkBezierTriangleTessellator();
   ~vtkBezierTriangleTessellator() override;
@@ -114,8 +133,11 @@ protected:
   double AngularTolerance = 0.0;
   bool RelativeChordalTolerance = true;
   std::string UVArrayName = "UV";
+  bool ReuseOutputArrays = true;
 
 private:
+  struct RecycledOutput; // ctsplines::RecycledArrays
+  std::unique_ptr<RecycledOutput> Recycled;
   bool IsAdaptive() const;
   double GetAbsoluteChordalTolerance(vtkDataSet* input) const;
   vtkBezierTriangleTessellator(const vtkBezierTriangleTessellator&) = delete;

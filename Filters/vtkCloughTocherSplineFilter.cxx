@@ -4,6 +4,7 @@
 #include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
+#include "CTSplinesRecycledArrays.h"
 #include "CTSplinesSMP.h"
 #include "CTSplinesSplineGrid.h"
 #include "BezierExtraction.h"
@@ -50,8 +51,20 @@
 
 vtkStandardNewMacro(vtkCloughTocherSplineFilter);
 
-vtkCloughTocherSplineFilter::vtkCloughTocherSplineFilter() = default;
+struct vtkCloughTocherSplineFilter::RecycledOutput : ctsplines::RecycledArrays
+{
+};
+
+vtkCloughTocherSplineFilter::vtkCloughTocherSplineFilter()
+  : Recycled(new RecycledOutput)
+{
+}
 vtkCloughTocherSplineFilter::~vtkCloughTocherSplineFilter() = default;
+
+vtkTypeUInt64 vtkCloughTocherSplineFilter::GetReusedOutputBytes() const
+{
+  return this->Recycled->GetReusedBytes();
+}
 
 // The filter's values are the kernel's (the ParaView XML and Python read them through these).
 static_assert(vtkCloughTocherSplineFilter::CTo == static_cast<int>(ctk::Construction::CTo) &&
@@ -397,7 +410,7 @@ public:
     double* data = kept->data()->data();
     {
       std::lock_guard<std::mutex> lock(Registry().Mutex);
-      Registry().Kept[data] = kept;
+      Registry().Kept[data] = Entry{ kept, components };
     }
     array->SetArray(data, static_cast<vtkIdType>(components * kept->size()), 0,
       vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
@@ -405,11 +418,52 @@ public:
     return array;
   }
 
+  /// Moves into v the vector of a double array of Vec that Adopt made and that only recycled
+  /// references (ctsplines::RecycledArrays), for the kernel to write again; v is left as it is
+  /// when there is none. The array, released with it, no longer owns the storage.
+  template <typename Vec>
+  static void Reclaim(ctsplines::RecycledArrays& recycled, std::vector<Vec>& v)
+  {
+    constexpr int components = Vec::SizeAtCompileTime;
+    auto adopted = [](vtkDataArray* a) {
+      if (!vtkDoubleArray::SafeDownCast(a) || a->GetNumberOfComponents() != components ||
+        a->GetNumberOfTuples() == 0)
+      {
+        return false;
+      }
+      std::lock_guard<std::mutex> lock(Registry().Mutex);
+      auto it = Registry().Kept.find(a->GetVoidPointer(0));
+      return it != Registry().Kept.end() && it->second.Components == components;
+    };
+    vtkSmartPointer<vtkDataArray> array = recycled.Take(adopted);
+    if (!array)
+    {
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(Registry().Mutex);
+      auto it = Registry().Kept.find(array->GetVoidPointer(0));
+      if (it == Registry().Kept.end())
+      {
+        return;
+      }
+      v = std::move(*std::static_pointer_cast<std::vector<Vec>>(it->second.Vector));
+      Registry().Kept.erase(it);
+    }
+    // Release() finds nothing now: the array lets go of the storage without freeing it.
+    vtkDoubleArray::SafeDownCast(array)->SetArray(nullptr, 0, 1);
+  }
+
 private:
+  struct Entry
+  {
+    std::shared_ptr<void> Vector; // a std::vector<Vec>
+    int Components;               // Vec's size: the vector's type
+  };
   struct Store
   {
     std::mutex Mutex;
-    std::unordered_map<void*, std::shared_ptr<void>> Kept;
+    std::unordered_map<void*, Entry> Kept;
   };
   static Store& Registry()
   {
@@ -423,7 +477,7 @@ private:
     auto it = Registry().Kept.find(data);
     if (it != Registry().Kept.end())
     {
-      last = std::move(it->second);
+      last = std::move(it->second.Vector);
       Registry().Kept.erase(it);
     }
   }
@@ -557,7 +611,7 @@ namespace ctsplines
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
   const std::vector<ctk::Id>* keptTriangles, const std::vector<ctk::Id>* inputTriangles,
-  const std::function<void()>& connectivityWritten)
+  const std::function<void()>& connectivityWritten, RecycledArrays* recycled)
 {
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
@@ -572,7 +626,7 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
     keptTriangles ? static_cast<vtkIdType>(keptTriangles->size()) : in.NumberOfTriangles();
   const vtkIdType nCells = 3 * nT;
   vtkSmartPointer<vtkCellArray> cells = ctsplines::NewCellArray(
-    nCells, perCell * nCells, static_cast<vtkIdType>(controlPoints.size()));
+    nCells, perCell * nCells, static_cast<vtkIdType>(controlPoints.size()), recycled);
   // With ghosts, the points the written cells use (threads may mark a point together).
   std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
   const auto write = [&](auto* offsets, auto* connectivity) {
@@ -602,14 +656,15 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   {
     connectivityWritten(); // in and topology are not read from here on
   }
-  vtkNew<vtkUnsignedCharArray> types;
-  ctsplines::AllocateTuples(types, nCells);
-  vtkNew<vtkIdTypeArray> macroIds;
+  auto types = NewOutputArray<vtkUnsignedCharArray>(recycled, 1, nCells);
+  auto macroIds = NewOutputArray<vtkIdTypeArray>(recycled, 1, nCells);
   macroIds->SetName("MacroTriangleId");
-  ctsplines::AllocateTuples(macroIds, nCells);
-  vtkNew<vtkSignedCharArray> microIds;
+  auto microIds = NewOutputArray<vtkSignedCharArray>(recycled, 1, nCells);
   microIds->SetName("MicroTriangleId");
-  ctsplines::AllocateTuples(microIds, nCells);
+  if (recycled)
+  {
+    recycled->ReleaseUnused(); // the output's arrays are all allocated
+  }
   WriteSplineCellData(keptTriangles, inputTriangles, nT, types->GetPointer(0),
     macroIds->GetPointer(0), microIds->GetPointer(0));
   vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(std::move(controlPoints), 3);
@@ -882,6 +937,9 @@ int vtkCloughTocherSplineFilter::RequestData(
   options.Iterations = this->Iterations;
   const ctk::ConstructionInfo& info = ctk::Info(options.Method);
 
+  // Whichever way this returns before the end, nothing of the previous output is kept.
+  ctsplines::RecycledArraysScope recycling(*this->Recycled);
+
   // 1. Validate and map.
   ctk::SplineInput in;
   std::vector<vtkIdType> globalIds;
@@ -912,6 +970,18 @@ int vtkCloughTocherSplineFilter::RequestData(
   ctk::MeshTopology topology;
   ctk::CloughTocherSpline spline;
   std::string warning;
+  // The previous output's arrays, when this input has its sizes: the kernel writes the control
+  // and domain points into them (FillSplineGrid the cells).
+  this->Recycled->Begin(this->ReuseOutputArrays,
+    { input->GetNumberOfPoints(), input->GetNumberOfCells(), info.Degree,
+      ghosts ? 1 : 0, this->ComputeBezierExtraction ? 1 : 0 });
+  auto& reusedPoints = info.Degree == 4 ? spline.Quartic.ControlPoints : spline.Cubic.ControlPoints;
+  auto& reusedUV = info.Degree == 4 ? spline.Quartic.DomainPoints : spline.Cubic.DomainPoints;
+  AdoptedVectors::Reclaim(*this->Recycled, reusedPoints);
+  AdoptedVectors::Reclaim(*this->Recycled, reusedUV);
+  // What FillSplineGrid may take (cells, cell types and ids) has one component; the rest (the
+  // Bézier extraction's arrays) is released before the build's working memory is allocated.
+  this->Recycled->ReleaseIf([](vtkDataArray* a) { return a->GetNumberOfComponents() != 1; });
   const bool renumber = this->OutputOrder == LocalityOrder && !this->ComputeBezierExtraction;
   error = BuildSpline(in, cells, options, estimation, renumber, order, topology, spline, warning);
   if (!error.empty() && !order.IsIdentity())
@@ -954,7 +1024,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   ctsplines::FillSplineGrid(spline, topology, in,
     this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output,
     anyGhost ? &owned : nullptr, inputCells.empty() ? nullptr : &inputCells,
-    this->ComputeBezierExtraction ? std::function<void()>() : releaseMesh);
+    this->ComputeBezierExtraction ? std::function<void()>() : releaseMesh, this->Recycled.get());
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));
@@ -983,6 +1053,8 @@ int vtkCloughTocherSplineFilter::RequestData(
     AddMacroGlobalIds(output, globalIds);
   }
   ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
+  recycling.End(
+    output, ctsplines::RecycledArrays::MayKeepOutput(this, this->ReuseOutputArrays));
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -1003,4 +1075,6 @@ void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DvArrayName: " << this->DvArrayName << "\n";
   os << indent << "EdgeGradientsArrayName: " << this->EdgeGradientsArrayName << "\n";
   os << indent << "BoundaryCurvePointsArrayName: " << this->BoundaryCurvePointsArrayName << "\n";
+  os << indent << "ReuseOutputArrays: " << this->ReuseOutputArrays << "\n";
+  os << indent << "ReusedOutputBytes: " << this->GetReusedOutputBytes() << "\n";
 }

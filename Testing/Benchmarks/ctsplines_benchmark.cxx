@@ -74,6 +74,7 @@ struct Options
   std::string Mesh = "grid";   // or "delaunay"
   std::string Renumber = "none"; // or "morton"
   int OutputOrder = vtkCloughTocherSplineFilter::LocalityOrder;
+  bool ReuseOutput = true; // the filters' ReuseOutputArrays
   bool Memory = false;
   std::vector<std::string> Stages{ "source", "spline", "im", "tessellate", "probe" };
   std::vector<std::string> Constructions{ "CTo", "CTi", "Fa", "FO", "Ka", "MGo", "MGi", "KaG",
@@ -84,6 +85,9 @@ struct Options
     return std::find(this->Stages.begin(), this->Stages.end(), stage) != this->Stages.end();
   }
 };
+
+// --reuse-output, for TimeSpline (set once, while the options are read).
+bool ReuseOutput = true;
 
 std::vector<std::string> SplitList(const char* v)
 {
@@ -117,7 +121,7 @@ void Usage(const char* argv0)
               "          [--max-tessellated 2e7] [--im-steps 10]\n"
               "          [--stages source,spline,im,tessellate,probe]\n"
               "          [--mesh grid|delaunay] [--renumber none|morton] [--memory 0|1]\n"
-              "          [--clock wall|cpu|user] [--output-order locality|input]\n"
+              "          [--clock wall|cpu|user] [--output-order locality|input] [--reuse-output 1|0]\n"
               "          [--constructions CTo,CTi,Fa,FO,Ka,MGo,MGi,KaG,Kashyap,Quartic]\n"
               "  --sizes            approximate triangle counts of the grids (comma separated)\n"
               "  --repeat           runs per figure; the best is reported\n"
@@ -135,6 +139,9 @@ void Usage(const char* argv0)
               "                     the points and the triangulation come (no locality order)\n"
               "  --renumber         morton: renumber the mesh by Morton keys first\n"
               "  --output-order     the spline filter's OutputOrder (default locality)\n"
+              "  --reuse-output     the spline filter's and tessellator's ReuseOutputArrays\n"
+              "                     (default 1: runs after the first write into the previous\n"
+              "                     output's arrays; 0: every run allocates its output)\n"
               "  --memory           1: peak resident memory of each spline row (one more run)\n"
               "  --clock            cpu: this process' CPU time instead of wall-clock time (with\n"
               "                     --threads 1 on a machine shared with other jobs); user: its\n"
@@ -236,6 +243,11 @@ bool Parse(int argc, char** argv, Options& o)
       o.OutputOrder = std::string(v) == "input" ? vtkCloughTocherSplineFilter::InputOrder
                                                 : vtkCloughTocherSplineFilter::LocalityOrder;
     }
+    else if (a == "--reuse-output" && ParseNumber(v, x))
+    {
+      o.ReuseOutput = x != 0;
+      ReuseOutput = o.ReuseOutput;
+    }
     else if (a == "--memory" && ParseNumber(v, x))
     {
       o.Memory = x != 0;
@@ -325,6 +337,7 @@ double TimeSpline(vtkPolyData* mesh, int outputOrder, int construction, int iter
   filter->SetSplitPointToBary();
   filter->SetBoundaryModeToMidpoint();
   filter->SetIterations(iterations);
+  filter->SetReuseOutputArrays(ReuseOutput);
   const double t = BestUpdate(filter, repeat, ok);
   if (spline)
   {
@@ -422,11 +435,13 @@ struct Context
 
 void PrintHeader(const Options& opt, const bench::MachineBounds& bounds)
 {
-  std::printf("ctsplines_benchmark: %s, %s, output order %s, best of %d run(s), %s time\n",
+  std::printf("ctsplines_benchmark: %s, %s, output order %s, output arrays %s, best of %d "
+              "run(s), %s time\n",
     opt.Mesh == "grid" ? "Franke on regular grids of [0,1]^2 (vtkSampledSurfaceSource)"
                        : "sin 3x cos 2y on random Delaunay meshes of [0,1]^2 (CGAL)",
     opt.Renumber == "morton" ? "renumbered by Morton keys" : "as numbered",
-    opt.OutputOrder == vtkCloughTocherSplineFilter::InputOrder ? "input" : "locality", opt.Repeat,
+    opt.OutputOrder == vtkCloughTocherSplineFilter::InputOrder ? "input" : "locality",
+    opt.ReuseOutput ? "reused" : "new each run", opt.Repeat,
     bench::ClockName());
   std::printf("VTK %s, SMP backend %s, %d thread(s), CTSPLINES_NUM_THREADS %s\n",
     vtkVersion::GetVTKVersion(), vtkSMPTools::GetBackend(),
@@ -510,6 +525,7 @@ void TessellateRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
     vtkNew<vtkBezierTriangleTessellator> tess;
     tess->SetInputData(ctiSpline);
     tess->SetSubdivisionLevel(opt.Level);
+    tess->SetReuseOutputArrays(opt.ReuseOutput);
     const double t = BestUpdate(tess, opt.Repeat, ok);
     ctx.AllOk = ctx.AllOk && ok;
     Row(nT, stage, t, tess->GetOutput()->GetNumberOfPoints(), "output points/s", false, 0.0,

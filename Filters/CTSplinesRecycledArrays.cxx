@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "CTSplinesRecycledArrays.h"
+
+#include "vtkAlgorithm.h"
+#include "vtkCellData.h"
+#include "vtkDemandDrivenPipeline.h"
+#include "vtkInformation.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <algorithm>
+#include <limits>
+#include <typeinfo>
+
+namespace ctsplines
+{
+namespace
+{
+std::size_t Bytes(vtkDataArray* a)
+{
+  return static_cast<std::size_t>(a->GetNumberOfValues()) * a->GetDataTypeSize();
+}
+
+// Only this object references the array: the old output and everything that held it are gone.
+bool Exclusive(const vtkSmartPointer<vtkDataArray>& a)
+{
+  return a->GetReferenceCount() == 1;
+}
+} // namespace
+
+void RecycledArrays::Begin(bool enabled, const std::vector<vtkIdType>& shape)
+{
+  this->Reused = 0;
+  if (!enabled || shape != this->Shape)
+  {
+    this->Clear();
+  }
+  this->Shape = shape;
+  this->ReleaseIf([](vtkDataArray* a) { return a->GetReferenceCount() != 1; });
+}
+
+vtkSmartPointer<vtkDataArray> RecycledArrays::Take(
+  const std::function<bool(vtkDataArray*)>& accept)
+{
+  for (auto it = this->Kept.begin(); it != this->Kept.end(); ++it)
+  {
+    if (Exclusive(*it) && accept(*it))
+    {
+      vtkSmartPointer<vtkDataArray> array = std::move(*it);
+      this->Kept.erase(it);
+      this->Reused += Bytes(array);
+      return array;
+    }
+  }
+  return nullptr;
+}
+
+vtkSmartPointer<vtkDataArray> RecycledArrays::NewLike(
+  vtkDataArray* prototype, int components, vtkIdType tuples)
+{
+  const std::type_info& type = typeid(*prototype);
+  vtkSmartPointer<vtkDataArray> array = this->Take([&](vtkDataArray* a) {
+    // Component names cannot be cleared; the module's arrays have none.
+    return typeid(*a) == type && a->GetNumberOfComponents() == components &&
+      a->GetNumberOfTuples() == tuples && a->HasStandardMemoryLayout() &&
+      !a->HasAComponentName();
+  });
+  if (array)
+  {
+    // As a new array: no name, no cached ranges or other keys, no lookup, and a new MTime for
+    // the caches keyed by it (a renderer's buffers).
+    array->SetName(nullptr);
+    array->SetLookupTable(nullptr);
+    if (array->HasInformation())
+    {
+      array->GetInformation()->Clear();
+    }
+    array->DataChanged();
+    array->Modified();
+    return array;
+  }
+  return NewOutputArrayLike(nullptr, prototype, components, tuples);
+}
+
+vtkSmartPointer<vtkDataArray> NewOutputArrayLike(
+  RecycledArrays* recycled, vtkDataArray* prototype, int components, vtkIdType tuples)
+{
+  if (recycled)
+  {
+    return recycled->NewLike(prototype, components, tuples);
+  }
+  auto array = vtkSmartPointer<vtkDataArray>::Take(prototype->NewInstance());
+  array->SetNumberOfComponents(components);
+  AllocateTuples(array, tuples);
+  return array;
+}
+
+bool RecycledArrays::MayKeepOutput(vtkAlgorithm* algorithm, bool reuse)
+{
+  auto* executive = vtkDemandDrivenPipeline::SafeDownCast(algorithm->GetExecutive());
+  return reuse && !vtkDataObject::GetGlobalReleaseDataFlag() &&
+    !(executive && executive->GetReleaseDataFlag(0));
+}
+
+void RecycledArrays::ReleaseIf(const std::function<bool(vtkDataArray*)>& release)
+{
+  this->Kept.erase(std::remove_if(this->Kept.begin(), this->Kept.end(),
+                     [&](const vtkSmartPointer<vtkDataArray>& a) { return release(a); }),
+    this->Kept.end());
+}
+
+void RecycledArrays::ReleaseUnused()
+{
+  this->Kept.clear();
+}
+
+void RecycledArrays::Clear()
+{
+  this->Kept.clear();
+  this->Shape.clear();
+}
+
+void RecycledArrays::End(vtkDataSet* output, bool enabled)
+{
+  this->Kept.clear();
+  if (!enabled || !output)
+  {
+    this->Shape.clear();
+    return;
+  }
+  auto keep = [this](vtkDataArray* a) {
+    if (a && Bytes(a) >= MinimumBytes &&
+      std::find(this->Kept.begin(), this->Kept.end(), a) == this->Kept.end())
+    {
+      this->Kept.emplace_back(a);
+    }
+  };
+  auto keepCells = [&](vtkCellArray* cells) {
+    if (cells)
+    {
+      keep(cells->GetOffsetsArray());
+      keep(cells->GetConnectivityArray());
+    }
+  };
+  if (vtkPointSet* ps = vtkPointSet::SafeDownCast(output))
+  {
+    keep(ps->GetPoints() ? ps->GetPoints()->GetData() : nullptr);
+  }
+  for (vtkDataSetAttributes* attributes :
+    { static_cast<vtkDataSetAttributes*>(output->GetPointData()),
+      static_cast<vtkDataSetAttributes*>(output->GetCellData()) })
+  {
+    for (int i = 0; i < attributes->GetNumberOfArrays(); ++i)
+    {
+      keep(attributes->GetArray(i));
+    }
+  }
+  if (vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(output))
+  {
+    keepCells(grid->GetCells());
+    keep(grid->GetCellTypesArray());
+  }
+  else if (vtkPolyData* poly = vtkPolyData::SafeDownCast(output))
+  {
+    for (vtkCellArray* cells : { poly->GetVerts(), poly->GetLines(), poly->GetPolys(),
+           poly->GetStrips() })
+    {
+      keepCells(cells);
+    }
+  }
+}
+
+vtkSmartPointer<vtkCellArray> NewCellArray(
+  vtkIdType nCells, vtkIdType connectivitySize, vtkIdType maxId, RecycledArrays* recycled)
+{
+  const vtkIdType limit = std::numeric_limits<vtkTypeInt32>::max();
+  const bool narrow = connectivitySize <= limit && maxId <= limit;
+  auto cells = vtkSmartPointer<vtkCellArray>::New();
+  if (narrow)
+  {
+    cells->SetData(NewOutputArray<vtkCellArray::ArrayType32>(recycled, 1, nCells + 1),
+      NewOutputArray<vtkCellArray::ArrayType32>(recycled, 1, connectivitySize));
+  }
+  else
+  {
+    cells->SetData(NewOutputArray<vtkCellArray::ArrayType64>(recycled, 1, nCells + 1),
+      NewOutputArray<vtkCellArray::ArrayType64>(recycled, 1, connectivitySize));
+  }
+  return cells;
+}
+} // namespace ctsplines

@@ -1,0 +1,325 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+// ReuseOutputArrays (CTSplinesRecycledArrays.h): an execution that writes into the previous
+// output's arrays gives the bits a new filter gives, VTK's caches see new values, and an array
+// that anything else still holds is never written.
+#include "CTSplinesRecycledArrays.h"
+#include "ErrorCapture.h"
+#include "vtkBezierTriangleTessellator.h"
+#include "vtkCloughTocherSplineFilter.h"
+#include "vtkSampledSurfaceSource.h"
+
+#include "vtkCellArray.h"
+#include "vtkCellData.h"
+#include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
+#include "vtkFloatArray.h"
+#include "vtkInformation.h"
+#include "vtkPointData.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
+#include "vtkStreamingDemandDrivenPipeline.h"
+#include "vtkUnstructuredGrid.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace
+{
+// A grid of 2 x 150^2 triangles: every large output array is above RecycledArrays' 1 MiB.
+vtkSmartPointer<vtkSampledSurfaceSource> Source(int surface)
+{
+  auto source = vtkSmartPointer<vtkSampledSurfaceSource>::New();
+  source->SetDomainToGrid();
+  source->SetResolution(150);
+  source->SetSurface(surface);
+  return source;
+}
+
+// The same values, type and shape, compared as bytes.
+void ExpectSameArray(vtkDataArray* a, vtkDataArray* b, const std::string& what)
+{
+  ASSERT_NE(a, nullptr) << what;
+  ASSERT_NE(b, nullptr) << what;
+  EXPECT_EQ(a->GetDataType(), b->GetDataType()) << what;
+  ASSERT_EQ(a->GetNumberOfComponents(), b->GetNumberOfComponents()) << what;
+  ASSERT_EQ(a->GetNumberOfTuples(), b->GetNumberOfTuples()) << what;
+  EXPECT_EQ(0,
+    std::memcmp(a->GetVoidPointer(0), b->GetVoidPointer(0),
+      static_cast<size_t>(a->GetNumberOfValues()) * a->GetDataTypeSize()))
+    << what;
+  // Ranges as VTK serves them (stored by the filter or computed): those of the new values.
+  for (int c = -1; c < a->GetNumberOfComponents(); ++c)
+  {
+    double ra[2], rb[2];
+    a->GetRange(ra, c);
+    b->GetRange(rb, c);
+    EXPECT_EQ(ra[0], rb[0]) << what << " component " << c;
+    EXPECT_EQ(ra[1], rb[1]) << what << " component " << c;
+  }
+}
+
+void ExpectSameCells(vtkCellArray* a, vtkCellArray* b, const std::string& what)
+{
+  ASSERT_NE(a, nullptr) << what;
+  ASSERT_NE(b, nullptr) << what;
+  ExpectSameArray(a->GetOffsetsArray(), b->GetOffsetsArray(), what + " offsets");
+  ExpectSameArray(a->GetConnectivityArray(), b->GetConnectivityArray(), what + " connectivity");
+}
+
+void ExpectSameData(vtkDataSetAttributes* a, vtkDataSetAttributes* b, const std::string& what)
+{
+  ASSERT_EQ(a->GetNumberOfArrays(), b->GetNumberOfArrays()) << what;
+  for (int i = 0; i < a->GetNumberOfArrays(); ++i)
+  {
+    const char* name = a->GetArrayName(i);
+    ASSERT_NE(name, nullptr) << what;
+    ExpectSameArray(a->GetArray(i), b->GetArray(name), what + " " + name);
+  }
+}
+
+void ExpectSameSpline(vtkUnstructuredGrid* a, vtkUnstructuredGrid* b)
+{
+  ExpectSameArray(a->GetPoints()->GetData(), b->GetPoints()->GetData(), "points");
+  ExpectSameCells(a->GetCells(), b->GetCells(), "cells");
+  ExpectSameArray(a->GetCellTypesArray(), b->GetCellTypesArray(), "cell types");
+  ExpectSameData(a->GetPointData(), b->GetPointData(), "point data");
+  ExpectSameData(a->GetCellData(), b->GetCellData(), "cell data");
+}
+
+void ExpectSameTessellation(vtkPolyData* a, vtkPolyData* b)
+{
+  ExpectSameArray(a->GetPoints()->GetData(), b->GetPoints()->GetData(), "points");
+  ExpectSameCells(a->GetPolys(), b->GetPolys(), "triangles");
+  ExpectSameData(a->GetPointData(), b->GetPointData(), "point data");
+  ExpectSameData(a->GetCellData(), b->GetCellData(), "cell data");
+}
+
+// The spline of `surface` from a filter that allocates its output.
+vtkSmartPointer<vtkUnstructuredGrid> FreshSpline(int surface, int construction)
+{
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  filter->SetReuseOutputArrays(false);
+  filter->SetConstruction(construction);
+  filter->SetInputConnection(Source(surface)->GetOutputPort());
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  auto out = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  out->ShallowCopy(filter->GetOutput());
+  return out;
+}
+
+vtkTypeUInt64 Bytes(vtkDataArray* a)
+{
+  return static_cast<vtkTypeUInt64>(a->GetNumberOfValues()) * a->GetDataTypeSize();
+}
+} // namespace
+
+// A new surface on the same grid, then a quartic construction (other sizes) and back: each
+// execution equals a new filter's output, bit for bit, ranges included.
+TEST(ReusedOutputArrays, SplineRewritesItsArraysWithTheBitsOfANewFilter)
+{
+  auto source = Source(vtkSampledSurfaceSource::Franke);
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  ASSERT_TRUE(filter->GetReuseOutputArrays()); // the default
+  filter->SetInputConnection(source->GetOutputPort());
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  const vtkTypeUInt64 pointBytes = Bytes(filter->GetOutput()->GetPoints()->GetData());
+  double before[2];
+  filter->GetOutput()->GetPoints()->GetData()->GetRange(before, 2); // cached in the array
+
+  source->SetSurface(vtkSampledSurfaceSource::SineWave);
+  filter->Update();
+  // Points, UV, offsets, connectivity, MacroTriangleId: all but the small arrays.
+  EXPECT_GT(filter->GetReusedOutputBytes(), 2 * pointBytes);
+  ExpectSameSpline(filter->GetOutput(),
+    FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::CTi));
+  double after[2];
+  filter->GetOutput()->GetPoints()->GetData()->GetRange(after, 2);
+  EXPECT_NE(before[1], after[1]); // not the first surface's cached range
+
+  // Other sizes: nothing to reuse, the old arrays are released.
+  filter->SetConstruction(vtkCloughTocherSplineFilter::Quartic);
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  ExpectSameSpline(filter->GetOutput(),
+    FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::Quartic));
+  filter->Modified();
+  filter->Update();
+  EXPECT_GT(filter->GetReusedOutputBytes(), 2 * pointBytes);
+  ExpectSameSpline(filter->GetOutput(),
+    FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::Quartic));
+}
+
+// A caller that holds the old output, or one of its arrays, keeps its values: those arrays are
+// not written, the new output gets new ones.
+TEST(ReusedOutputArrays, ArraysHeldElsewhereAreNeverWritten)
+{
+  auto source = Source(vtkSampledSurfaceSource::Franke);
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  filter->SetInputConnection(source->GetOutputPort());
+  filter->Update();
+  vtkSmartPointer<vtkDataArray> heldPoints = filter->GetOutput()->GetPoints()->GetData();
+  vtkSmartPointer<vtkDataArray> heldUV = filter->GetOutput()->GetPointData()->GetArray("UV");
+  vtkSmartPointer<vtkCellArray> heldCells = filter->GetOutput()->GetCells();
+  auto snapshot = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  snapshot->DeepCopy(filter->GetOutput());
+
+  source->SetSurface(vtkSampledSurfaceSource::SineWave);
+  filter->Update();
+  ExpectSameArray(heldPoints, snapshot->GetPoints()->GetData(), "held points");
+  ExpectSameArray(heldUV, snapshot->GetPointData()->GetArray("UV"), "held UV");
+  ExpectSameCells(heldCells, snapshot->GetCells(), "held cells");
+  EXPECT_NE(filter->GetOutput()->GetPoints()->GetData(), heldPoints.Get());
+  EXPECT_NE(filter->GetOutput()->GetPointData()->GetArray("UV"), heldUV.Get());
+  ExpectSameSpline(filter->GetOutput(),
+    FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::CTi));
+  // The cell data and cell types were not held: those are written again.
+  EXPECT_GT(filter->GetReusedOutputBytes(), 0u);
+  EXPECT_LT(filter->GetReusedOutputBytes(), Bytes(heldPoints));
+
+  // A shallow copy of the whole output holds every array.
+  auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  copy->ShallowCopy(filter->GetOutput());
+  snapshot->DeepCopy(filter->GetOutput());
+  source->SetSurface(vtkSampledSurfaceSource::Franke);
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  ExpectSameSpline(copy, snapshot);
+}
+
+// Off, with the pipeline releasing the output's data, or after a failed execution, the filter
+// keeps nothing of an output.
+TEST(ReusedOutputArrays, NothingIsKeptWhenOffReleasedOrFailed)
+{
+  auto source = Source(vtkSampledSurfaceSource::Franke);
+  vtkNew<vtkCloughTocherSplineFilter> filter;
+  filter->SetInputConnection(source->GetOutputPort());
+  filter->SetReuseOutputArrays(false);
+  filter->Update();
+  filter->Modified();
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+
+  filter->SetReuseOutputArrays(true);
+  auto* executive = vtkStreamingDemandDrivenPipeline::SafeDownCast(filter->GetExecutive());
+  executive->SetReleaseDataFlag(0, 1);
+  filter->Update();
+  filter->Modified();
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  executive->SetReleaseDataFlag(0, 0);
+
+  filter->Modified();
+  filter->Update();
+  filter->Modified();
+  filter->Update();
+  EXPECT_GT(filter->GetReusedOutputBytes(), 0u);
+  // Derivatives missing: the execution fails, after which nothing is kept.
+  filter->SetDuArrayName("NoSuchArray");
+  auto errors = ctsplines_test::ErrorCapture::AttachToAlgorithm(filter);
+  EXPECT_EQ(filter->GetExecutive()->Update(), 0);
+  EXPECT_NE(errors->Message.find("NoSuchArray"), std::string::npos) << errors->Message;
+  filter->SetDuArrayName("dFdu");
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  ExpectSameSpline(filter->GetOutput(),
+    FreshSpline(vtkSampledSurfaceSource::Franke, vtkCloughTocherSplineFilter::CTi));
+}
+
+// The tessellator: a new spline of the same sizes, then another level (other sizes), each equal
+// to a new tessellator's output; the cell data copied from the spline is reused too.
+TEST(ReusedOutputArrays, TessellatorRewritesItsArraysWithTheBitsOfANewFilter)
+{
+  auto source = Source(vtkSampledSurfaceSource::Franke);
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputConnection(source->GetOutputPort());
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  tessellator->SetInputConnection(spline->GetOutputPort());
+  tessellator->SetSubdivisionLevel(3);
+  tessellator->Update();
+  EXPECT_EQ(tessellator->GetReusedOutputBytes(), 0u);
+  auto fresh = [&]() {
+    vtkNew<vtkBezierTriangleTessellator> other;
+    other->SetReuseOutputArrays(false);
+    other->SetInputData(spline->GetOutput());
+    other->SetSubdivisionLevel(tessellator->GetSubdivisionLevel());
+    other->Update();
+    auto out = vtkSmartPointer<vtkPolyData>::New();
+    out->ShallowCopy(other->GetOutput());
+    return out;
+  };
+
+  source->SetSurface(vtkSampledSurfaceSource::SineWave);
+  tessellator->Update();
+  vtkPolyData* out = tessellator->GetOutput();
+  const vtkTypeUInt64 all = Bytes(out->GetPoints()->GetData()) +
+    Bytes(out->GetPointData()->GetArray("Normals")) + Bytes(out->GetPointData()->GetArray("UV")) +
+    Bytes(out->GetPolys()->GetOffsetsArray()) + Bytes(out->GetPolys()->GetConnectivityArray()) +
+    Bytes(out->GetCellData()->GetArray("BezierCellId")) +
+    Bytes(out->GetCellData()->GetArray("MacroTriangleId"));
+  EXPECT_GE(tessellator->GetReusedOutputBytes(), all);
+  ExpectSameTessellation(out, fresh());
+
+  tessellator->SetSubdivisionLevel(4);
+  tessellator->Update();
+  EXPECT_EQ(tessellator->GetReusedOutputBytes(), 0u);
+  ExpectSameTessellation(tessellator->GetOutput(), fresh());
+}
+
+// RecycledArrays itself: a kept array comes back only to a request of its class and sizes, only
+// while nothing else holds it, and as a new array would be: no name, no cached ranges, a newer
+// MTime (an unnamed array's ranges would otherwise be served stale).
+TEST(ReusedOutputArrays, RecycledArraysGiveBackArraysAsNew)
+{
+  const vtkIdType n = 200000; // 1.6 MB of doubles
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  auto values = vtkSmartPointer<vtkDoubleArray>::New();
+  values->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    values->SetValue(i, static_cast<double>(i));
+  }
+  double range[2];
+  values->GetRange(range); // cached in its information
+  ASSERT_EQ(range[1], n - 1.0);
+  grid->GetPointData()->AddArray(values);
+  auto small = vtkSmartPointer<vtkDoubleArray>::New(); // below MinimumBytes: not kept
+  small->SetNumberOfTuples(10);
+  grid->GetPointData()->AddArray(small);
+  const vtkMTimeType before = values->GetMTime();
+  vtkDoubleArray* kept = values;
+
+  ctsplines::RecycledArrays recycled;
+  recycled.End(grid, true);
+  values = nullptr;
+  small = nullptr;
+  // Still held by the grid when the next execution begins: released, not given back.
+  recycled.Begin(true, {});
+  EXPECT_NE(recycled.New<vtkDoubleArray>(1, n).Get(), kept);
+  EXPECT_EQ(recycled.GetReusedBytes(), 0u);
+
+  recycled.End(grid, true);
+  grid->Initialize(); // the pipeline's PrepareForNewData
+  recycled.Begin(true, {});
+  EXPECT_EQ(recycled.New<vtkDoubleArray>(1, n + 1)->GetNumberOfTuples(), n + 1); // other size
+  EXPECT_EQ(recycled.New<vtkFloatArray>(1, n)->GetNumberOfTuples(), n);          // other class
+  EXPECT_EQ(recycled.GetReusedBytes(), 0u);
+  vtkSmartPointer<vtkDoubleArray> a = recycled.New<vtkDoubleArray>(1, n);
+  ASSERT_EQ(a.Get(), kept);
+  EXPECT_EQ(recycled.GetReusedBytes(), static_cast<size_t>(n) * sizeof(double));
+  EXPECT_GT(a->GetMTime(), before);
+  EXPECT_FALSE(a->GetInformation()->Has(vtkDataArray::PER_COMPONENT()));
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    a->SetValue(i, -static_cast<double>(i));
+  }
+  a->GetRange(range);
+  EXPECT_EQ(range[0], 1.0 - n);
+  EXPECT_EQ(range[1], 0.0);
+  // Taken once: a second request of the same kind gets a new array.
+  EXPECT_NE(recycled.New<vtkDoubleArray>(1, n).Get(), kept);
+}
