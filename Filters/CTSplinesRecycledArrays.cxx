@@ -1,7 +1,10 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "CTSplinesRecycledArrays.h"
 
+#include "vtkAOSDataArrayTemplate.h"
 #include "vtkAlgorithm.h"
+#include "vtkDataArray.h" // for vtkArrayDownCast
+#include "vtkBuffer.h"
 #include "vtkCellData.h"
 #include "vtkDemandDrivenPipeline.h"
 #include "vtkInformation.h"
@@ -24,10 +27,33 @@ std::size_t Bytes(vtkDataArray* a)
   return static_cast<std::size_t>(a->GetNumberOfValues()) * a->GetDataTypeSize();
 }
 
-// Only this object references the array: the old output and everything that held it are gone.
-bool Exclusive(const vtkSmartPointer<vtkDataArray>& a)
+// The storage of an AOS array: vtkAOSDataArrayTemplate::ShallowCopy shares this reference-counted
+// buffer between array objects. A derived class may name the protected member.
+template <typename T>
+struct StorageOf : vtkAOSDataArrayTemplate<T>
 {
-  return a->GetReferenceCount() == 1;
+  static int References(vtkAOSDataArrayTemplate<T>* a)
+  {
+    vtkBuffer<T>* vtkAOSDataArrayTemplate<T>::*buffer = &StorageOf::Buffer;
+    return (a->*buffer)->GetReferenceCount();
+  }
+};
+
+// Only this object references the array and its storage: the old output and everything that
+// held it, or a view of its values, are gone. Other layouts are never written again.
+bool Exclusive(vtkDataArray* a)
+{
+  if (a->GetReferenceCount() != 1)
+  {
+    return false;
+  }
+  switch (a->GetDataType())
+  {
+    vtkTemplateMacro(if (auto* aos = vtkArrayDownCast<vtkAOSDataArrayTemplate<VTK_TT>>(a)) {
+      return StorageOf<VTK_TT>::References(aos) == 1;
+    });
+  }
+  return false;
 }
 } // namespace
 
@@ -39,7 +65,7 @@ void RecycledArrays::Begin(bool enabled, const std::vector<vtkIdType>& shape)
     this->Clear();
   }
   this->Shape = shape;
-  this->ReleaseIf([](vtkDataArray* a) { return a->GetReferenceCount() != 1; });
+  this->ReleaseIf([](vtkDataArray* a) { return !Exclusive(a); });
 }
 
 vtkSmartPointer<vtkDataArray> RecycledArrays::Take(
@@ -121,6 +147,7 @@ void RecycledArrays::Clear()
 {
   this->Kept.clear();
   this->Shape.clear();
+  this->Reused = 0;
 }
 
 void RecycledArrays::End(vtkDataSet* output, bool enabled)

@@ -8,8 +8,10 @@
 // sizes (time steps of one mesh, a property changed, an IM sweep), its previous output's arrays
 // are resident already. The pipeline releases that output just before RequestData; the filter
 // keeps its own reference to the large arrays, and writes again only those that nothing else
-// references by then. An array a downstream filter or the caller still holds is never written:
-// its reference is dropped here and the new output gets a new array.
+// references by then, neither the array object nor its storage (vtkAOSDataArrayTemplate's
+// ShallowCopy shares the storage between array objects, as vtkArrayRename does). An array a
+// downstream filter or the caller still holds is never written: its reference is dropped here
+// and the new output gets a new array.
 #ifndef CTSplinesRecycledArrays_h
 #define CTSplinesRecycledArrays_h
 
@@ -20,8 +22,10 @@
 #include "vtkNew.h"
 #include "vtkSmartPointer.h"
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
+#include <mutex>
 #include <vector>
 
 class vtkAlgorithm;
@@ -35,10 +39,10 @@ public:
   /// Arrays below this size are not kept: their pages are not worth it.
   static constexpr std::size_t MinimumBytes = std::size_t(1) << 20;
 
-  /// At the start of an execution, once the sizes that decide the output's are known (shape):
-  /// keeps the previous output's arrays only when enabled and the shape is the previous
-  /// execution's. Otherwise they are released before anything is allocated, as are those that
-  /// something else references now.
+  /// At the start of an execution (RecycledArraysScope), with the sizes that decide the
+  /// output's (shape): keeps the previous output's arrays only when enabled and the shape is the
+  /// previous execution's, and only those that nothing else references now. Everything else is
+  /// released before the execution allocates anything.
   void Begin(bool enabled, const std::vector<vtkIdType>& shape);
 
   /// A kept array that only this object references and that accept() takes, or null. It is no
@@ -63,8 +67,7 @@ public:
   /// (peak memory).
   void ReleaseIf(const std::function<bool(vtkDataArray*)>& release);
 
-  /// Releases the kept arrays that were not taken: called once the output's large arrays are
-  /// allocated (peak memory), and by End.
+  /// Releases the kept arrays that were not taken.
   void ReleaseUnused();
 
   /// At the end of a successful execution: keeps output's arrays of MinimumBytes or more (points,
@@ -83,38 +86,56 @@ public:
   void Clear();
 
 private:
+  friend class RecycledArraysScope;
+  std::mutex Executing; // held by the RecycledArraysScope of an execution
   std::vector<vtkSmartPointer<vtkDataArray>> Kept;
   std::vector<vtkIdType> Shape;
-  std::size_t Reused = 0;
+  std::atomic<std::size_t> Reused{ 0 };
 };
 
-/// RecycledArrays::Clear when a RequestData returns before RecycledArrays::End: an execution
-/// that fails keeps nothing of the output it did not finish, nor of the one before.
+/// One execution's use of a filter's RecycledArrays: Begin on construction, Clear on destruction
+/// unless End was called (an execution that fails or is aborted keeps nothing of the output it
+/// did not finish, nor of the one before). Get() is null when another execution of the same
+/// filter holds the arrays (vtkThreadedCompositeDataPipeline runs blocks concurrently): this one
+/// then neither reuses nor keeps anything.
 class RecycledArraysScope
 {
 public:
-  explicit RecycledArraysScope(RecycledArrays& recycled)
+  RecycledArraysScope(RecycledArrays& recycled, bool enabled, const std::vector<vtkIdType>& shape)
     : Recycled(recycled)
+    , Lock(recycled.Executing, std::try_to_lock)
   {
+    if (this->Lock.owns_lock())
+    {
+      this->Recycled.Begin(enabled, shape);
+    }
   }
   ~RecycledArraysScope()
   {
-    if (!this->Ended)
+    if (this->Lock.owns_lock() && !this->Ended)
     {
       this->Recycled.Clear();
     }
   }
   RecycledArraysScope(const RecycledArraysScope&) = delete;
   RecycledArraysScope& operator=(const RecycledArraysScope&) = delete;
+
+  /// The arrays for this execution, or null.
+  RecycledArrays* Get() const { return this->Lock.owns_lock() ? &this->Recycled : nullptr; }
+
   /// RecycledArrays::End.
   void End(vtkDataSet* output, bool enabled)
   {
-    this->Recycled.End(output, enabled);
-    this->Ended = true;
+    if (this->Lock.owns_lock())
+    {
+      this->Recycled.End(output, enabled);
+      this->Ended = true;
+    }
   }
 
 private:
   RecycledArrays& Recycled;
+  std::unique_lock<std::mutex> Lock;
   bool Ended = false;
 };
 

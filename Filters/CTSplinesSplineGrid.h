@@ -13,8 +13,6 @@ class vtkUnstructuredGrid;
 
 namespace ctsplines
 {
-class RecycledArrays;
-
 /// Fills output with the spline built on in's triangles: its control points (moved out of
 /// spline, which is left without points), their domain points as point data uvName, three
 /// VTK_BEZIER_TRIANGLE cells per triangle (3 t + k: micro-triangle k of triangle t) with cell
@@ -24,14 +22,12 @@ class RecycledArrays;
 /// inputTriangles (in renumbered, ctk::LocalityRenumbering::Triangles), MacroTriangleId is
 /// inputTriangles[t] for in's triangle t: the caller's input numbering. connectivityWritten,
 /// when given, is called once the cells' connectivity is written, before the cell data is
-/// allocated: the caller may free in's triangles and the topology there (peak memory). The
-/// cells and cell data are written into recycled's arrays when it has them (and it is left
-/// without the others).
+/// allocated: the caller may free in's triangles and the topology there (peak memory).
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
   const std::vector<ctk::Id>* keptTriangles = nullptr,
   const std::vector<ctk::Id>* inputTriangles = nullptr,
-  const std::function<void()>& connectivityWritten = {}, RecycledArrays* recycled = nullptr);
+  const std::function<void()>& connectivityWritten = {});
 } // namespace ctsplines
 
 #endif

@@ -47,6 +47,19 @@ vtkTypeUInt64 vtkBezierTriangleTessellator::GetReusedOutputBytes() const
   return this->Recycled->GetReusedBytes();
 }
 
+void vtkBezierTriangleTessellator::SetReuseOutputArrays(bool reuse)
+{
+  if (reuse != this->ReuseOutputArrays)
+  {
+    this->ReuseOutputArrays = reuse;
+    if (!reuse)
+    {
+      this->Recycled->Clear(); // the arrays go with the output, as without the property
+    }
+    this->Modified();
+  }
+}
+
 int vtkBezierTriangleTessellator::FillInputPortInformation(int, vtkInformation* info)
 {
   info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkDataSet");
@@ -368,8 +381,12 @@ int vtkBezierTriangleTessellator::RequestData(
     vtkErrorMacro(<< "missing input or output data object");
     return 0;
   }
-  // Whichever way this returns before the end, nothing of the previous output is kept.
-  ctsplines::RecycledArraysScope recycling(*this->Recycled);
+  // The previous output's arrays, when the input and the levels are the previous execution's
+  // (see ReuseOutputArrays); otherwise they are released here, before anything is allocated.
+  ctsplines::RecycledArraysScope recycling(*this->Recycled, this->ReuseOutputArrays,
+    { input->GetNumberOfCells(), input->GetNumberOfPoints(), this->SubdivisionLevel,
+      this->IsAdaptive() ? 1 : 0 });
+  ctsplines::RecycledArrays* recycled = recycling.Get();
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
   output->SetPoints(outPoints);
@@ -397,11 +414,16 @@ int vtkBezierTriangleTessellator::RequestData(
   const ctsplines::CellPatterns patterns(cells, levels);
   const vtkIdType nOutPoints = patterns.NumberOfPoints();
   const vtkIdType nOutCells = patterns.NumberOfTriangles();
-  // The previous output's arrays when this one has their sizes (see ReuseOutputArrays).
-  ctsplines::RecycledArrays& recycled = *this->Recycled;
-  recycled.Begin(this->ReuseOutputArrays, { nOutPoints, nOutCells });
+  if (recycled)
+  {
+    // Only arrays of the output's sizes can be taken (points split at creases have others).
+    recycled->ReleaseIf([&](vtkDataArray* a) {
+      const vtkIdType n = a->GetNumberOfTuples();
+      return n != nOutPoints && n != nOutCells && n != nOutCells + 1 && n != 3 * nOutCells;
+    });
+  }
   ctsplines::PointDataInterpolator data;
-  error = data.Gather(input, this->UVArrayName, nOutPoints, &recycled);
+  error = data.Gather(input, this->UVArrayName, nOutPoints, recycled);
   if (!error.empty())
   {
     vtkErrorMacro(<< error);
@@ -409,20 +431,23 @@ int vtkBezierTriangleTessellator::RequestData(
   }
 
   // 3. Output arrays, then every cell fills its triangles and the points it owns.
-  auto coords = ctsplines::NewOutputArray<vtkDoubleArray>(&recycled, 3, nOutPoints);
-  auto normals = ctsplines::NewOutputArray<vtkDoubleArray>(&recycled, 3, nOutPoints);
+  auto coords = ctsplines::NewOutputArray<vtkDoubleArray>(recycled, 3, nOutPoints);
+  auto normals = ctsplines::NewOutputArray<vtkDoubleArray>(recycled, 3, nOutPoints);
   normals->SetName("Normals");
   // 32-bit cell storage whenever the ids fit, split copies included (each is a triangle corner).
   vtkSmartPointer<vtkCellArray> polys =
-    ctsplines::NewCellArray(nOutCells, 3 * nOutCells, nOutPoints + 3 * nOutCells, &recycled);
+    ctsplines::NewCellArray(nOutCells, 3 * nOutCells, nOutPoints + 3 * nOutCells, recycled);
   const bool narrow = !polys->IsStorage64Bit();
   vtkDataArray* offsets = polys->GetOffsetsArray();
   vtkDataArray* connectivity = polys->GetConnectivityArray();
-  auto bezierCellId = ctsplines::NewOutputArray<vtkIdTypeArray>(&recycled, 1, nOutCells);
+  auto bezierCellId = ctsplines::NewOutputArray<vtkIdTypeArray>(recycled, 1, nOutCells);
   bezierCellId->SetName("BezierCellId");
-  // Only the cell data copies may still take kept arrays: the others are released before the
-  // output is written (peak memory; points split at creases have other counts).
-  recycled.ReleaseIf([&](vtkDataArray* a) { return a->GetNumberOfTuples() != nOutCells; });
+  if (recycled)
+  {
+    // Only the cell data copies may still take kept arrays: the others go before the output
+    // is written (peak memory).
+    recycled->ReleaseIf([&](vtkDataArray* a) { return a->GetNumberOfTuples() != nOutCells; });
+  }
   Tessellation tessellation{ cells, patterns, data, coords, normals, offsets->GetVoidPointer(0),
     connectivity->GetVoidPointer(0), narrow, bezierCellId->GetPointer(0) };
   const auto tessellate = [&](vtkIdType begin, vtkIdType end) {
@@ -449,7 +474,7 @@ int vtkBezierTriangleTessellator::RequestData(
   output->GetPointData()->SetNormals(normals);
   data.AddTo(output->GetPointData());
   ctsplines::CopyCellDataBySource(
-    input, output->GetCellData(), bezierCellId->GetPointer(0), nOutCells, &recycled);
+    input, output->GetCellData(), bezierCellId->GetPointer(0), nOutCells, recycled);
   output->GetCellData()->AddArray(bezierCellId);
   ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
   recycling.End(

@@ -66,6 +66,19 @@ vtkTypeUInt64 vtkCloughTocherSplineFilter::GetReusedOutputBytes() const
   return this->Recycled->GetReusedBytes();
 }
 
+void vtkCloughTocherSplineFilter::SetReuseOutputArrays(bool reuse)
+{
+  if (reuse != this->ReuseOutputArrays)
+  {
+    this->ReuseOutputArrays = reuse;
+    if (!reuse)
+    {
+      this->Recycled->Clear(); // the arrays go with the output, as without the property
+    }
+    this->Modified();
+  }
+}
+
 // The filter's values are the kernel's (the ParaView XML and Python read them through these).
 static_assert(vtkCloughTocherSplineFilter::CTo == static_cast<int>(ctk::Construction::CTo) &&
     vtkCloughTocherSplineFilter::KaG == static_cast<int>(ctk::Construction::KaG) &&
@@ -410,7 +423,7 @@ public:
     double* data = kept->data()->data();
     {
       std::lock_guard<std::mutex> lock(Registry().Mutex);
-      Registry().Kept[data] = Entry{ kept, components };
+      Registry().Kept[data] = Entry{ kept, Vec::SizeAtCompileTime };
     }
     array->SetArray(data, static_cast<vtkIdType>(components * kept->size()), 0,
       vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
@@ -611,7 +624,7 @@ namespace ctsplines
 void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& topology,
   const ctk::SplineInput& in, const char* uvName, vtkUnstructuredGrid* output,
   const std::vector<ctk::Id>* keptTriangles, const std::vector<ctk::Id>* inputTriangles,
-  const std::function<void()>& connectivityWritten, RecycledArrays* recycled)
+  const std::function<void()>& connectivityWritten)
 {
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
@@ -626,7 +639,7 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
     keptTriangles ? static_cast<vtkIdType>(keptTriangles->size()) : in.NumberOfTriangles();
   const vtkIdType nCells = 3 * nT;
   vtkSmartPointer<vtkCellArray> cells = ctsplines::NewCellArray(
-    nCells, perCell * nCells, static_cast<vtkIdType>(controlPoints.size()), recycled);
+    nCells, perCell * nCells, static_cast<vtkIdType>(controlPoints.size()));
   // With ghosts, the points the written cells use (threads may mark a point together).
   std::vector<std::atomic<unsigned char>> used(keptTriangles ? controlPoints.size() : 0);
   const auto write = [&](auto* offsets, auto* connectivity) {
@@ -656,15 +669,14 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   {
     connectivityWritten(); // in and topology are not read from here on
   }
-  auto types = NewOutputArray<vtkUnsignedCharArray>(recycled, 1, nCells);
-  auto macroIds = NewOutputArray<vtkIdTypeArray>(recycled, 1, nCells);
+  vtkNew<vtkUnsignedCharArray> types;
+  ctsplines::AllocateTuples(types, nCells);
+  vtkNew<vtkIdTypeArray> macroIds;
   macroIds->SetName("MacroTriangleId");
-  auto microIds = NewOutputArray<vtkSignedCharArray>(recycled, 1, nCells);
+  ctsplines::AllocateTuples(macroIds, nCells);
+  vtkNew<vtkSignedCharArray> microIds;
   microIds->SetName("MicroTriangleId");
-  if (recycled)
-  {
-    recycled->ReleaseUnused(); // the output's arrays are all allocated
-  }
+  ctsplines::AllocateTuples(microIds, nCells);
   WriteSplineCellData(keptTriangles, inputTriangles, nT, types->GetPointer(0),
     macroIds->GetPointer(0), microIds->GetPointer(0));
   vtkSmartPointer<vtkDoubleArray> coords = AdoptedVectors::Adopt(std::move(controlPoints), 3);
@@ -937,8 +949,24 @@ int vtkCloughTocherSplineFilter::RequestData(
   options.Iterations = this->Iterations;
   const ctk::ConstructionInfo& info = ctk::Info(options.Method);
 
-  // Whichever way this returns before the end, nothing of the previous output is kept.
-  ctsplines::RecycledArraysScope recycling(*this->Recycled);
+  // The previous output's control and domain points, when the input has its sizes, for the
+  // kernel to write again (ReuseOutputArrays). Only those: the old cells would stay resident
+  // through the build, which the new ones are not (peak memory); and only for the cubic
+  // constructions, whose builder writes them first (the quartic one builds a cubic spline first).
+  ctk::CloughTocherSpline spline;
+  ctsplines::RecycledArraysScope recycling(*this->Recycled, this->ReuseOutputArrays,
+    { input->GetNumberOfPoints(), input->GetNumberOfCells(), info.Degree,
+      input->GetCellData()->GetArray(vtkDataSetAttributes::GhostArrayName()) ? 1 : 0,
+      this->ComputeBezierExtraction ? 1 : 0 });
+  if (ctsplines::RecycledArrays* recycled = recycling.Get())
+  {
+    if (info.Degree == 3)
+    {
+      AdoptedVectors::Reclaim(*recycled, spline.Cubic.ControlPoints);
+      AdoptedVectors::Reclaim(*recycled, spline.Cubic.DomainPoints);
+    }
+    recycled->ReleaseUnused();
+  }
 
   // 1. Validate and map.
   ctk::SplineInput in;
@@ -968,20 +996,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   const int estimation = estimated ? this->DerivativeEstimation : NoEstimation;
   ctk::LocalityRenumbering order;
   ctk::MeshTopology topology;
-  ctk::CloughTocherSpline spline;
   std::string warning;
-  // The previous output's arrays, when this input has its sizes: the kernel writes the control
-  // and domain points into them (FillSplineGrid the cells).
-  this->Recycled->Begin(this->ReuseOutputArrays,
-    { input->GetNumberOfPoints(), input->GetNumberOfCells(), info.Degree,
-      ghosts ? 1 : 0, this->ComputeBezierExtraction ? 1 : 0 });
-  auto& reusedPoints = info.Degree == 4 ? spline.Quartic.ControlPoints : spline.Cubic.ControlPoints;
-  auto& reusedUV = info.Degree == 4 ? spline.Quartic.DomainPoints : spline.Cubic.DomainPoints;
-  AdoptedVectors::Reclaim(*this->Recycled, reusedPoints);
-  AdoptedVectors::Reclaim(*this->Recycled, reusedUV);
-  // What FillSplineGrid may take (cells, cell types and ids) has one component; the rest (the
-  // Bézier extraction's arrays) is released before the build's working memory is allocated.
-  this->Recycled->ReleaseIf([](vtkDataArray* a) { return a->GetNumberOfComponents() != 1; });
   const bool renumber = this->OutputOrder == LocalityOrder && !this->ComputeBezierExtraction;
   error = BuildSpline(in, cells, options, estimation, renumber, order, topology, spline, warning);
   if (!error.empty() && !order.IsIdentity())
@@ -1024,7 +1039,7 @@ int vtkCloughTocherSplineFilter::RequestData(
   ctsplines::FillSplineGrid(spline, topology, in,
     this->UVArrayName.empty() ? "UV" : this->UVArrayName.c_str(), output,
     anyGhost ? &owned : nullptr, inputCells.empty() ? nullptr : &inputCells,
-    this->ComputeBezierExtraction ? std::function<void()>() : releaseMesh, this->Recycled.get());
+    this->ComputeBezierExtraction ? std::function<void()>() : releaseMesh);
   vtkFieldData* fd = output->GetFieldData();
   AddFieldString(fd, "Construction", GetConstructionName(this->Construction));
   AddFieldString(fd, "SplitPoint", GetSplitPointName(this->SplitPoint));

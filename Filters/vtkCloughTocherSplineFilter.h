@@ -225,16 +225,18 @@ public:
   ///@}
 
   ///@{
-  /// Write the output of an execution into the previous output's large arrays (points, UV,
-  /// cells, cell data) when nothing else references them any more and the input has the
-  /// previous one's numbers of points and cells: time steps of one mesh, a property changed.
-  /// Their pages are resident already; a new array's first touch costs the zeroing of every page
-  /// (a fifth to a quarter of CTi's time at 1e6 triangles on the machines measured). The filter
-  /// then holds those arrays between executions as its output does, and releases them when the
-  /// output's data is released by the pipeline (ReleaseDataFlag), when an execution fails, or
-  /// when this is turned off. Arrays a downstream filter or the caller still holds are never
-  /// written. Default on.
-  vtkSetMacro(ReuseOutputArrays, bool);
+  /// Write the control and domain points of an execution into the previous output's arrays
+  /// (cubic constructions) when nothing else references them any more, neither the arrays nor
+  /// their storage, and the input has the previous one's numbers of points and cells: time steps
+  /// of one mesh, a property changed, a sweep in a script. Their pages are resident already; a
+  /// new array's first touch costs the zeroing of every page (a tenth of CTi's time at 1e6
+  /// triangles on the machine measured). The filter holds its output's large arrays between
+  /// executions, as the output does; they are released at the next execution, when it fails,
+  /// or when this is turned off. The output's data released by the pipeline (ReleaseDataFlag)
+  /// is not held. Arrays that a downstream filter or the caller still holds are never written;
+  /// ParaView keeps a copy of every output until the next one exists, so nothing is reused
+  /// there. Default on.
+  virtual void SetReuseOutputArrays(bool reuse);
   vtkGetMacro(ReuseOutputArrays, bool);
   vtkBooleanMacro(ReuseOutputArrays, bool);
   ///@}

@@ -117,8 +117,9 @@ vtkTypeUInt64 Bytes(vtkDataArray* a)
 }
 } // namespace
 
-// A new surface on the same grid, then a quartic construction (other sizes) and back: each
-// execution equals a new filter's output, bit for bit, ranges included.
+// A new surface on the same grid, then a quartic construction (other sizes, not reused) and
+// back: each execution equals a new filter's output, bit for bit, ranges included. The cubic
+// constructions reuse the control and domain points.
 TEST(ReusedOutputArrays, SplineRewritesItsArraysWithTheBitsOfANewFilter)
 {
   auto source = Source(vtkSampledSurfaceSource::Franke);
@@ -127,14 +128,14 @@ TEST(ReusedOutputArrays, SplineRewritesItsArraysWithTheBitsOfANewFilter)
   filter->SetInputConnection(source->GetOutputPort());
   filter->Update();
   EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
-  const vtkTypeUInt64 pointBytes = Bytes(filter->GetOutput()->GetPoints()->GetData());
+  const vtkTypeUInt64 pointBytes = Bytes(filter->GetOutput()->GetPoints()->GetData()) +
+    Bytes(filter->GetOutput()->GetPointData()->GetArray("UV"));
   double before[2];
   filter->GetOutput()->GetPoints()->GetData()->GetRange(before, 2); // cached in the array
 
   source->SetSurface(vtkSampledSurfaceSource::SineWave);
   filter->Update();
-  // Points, UV, offsets, connectivity, MacroTriangleId: all but the small arrays.
-  EXPECT_GT(filter->GetReusedOutputBytes(), 2 * pointBytes);
+  EXPECT_EQ(filter->GetReusedOutputBytes(), pointBytes);
   ExpectSameSpline(filter->GetOutput(),
     FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::CTi));
   double after[2];
@@ -149,43 +150,67 @@ TEST(ReusedOutputArrays, SplineRewritesItsArraysWithTheBitsOfANewFilter)
     FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::Quartic));
   filter->Modified();
   filter->Update();
-  EXPECT_GT(filter->GetReusedOutputBytes(), 2 * pointBytes);
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
   ExpectSameSpline(filter->GetOutput(),
     FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::Quartic));
+  filter->SetConstruction(vtkCloughTocherSplineFilter::CTo);
+  filter->Update();
+  filter->SetSplitPoint(vtkCloughTocherSplineFilter::Inc3);
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), pointBytes);
+  vtkNew<vtkCloughTocherSplineFilter> fresh;
+  fresh->SetReuseOutputArrays(false);
+  fresh->SetConstruction(vtkCloughTocherSplineFilter::CTo);
+  fresh->SetSplitPoint(vtkCloughTocherSplineFilter::Inc3);
+  fresh->SetInputConnection(Source(vtkSampledSurfaceSource::SineWave)->GetOutputPort());
+  fresh->Update();
+  ExpectSameSpline(filter->GetOutput(), fresh->GetOutput());
 }
 
-// A caller that holds the old output, or one of its arrays, keeps its values: those arrays are
-// not written, the new output gets new ones.
+// A caller that holds the old output, one of its arrays, or a view of an array's storage
+// (vtkAOSDataArrayTemplate::ShallowCopy, as vtkArrayRename makes) keeps its values: those arrays
+// are not written, the new output gets new ones.
 TEST(ReusedOutputArrays, ArraysHeldElsewhereAreNeverWritten)
 {
   auto source = Source(vtkSampledSurfaceSource::Franke);
   vtkNew<vtkCloughTocherSplineFilter> filter;
   filter->SetInputConnection(source->GetOutputPort());
   filter->Update();
-  vtkSmartPointer<vtkDataArray> heldPoints = filter->GetOutput()->GetPoints()->GetData();
   vtkSmartPointer<vtkDataArray> heldUV = filter->GetOutput()->GetPointData()->GetArray("UV");
-  vtkSmartPointer<vtkCellArray> heldCells = filter->GetOutput()->GetCells();
+  const vtkTypeUInt64 pointBytes = Bytes(filter->GetOutput()->GetPoints()->GetData());
   auto snapshot = vtkSmartPointer<vtkUnstructuredGrid>::New();
   snapshot->DeepCopy(filter->GetOutput());
 
   source->SetSurface(vtkSampledSurfaceSource::SineWave);
   filter->Update();
-  ExpectSameArray(heldPoints, snapshot->GetPoints()->GetData(), "held points");
   ExpectSameArray(heldUV, snapshot->GetPointData()->GetArray("UV"), "held UV");
-  ExpectSameCells(heldCells, snapshot->GetCells(), "held cells");
-  EXPECT_NE(filter->GetOutput()->GetPoints()->GetData(), heldPoints.Get());
   EXPECT_NE(filter->GetOutput()->GetPointData()->GetArray("UV"), heldUV.Get());
+  EXPECT_EQ(filter->GetReusedOutputBytes(), pointBytes); // the points were free
   ExpectSameSpline(filter->GetOutput(),
     FreshSpline(vtkSampledSurfaceSource::SineWave, vtkCloughTocherSplineFilter::CTi));
-  // The cell data and cell types were not held: those are written again.
-  EXPECT_GT(filter->GetReusedOutputBytes(), 0u);
-  EXPECT_LT(filter->GetReusedOutputBytes(), Bytes(heldPoints));
+
+  // Views: other array objects on the same storage.
+  heldUV = nullptr;
+  auto pointsView = vtkSmartPointer<vtkDoubleArray>::New();
+  pointsView->ShallowCopy(filter->GetOutput()->GetPoints()->GetData());
+  auto uvView = vtkSmartPointer<vtkDoubleArray>::New();
+  uvView->ShallowCopy(filter->GetOutput()->GetPointData()->GetArray("UV"));
+  snapshot->DeepCopy(filter->GetOutput());
+  source->SetSurface(vtkSampledSurfaceSource::Franke);
+  filter->Update();
+  EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
+  ExpectSameArray(pointsView, snapshot->GetPoints()->GetData(), "points view");
+  ExpectSameArray(uvView, snapshot->GetPointData()->GetArray("UV"), "UV view");
+  ExpectSameSpline(filter->GetOutput(),
+    FreshSpline(vtkSampledSurfaceSource::Franke, vtkCloughTocherSplineFilter::CTi));
 
   // A shallow copy of the whole output holds every array.
+  pointsView = nullptr;
+  uvView = nullptr;
   auto copy = vtkSmartPointer<vtkUnstructuredGrid>::New();
   copy->ShallowCopy(filter->GetOutput());
   snapshot->DeepCopy(filter->GetOutput());
-  source->SetSurface(vtkSampledSurfaceSource::Franke);
+  source->SetSurface(vtkSampledSurfaceSource::SineWave);
   filter->Update();
   EXPECT_EQ(filter->GetReusedOutputBytes(), 0u);
   ExpectSameSpline(copy, snapshot);
@@ -256,12 +281,36 @@ TEST(ReusedOutputArrays, TessellatorRewritesItsArraysWithTheBitsOfANewFilter)
   source->SetSurface(vtkSampledSurfaceSource::SineWave);
   tessellator->Update();
   vtkPolyData* out = tessellator->GetOutput();
+  ExpectSameTessellation(out, fresh());
+  // A view of the normals' storage and a renamed view of the cell data keep their values.
+  auto normalsView = vtkSmartPointer<vtkDoubleArray>::New();
+  normalsView->ShallowCopy(out->GetPointData()->GetArray("Normals"));
+  vtkSmartPointer<vtkDataArray> macroView =
+    vtkSmartPointer<vtkDataArray>::Take(out->GetCellData()->GetArray("MacroTriangleId")->NewInstance());
+  macroView->ShallowCopy(out->GetCellData()->GetArray("MacroTriangleId"));
+  macroView->SetName("Renamed");
+  auto snapshot = vtkSmartPointer<vtkPolyData>::New();
+  snapshot->DeepCopy(out);
+  source->SetSurface(vtkSampledSurfaceSource::Franke);
+  tessellator->Update();
+  out = tessellator->GetOutput();
+  ExpectSameArray(normalsView, snapshot->GetPointData()->GetArray("Normals"), "normals view");
+  ExpectSameArray(macroView, snapshot->GetCellData()->GetArray("MacroTriangleId"), "renamed view");
+  ExpectSameTessellation(out, fresh());
+  const vtkTypeUInt64 viewed = Bytes(normalsView) + Bytes(macroView);
+  normalsView = nullptr;
+  macroView = nullptr;
+  EXPECT_GT(tessellator->GetReusedOutputBytes(), 0u);
+
+  source->SetSurface(vtkSampledSurfaceSource::SineWave);
+  tessellator->Update();
   const vtkTypeUInt64 all = Bytes(out->GetPoints()->GetData()) +
     Bytes(out->GetPointData()->GetArray("Normals")) + Bytes(out->GetPointData()->GetArray("UV")) +
     Bytes(out->GetPolys()->GetOffsetsArray()) + Bytes(out->GetPolys()->GetConnectivityArray()) +
     Bytes(out->GetCellData()->GetArray("BezierCellId")) +
     Bytes(out->GetCellData()->GetArray("MacroTriangleId"));
   EXPECT_GE(tessellator->GetReusedOutputBytes(), all);
+  EXPECT_GT(all, viewed);
   ExpectSameTessellation(out, fresh());
 
   tessellator->SetSubdivisionLevel(4);
@@ -276,34 +325,49 @@ TEST(ReusedOutputArrays, TessellatorRewritesItsArraysWithTheBitsOfANewFilter)
 TEST(ReusedOutputArrays, RecycledArraysGiveBackArraysAsNew)
 {
   const vtkIdType n = 200000; // 1.6 MB of doubles
-  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
-  auto values = vtkSmartPointer<vtkDoubleArray>::New();
-  values->SetNumberOfTuples(n);
-  for (vtkIdType i = 0; i < n; ++i)
-  {
-    values->SetValue(i, static_cast<double>(i));
-  }
-  double range[2];
-  values->GetRange(range); // cached in its information
-  ASSERT_EQ(range[1], n - 1.0);
-  grid->GetPointData()->AddArray(values);
-  auto small = vtkSmartPointer<vtkDoubleArray>::New(); // below MinimumBytes: not kept
-  small->SetNumberOfTuples(10);
-  grid->GetPointData()->AddArray(small);
-  const vtkMTimeType before = values->GetMTime();
-  vtkDoubleArray* kept = values;
-
+  // An output with a large array (ranges cached) and a small one, kept by `recycled`, then
+  // released as the pipeline's PrepareForNewData does. Returns the large array's storage.
+  auto keepOutput = [n](ctsplines::RecycledArrays& recycled, vtkDataArray** large) {
+    auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+    auto values = vtkSmartPointer<vtkDoubleArray>::New();
+    values->SetNumberOfTuples(n);
+    for (vtkIdType i = 0; i < n; ++i)
+    {
+      values->SetValue(i, static_cast<double>(i));
+    }
+    double range[2];
+    values->GetRange(range); // cached in its information
+    grid->GetPointData()->AddArray(values);
+    auto small = vtkSmartPointer<vtkDoubleArray>::New(); // below MinimumBytes: not kept
+    small->SetNumberOfTuples(10);
+    grid->GetPointData()->AddArray(small);
+    recycled.End(grid, true);
+    *large = values;
+    return grid;
+  };
   ctsplines::RecycledArrays recycled;
-  recycled.End(grid, true);
-  values = nullptr;
-  small = nullptr;
-  // Still held by the grid when the next execution begins: released, not given back.
+  vtkDataArray* kept = nullptr;
+
+  // Still held by the output when the next execution begins: released, not given back.
+  auto grid = keepOutput(recycled, &kept);
   recycled.Begin(true, {});
   EXPECT_NE(recycled.New<vtkDoubleArray>(1, n).Get(), kept);
   EXPECT_EQ(recycled.GetReusedBytes(), 0u);
 
-  recycled.End(grid, true);
-  grid->Initialize(); // the pipeline's PrepareForNewData
+  // A view of its storage (another array object) holds it too.
+  grid = keepOutput(recycled, &kept);
+  auto view = vtkSmartPointer<vtkDoubleArray>::New();
+  view->ShallowCopy(kept);
+  grid->Initialize();
+  recycled.Begin(true, {});
+  EXPECT_NE(recycled.New<vtkDoubleArray>(1, n)->GetVoidPointer(0), view->GetVoidPointer(0));
+  EXPECT_EQ(recycled.GetReusedBytes(), 0u);
+  EXPECT_EQ(view->GetValue(n - 1), n - 1.0);
+
+  // Free: given back to a request of its class and size only, once, as a new array.
+  grid = keepOutput(recycled, &kept);
+  const vtkMTimeType before = kept->GetMTime();
+  grid->Initialize();
   recycled.Begin(true, {});
   EXPECT_EQ(recycled.New<vtkDoubleArray>(1, n + 1)->GetNumberOfTuples(), n + 1); // other size
   EXPECT_EQ(recycled.New<vtkFloatArray>(1, n)->GetNumberOfTuples(), n);          // other class
@@ -317,9 +381,9 @@ TEST(ReusedOutputArrays, RecycledArraysGiveBackArraysAsNew)
   {
     a->SetValue(i, -static_cast<double>(i));
   }
-  a->GetRange(range);
+  double range[2];
+  a->GetRange(range); // the new values', not the cached ones
   EXPECT_EQ(range[0], 1.0 - n);
   EXPECT_EQ(range[1], 0.0);
-  // Taken once: a second request of the same kind gets a new array.
-  EXPECT_NE(recycled.New<vtkDoubleArray>(1, n).Get(), kept);
+  EXPECT_NE(recycled.New<vtkDoubleArray>(1, n).Get(), a.Get());
 }
