@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkBezierTriangleTessellator.h"
+#include "CTSplinesBezierCells.h"
+#include "vtkSampledSurfaceSource.h"
 
 #include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
@@ -21,6 +23,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <cmath>
 #include <iostream>
@@ -962,5 +965,69 @@ TEST(vtkBezierTriangleTessellator, AdaptiveAngularTolerance)
     // A sphere octant spans 90 degrees: at least 90 / degrees segments per edge.
     const vtkIdType atLeast = static_cast<vtkIdType>(std::pow(90.0 / degrees, 2));
     EXPECT_GE(out->GetNumberOfCells(), atLeast);
+  }
+}
+
+// The shared lattice numbering (parallel passes) is the order of first use of one pass over the
+// cells: corners by slot 3 c + a, edges by lower corner then slot, each owned by its first cell;
+// on 1 and 3 threads, on a random Delaunay spline large enough for the passes to split.
+TEST(vtkBezierTriangleTessellator, SharedNumberingIsTheOrderOfFirstUse)
+{
+  vtkNew<vtkSampledSurfaceSource> source;
+  source->SetDomainToRandomDelaunay();
+  source->SetResolution(12000);
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputConnection(source->GetOutputPort());
+  spline->Update();
+  ctsplines::BezierCells cells;
+  ASSERT_EQ(ctsplines::GatherBezierCells(spline->GetOutput(), cells), "");
+  const vtkIdType nSlots = 3 * cells.NumberOfCells();
+  ASSERT_GT(nSlots, 3 * (vtkIdType(1) << 16)); // several chunks per thread
+  // The reference: one pass in slot order.
+  std::map<vtkIdType, vtkIdType> cornerOf;
+  std::vector<vtkIdType> corner(nSlots);
+  std::vector<bool> ownsCorner(nSlots);
+  for (vtkIdType s = 0; s < nSlots; ++s)
+  {
+    const vtkIdType p = cells.CellIds(s / 3)[s % 3];
+    ownsCorner[s] = cornerOf.emplace(p, static_cast<vtkIdType>(cornerOf.size())).second;
+    corner[s] = cornerOf[p];
+  }
+  std::vector<std::array<vtkIdType, 3>> byLower; // lower corner, upper corner, slot
+  for (vtkIdType s = 0; s < nSlots; ++s)
+  {
+    const vtkIdType a = corner[s], b = corner[3 * (s / 3) + (s % 3 + 1) % 3];
+    byLower.push_back({ std::min(a, b), std::max(a, b), s });
+  }
+  std::sort(byLower.begin(), byLower.end(),
+    [](const auto& x, const auto& y) { return x[0] != y[0] ? x[0] < y[0] : x[2] < y[2]; });
+  std::map<std::pair<vtkIdType, vtkIdType>, vtkIdType> edgeOf;
+  std::vector<vtkIdType> edge(nSlots);
+  std::vector<bool> ownsEdge(nSlots);
+  for (const auto& item : byLower)
+  {
+    ownsEdge[item[2]] =
+      edgeOf.emplace(std::make_pair(item[0], item[1]), static_cast<vtkIdType>(edgeOf.size()))
+        .second;
+    edge[item[2]] = edgeOf[{ item[0], item[1] }];
+  }
+  const ctsplines::SamplingLattice lattice(4);
+  // Several runs on 3 threads: an order that depended on the threads' timing would show.
+  for (const char* threads : { "1", "3", "3", "3", "3", "3", "3", "3", "3" })
+  {
+    setenv("CTSPLINES_NUM_THREADS", threads, 1);
+    const ctsplines::LatticeNumbering numbering(cells, lattice, true);
+    unsetenv("CTSPLINES_NUM_THREADS");
+    ASSERT_EQ(numbering.NumberOfCorners(), static_cast<vtkIdType>(cornerOf.size())) << threads;
+    ASSERT_EQ(numbering.NumberOfEdges(), static_cast<vtkIdType>(edgeOf.size())) << threads;
+    for (vtkIdType s = 0; s < nSlots; ++s)
+    {
+      const vtkIdType c = s / 3;
+      const int a = static_cast<int>(s % 3);
+      ASSERT_EQ(numbering.CornerId(c, a), corner[s]) << threads << " slot " << s;
+      ASSERT_EQ(numbering.OwnsCorner(c, a), ownsCorner[s]) << threads << " slot " << s;
+      ASSERT_EQ(numbering.EdgeId(c, a), edge[s]) << threads << " slot " << s;
+      ASSERT_EQ(numbering.OwnsEdge(c, a), ownsEdge[s]) << threads << " slot " << s;
+    }
   }
 }
