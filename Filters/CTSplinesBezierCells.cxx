@@ -29,9 +29,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstring>
-#include <memory>
 #include <sstream>
 
 namespace ctsplines
@@ -495,49 +493,6 @@ SamplingLattice::SamplingLattice(int level)
 }
 
 
-namespace
-{
-// Blocks of the numbering passes: fixed sizes, so that the numbers do not depend on the threads.
-constexpr vtkIdType NumberingBlock = 4096;
-
-// body(block, begin, end) for every block of NumberingBlock items of [0, n), on the pool.
-template <typename Body>
-void ForNumberingBlocks(vtkIdType n, Body&& body)
-{
-  const vtkIdType blocks = (n + NumberingBlock - 1) / NumberingBlock;
-  ParallelFor(0, blocks, 4, [&](vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
-    {
-      body(b, b * NumberingBlock, std::min(n, (b + 1) * NumberingBlock));
-    }
-  });
-}
-
-// counts[b + 1] holds block b's count: made the blocks' starts in place; returns the total.
-vtkIdType BlockStarts(std::vector<vtkIdType>& counts)
-{
-  counts[0] = 0;
-  for (size_t b = 1; b < counts.size(); ++b)
-  {
-    counts[b] += counts[b - 1];
-  }
-  return counts.back();
-}
-
-void AtomicMin(std::atomic<vtkIdType>& a, vtkIdType v)
-{
-  vtkIdType current = a.load(std::memory_order_relaxed);
-  while (v < current && !a.compare_exchange_weak(current, v, std::memory_order_relaxed))
-  {
-  }
-}
-
-std::vector<vtkIdType> BlockCounts(vtkIdType n)
-{
-  return std::vector<vtkIdType>((n + NumberingBlock - 1) / NumberingBlock + 1, 0);
-}
-} // namespace
-
 LatticeNumbering::LatticeNumbering(
   const BezierCells& cells, const SamplingLattice& lattice, bool shared)
   : Cells(cells)
@@ -550,161 +505,89 @@ LatticeNumbering::LatticeNumbering(
     this->NPoints = nCells * static_cast<vtkIdType>(lattice.Points.size());
     return;
   }
-  // Corners by point id and edges by their two corners, each owned by the first cell that uses
-  // it and numbered in the order in which the cells first use them: corners by slot 3 c + a,
-  // edges by lower corner, then slot. Parallel passes; the numbers are those of one pass over
-  // the cells in order.
-  ctk::ResizeForOverwrite(this->CellOwns, nCells);
-  this->NumberCorners();
-  this->NumberEdges();
-  const vtkIdType nCorners = this->NumberOfCorners(), nEdges = this->NumberOfEdges();
-  this->EdgeBase = nCorners;
-  this->InteriorBase = nCorners + nEdges * (lattice.L - 1);
-  this->NPoints = this->InteriorBase + nCells * lattice.NumberOfInteriorPoints();
-}
-
-void LatticeNumbering::NumberCorners()
-{
-  const BezierCells& cells = this->Cells;
-  const vtkIdType nSlots = 3 * cells.NumberOfCells();
-  const vtkIdType nPoints = static_cast<vtkIdType>(cells.Points.size());
-  auto point = [&cells](vtkIdType s) { return cells.CellIds(s / 3)[s % 3]; };
-  // The first slot that uses each point (nSlots: none).
-  std::unique_ptr<std::atomic<vtkIdType>[]> first(new std::atomic<vtkIdType>[nPoints]);
-  ParallelFor(0, nPoints, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
+  // Corners by point id and edges by their two corner point ids, each owned by the first cell
+  // that uses it. Edges are bucketed by their lower corner: O(n).
+  const int L = lattice.L;
+  // Per cell its corners' ids and what it owns (read cell by cell, not at random, later).
+  std::vector<vtkIdType> cornerOf;
+  ctk::AssignLarge(cornerOf, cells.Points.size(), vtkIdType(-1));
+  ctk::ResizeForOverwrite(this->CellCorner, 3 * nCells);
+  ctk::AssignLarge(this->CellOwns, nCells, decltype(this->CellOwns)::value_type(0));
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int a = 0; a < 3; ++a)
     {
-      first[b].store(nSlots, std::memory_order_relaxed);
-    }
-  });
-  ParallelFor(0, nSlots, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
-    {
-      AtomicMin(first[point(b)], b);
-    }
-  });
-  auto isFirst = [&](vtkIdType s) { return first[point(s)].load(std::memory_order_relaxed) == s; };
-  std::vector<vtkIdType> start = BlockCounts(nSlots);
-  ForNumberingBlocks(nSlots, [&](vtkIdType block, vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
-    {
-      start[block + 1] += isFirst(b) ? 1 : 0;
-    }
-  });
-  this->CornerOwner.resize(BlockStarts(start));
-  ctk::OverwriteVector<vtkIdType> cornerOf; // written for the points that are corners
-  ctk::ResizeForOverwrite(cornerOf, nPoints);
-  ForNumberingBlocks(nSlots, [&](vtkIdType block, vtkIdType b, vtkIdType e) {
-    for (vtkIdType id = start[block]; b < e; ++b)
-    {
-      if (isFirst(b))
+      vtkIdType& corner = cornerOf[cells.CellIds(c)[a]];
+      if (corner < 0)
       {
-        cornerOf[point(b)] = id;
-        this->CornerOwner[id++] = b / 3;
+        corner = static_cast<vtkIdType>(this->CornerOwner.size());
+        this->CornerOwner.push_back(c);
+        this->CellOwns[c] |= 1 << a;
       }
+      this->CellCorner[3 * c + a] = corner;
     }
-  });
-  ctk::ResizeForOverwrite(this->CellCorner, nSlots);
-  ParallelFor(0, nSlots / 3, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType c = b; c < e; ++c)
+  }
+  const vtkIdType nCorners = static_cast<vtkIdType>(this->CornerOwner.size());
+  auto lower = [this](vtkIdType c, int l) {
+    return std::min(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
+  };
+  auto upper = [this](vtkIdType c, int l) {
+    return std::max(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
+  };
+  std::vector<vtkIdType> bucketStart;
+  ctk::AssignLarge(bucketStart, nCorners + 1, vtkIdType(0));
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int l = 0; l < 3; ++l)
     {
-      unsigned char owns = 0;
-      for (int a = 0; a < 3; ++a)
-      {
-        this->CellCorner[3 * c + a] = cornerOf[point(3 * c + a)];
-        owns |= static_cast<unsigned char>(isFirst(3 * c + a) << a);
-      }
-      this->CellOwns[c] = owns;
+      ++bucketStart[lower(c, l) + 1];
     }
-  });
-}
-
-void LatticeNumbering::NumberEdges()
-{
-  const vtkIdType nSlots = static_cast<vtkIdType>(this->CellCorner.size());
-  const vtkIdType nCorners = this->NumberOfCorners();
-  auto corner = [this](vtkIdType s, int step) { return this->CellCorner[3 * (s / 3) + (s % 3 + step) % 3]; };
-  auto lower = [&](vtkIdType s) { return std::min(corner(s, 0), corner(s, 1)); };
-  auto upper = [&](vtkIdType s) { return std::max(corner(s, 0), corner(s, 1)); };
-  // Slots bucketed by their edge's lower corner, in slot order within a bucket (a few each).
-  std::unique_ptr<std::atomic<vtkIdType>[]> fill(new std::atomic<vtkIdType>[nCorners + 1]);
-  ParallelFor(0, nCorners + 1, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
-    {
-      fill[b].store(0, std::memory_order_relaxed);
-    }
-  });
-  ParallelFor(0, nSlots, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
-    {
-      fill[lower(b) + 1].fetch_add(1, std::memory_order_relaxed);
-    }
-  });
-  ctk::OverwriteVector<vtkIdType> bucketStart, bucketItems;
-  ctk::ResizeForOverwrite(bucketStart, nCorners + 1);
-  bucketStart[0] = 0;
+  }
   for (vtkIdType v = 0; v < nCorners; ++v)
   {
-    bucketStart[v + 1] = bucketStart[v] + fill[v + 1].load(std::memory_order_relaxed);
-    fill[v].store(bucketStart[v], std::memory_order_relaxed);
+    bucketStart[v + 1] += bucketStart[v];
   }
-  ctk::ResizeForOverwrite(bucketItems, nSlots);
-  ParallelFor(0, nSlots, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (; b < e; ++b)
+  ctk::OverwriteVector<vtkIdType> bucketItems, fill;
+  ctk::ResizeForOverwrite(bucketItems, 3 * nCells);
+  ctk::ResizeForOverwrite(fill, nCorners);
+  std::copy(bucketStart.begin(), bucketStart.end() - 1, fill.begin());
+  for (vtkIdType c = 0; c < nCells; ++c)
+  {
+    for (int l = 0; l < 3; ++l)
     {
-      bucketItems[fill[lower(b)].fetch_add(1, std::memory_order_relaxed)] = b;
+      bucketItems[fill[lower(c, l)]++] = 3 * c + l;
     }
-  });
-  // The earlier slot of bucket v with slot i's edge, or -1.
-  auto earlier = [&](vtkIdType v, vtkIdType i) {
-    const vtkIdType other = upper(bucketItems[i]);
-    for (vtkIdType k = bucketStart[v]; k < i; ++k)
+  }
+  ctk::ResizeForOverwrite(this->CellEdge, 3 * nCells);
+  for (vtkIdType v = 0; v < nCorners; ++v)
+  {
+    for (vtkIdType i = bucketStart[v]; i < bucketStart[v + 1]; ++i)
     {
-      if (upper(bucketItems[k]) == other)
+      const vtkIdType ce = bucketItems[i], c = ce / 3;
+      const vtkIdType other = upper(c, static_cast<int>(ce % 3));
+      vtkIdType edge = -1;
+      for (vtkIdType k = bucketStart[v]; k < i && edge < 0; ++k)
       {
-        return k;
-      }
-    }
-    return vtkIdType(-1);
-  };
-  std::vector<vtkIdType> start = BlockCounts(nCorners);
-  ForNumberingBlocks(nCorners, [&](vtkIdType block, vtkIdType b, vtkIdType e) {
-    for (vtkIdType v = b; v < e; ++v)
-    {
-      std::sort(bucketItems.data() + bucketStart[v], bucketItems.data() + bucketStart[v + 1]);
-      for (vtkIdType i = bucketStart[v]; i < bucketStart[v + 1]; ++i)
-      {
-        start[block + 1] += earlier(v, i) < 0 ? 1 : 0;
-      }
-    }
-  });
-  this->EdgeOwner.resize(BlockStarts(start));
-  ctk::ResizeForOverwrite(this->CellEdge, nSlots);
-  ctk::OverwriteVector<unsigned char> owner; // whether slot s's cell owns its edge
-  ctk::ResizeForOverwrite(owner, nSlots);
-  ForNumberingBlocks(nCorners, [&](vtkIdType block, vtkIdType b, vtkIdType e) {
-    vtkIdType id = start[block];
-    for (vtkIdType v = b; v < e; ++v)
-    {
-      for (vtkIdType i = bucketStart[v]; i < bucketStart[v + 1]; ++i)
-      {
-        const vtkIdType s = bucketItems[i], k = earlier(v, i);
-        owner[s] = k < 0;
-        if (k < 0)
+        const vtkIdType cek = bucketItems[k];
+        if (upper(cek / 3, static_cast<int>(cek % 3)) == other)
         {
-          this->EdgeOwner[id] = s / 3;
+          edge = this->CellEdge[cek];
         }
-        this->CellEdge[s] = k < 0 ? id++ : this->CellEdge[bucketItems[k]];
       }
+      if (edge < 0)
+      {
+        // Items are in cell order, so the first cell seen owns the edge.
+        edge = static_cast<vtkIdType>(this->EdgeOwner.size());
+        this->EdgeOwner.push_back(c);
+        this->CellOwns[c] |= 8 << (ce % 3);
+      }
+      this->CellEdge[ce] = edge;
     }
-  });
-  ParallelFor(0, nSlots / 3, GrainForCopies, [&](vtkIdType b, vtkIdType e) {
-    for (vtkIdType c = b; c < e; ++c)
-    {
-      this->CellOwns[c] |= static_cast<unsigned char>(
-        (owner[3 * c] << 3) | (owner[3 * c + 1] << 4) | (owner[3 * c + 2] << 5));
-    }
-  });
+  }
+  const vtkIdType nEdges = static_cast<vtkIdType>(this->EdgeOwner.size());
+  this->EdgeBase = nCorners;
+  this->InteriorBase = nCorners + nEdges * (L - 1);
+  this->NPoints = this->InteriorBase + nCells * lattice.NumberOfInteriorPoints();
 }
 
 vtkIdType LatticeNumbering::OutputId(vtkIdType c, int index, bool& owned) const

@@ -191,15 +191,13 @@ public:
   vtkIdType NumberOfEdges() const { return static_cast<vtkIdType>(this->EdgeOwner.size()); }
 
 private:
-  void NumberCorners(); // CellCorner, CornerOwner and CellOwns' corner bits
-  void NumberEdges();   // CellEdge, EdgeOwner and CellOwns' edge bits
   const BezierCells& Cells;
   const SamplingLattice& Lattice;
   bool Shared;
   vtkIdType NPoints = 0, EdgeBase = 0, InteriorBase = 0;
   ctk::OverwriteVector<vtkIdType> CellCorner, CellEdge; // written whole after ResizeForOverwrite
   std::vector<vtkIdType> CornerOwner, EdgeOwner;
-  ctk::OverwriteVector<unsigned char> CellOwns; // bits 0-2: corners, 3-5: edges the cell owns
+  std::vector<unsigned char> CellOwns; // bits 0-2: corners, 3-5: edges the cell owns
 };
 
 /// Checks the input's cell data arrays: one tuple per cell each, and one component for
