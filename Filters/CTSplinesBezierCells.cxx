@@ -29,6 +29,7 @@
 #include "vtkUnstructuredGrid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <sstream>
 
@@ -332,7 +333,7 @@ std::string CheckCellValues(
 }
 
 // Point coordinates: raw pointers (in parallel) for float/double storage, GetPoint otherwise.
-void CopyPoints(vtkDataSet* ds, std::vector<ctk::Vec3>& points)
+void CopyPoints(vtkDataSet* ds, ctk::OverwriteVector<ctk::Vec3>& points)
 {
   const vtkIdType nPoints = ds->GetNumberOfPoints();
   ctk::ResizeForOverwrite(points, nPoints);
@@ -493,48 +494,42 @@ SamplingLattice::SamplingLattice(int level)
 }
 
 
-LatticeNumbering::LatticeNumbering(
-  const BezierCells& cells, const SamplingLattice& lattice, bool shared)
-  : Cells(cells)
-  , Lattice(lattice)
-  , Shared(shared)
+SharedCellTopology::SharedCellTopology(const BezierCells& cells)
 {
   const vtkIdType nCells = cells.NumberOfCells();
-  if (!shared)
-  {
-    this->NPoints = nCells * static_cast<vtkIdType>(lattice.Points.size());
-    return;
-  }
-  // Corners by point id and edges by their two corner point ids, each owned by the first cell
-  // that uses it. Edges are bucketed by their lower corner: O(n).
-  const int L = lattice.L;
-  // Per cell its corners' ids and what it owns (read cell by cell, not at random, later).
-  std::vector<vtkIdType> cornerOf;
+  // Corners in order of first use, cell by cell (read cell by cell later, not at random).
+  ctk::OverwriteVector<vtkIdType> cornerOf;
   ctk::AssignLarge(cornerOf, cells.Points.size(), vtkIdType(-1));
   ctk::ResizeForOverwrite(this->CellCorner, 3 * nCells);
   ctk::AssignLarge(this->CellOwns, nCells, decltype(this->CellOwns)::value_type(0));
   for (vtkIdType c = 0; c < nCells; ++c)
   {
+    const vtkIdType* ids = cells.CellIds(c);
     for (int a = 0; a < 3; ++a)
     {
-      vtkIdType& corner = cornerOf[cells.CellIds(c)[a]];
+      vtkIdType& corner = cornerOf[ids[a]];
       if (corner < 0)
       {
-        corner = static_cast<vtkIdType>(this->CornerOwner.size());
-        this->CornerOwner.push_back(c);
+        corner = static_cast<vtkIdType>(this->CornerPoint.size());
+        this->CornerPoint.push_back(ids[a]);
         this->CellOwns[c] |= 1 << a;
       }
       this->CellCorner[3 * c + a] = corner;
     }
   }
-  const vtkIdType nCorners = static_cast<vtkIdType>(this->CornerOwner.size());
+  this->NumberEdges();
+}
+
+void SharedCellTopology::NumberEdges()
+{
+  // Edges bucketed by their lower corner, each item with its upper corner (the matching scans
+  // a bucket only, not the cells): O(n).
+  const vtkIdType nCells = this->NumberOfCells();
+  const vtkIdType nCorners = this->NumberOfCorners();
   auto lower = [this](vtkIdType c, int l) {
     return std::min(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
   };
-  auto upper = [this](vtkIdType c, int l) {
-    return std::max(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
-  };
-  std::vector<vtkIdType> bucketStart;
+  ctk::OverwriteVector<vtkIdType> bucketStart;
   ctk::AssignLarge(bucketStart, nCorners + 1, vtkIdType(0));
   for (vtkIdType c = 0; c < nCells; ++c)
   {
@@ -547,72 +542,112 @@ LatticeNumbering::LatticeNumbering(
   {
     bucketStart[v + 1] += bucketStart[v];
   }
-  ctk::OverwriteVector<vtkIdType> bucketItems, fill;
-  ctk::ResizeForOverwrite(bucketItems, 3 * nCells);
+  ctk::OverwriteVector<vtkIdType> itemEdge, itemUpper, fill;
+  ctk::ResizeForOverwrite(itemEdge, 3 * nCells);
+  ctk::ResizeForOverwrite(itemUpper, 3 * nCells);
   ctk::ResizeForOverwrite(fill, nCorners);
   std::copy(bucketStart.begin(), bucketStart.end() - 1, fill.begin());
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int l = 0; l < 3; ++l)
     {
-      bucketItems[fill[lower(c, l)]++] = 3 * c + l;
+      const vtkIdType i = fill[lower(c, l)]++;
+      itemEdge[i] = 3 * c + l;
+      itemUpper[i] = std::max(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
     }
   }
   ctk::ResizeForOverwrite(this->CellEdge, 3 * nCells);
+  vtkIdType nEdges = 0;
   for (vtkIdType v = 0; v < nCorners; ++v)
   {
     for (vtkIdType i = bucketStart[v]; i < bucketStart[v + 1]; ++i)
     {
-      const vtkIdType ce = bucketItems[i], c = ce / 3;
-      const vtkIdType other = upper(c, static_cast<int>(ce % 3));
-      vtkIdType edge = -1;
-      for (vtkIdType k = bucketStart[v]; k < i && edge < 0; ++k)
+      const vtkIdType ce = itemEdge[i];
+      vtkIdType k = bucketStart[v];
+      while (k < i && itemUpper[k] != itemUpper[i])
       {
-        const vtkIdType cek = bucketItems[k];
-        if (upper(cek / 3, static_cast<int>(cek % 3)) == other)
-        {
-          edge = this->CellEdge[cek];
-        }
+        ++k;
       }
-      if (edge < 0)
+      if (k < i)
+      {
+        this->CellEdge[ce] = this->CellEdge[itemEdge[k]];
+      }
+      else
       {
         // Items are in cell order, so the first cell seen owns the edge.
-        edge = static_cast<vtkIdType>(this->EdgeOwner.size());
-        this->EdgeOwner.push_back(c);
-        this->CellOwns[c] |= 8 << (ce % 3);
+        this->CellEdge[ce] = nEdges++;
+        this->CellOwns[ce / 3] |= 8 << (ce % 3);
       }
-      this->CellEdge[ce] = edge;
     }
   }
-  const vtkIdType nEdges = static_cast<vtkIdType>(this->EdgeOwner.size());
-  this->EdgeBase = nCorners;
-  this->InteriorBase = nCorners + nEdges * (L - 1);
+  this->NEdges = nEdges;
+}
+
+bool SharedCellTopology::SameCorners(const BezierCells& cells) const
+{
+  const vtkIdType nCells = cells.NumberOfCells();
+  if (nCells != this->NumberOfCells())
+  {
+    return false;
+  }
+  std::atomic<bool> same(true);
+  ParallelFor(0, nCells, GrainForCopies, [&](vtkIdType begin, vtkIdType end) {
+    for (vtkIdType c = begin; c < end && same.load(std::memory_order_relaxed); ++c)
+    {
+      const vtkIdType* ids = cells.CellIds(c);
+      for (int a = 0; a < 3; ++a)
+      {
+        if (this->CornerPoint[this->CellCorner[3 * c + a]] != ids[a])
+        {
+          same = false;
+        }
+      }
+    }
+  });
+  return same;
+}
+
+LatticeNumbering::LatticeNumbering(
+  const BezierCells& cells, const SamplingLattice& lattice, bool shared)
+  : Lattice(lattice)
+{
+  const vtkIdType nCells = cells.NumberOfCells();
+  if (!shared)
+  {
+    this->NPoints = nCells * static_cast<vtkIdType>(lattice.Points.size());
+    return;
+  }
+  this->Topology.reset(new SharedCellTopology(cells));
+  this->EdgeBase = this->Topology->NumberOfCorners();
+  this->InteriorBase = this->EdgeBase + this->Topology->NumberOfEdges() * (lattice.L - 1);
   this->NPoints = this->InteriorBase + nCells * lattice.NumberOfInteriorPoints();
 }
 
 vtkIdType LatticeNumbering::OutputId(vtkIdType c, int index, bool& owned) const
 {
-  if (!this->Shared)
+  if (!this->Topology)
   {
     owned = true;
     return c * static_cast<vtkIdType>(this->Lattice.Points.size()) + index;
   }
+  const SharedCellTopology& topology = *this->Topology;
   const SamplingLattice::Point& p = this->Lattice.Points[index];
   const int L = this->Lattice.L;
   switch (p.Kind)
   {
     case SamplingLattice::Point::Corner:
     {
-      const vtkIdType v = this->CornerId(c, p.Local);
-      owned = this->OwnsCorner(c, p.Local);
+      const vtkIdType v = topology.CornerId(c, p.Local);
+      owned = topology.OwnsCorner(c, p.Local);
       return v;
     }
     case SamplingLattice::Point::Edge:
     {
-      const vtkIdType e = this->CellEdge[3 * c + p.Local];
-      owned = this->OwnsEdge(c, p.Local);
+      const vtkIdType e = topology.EdgeId(c, p.Local);
+      owned = topology.OwnsEdge(c, p.Local);
       // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
-      const bool forward = this->CornerId(c, p.Local) <= this->CornerId(c, (p.Local + 1) % 3);
+      const bool forward =
+        topology.CornerId(c, p.Local) <= topology.CornerId(c, (p.Local + 1) % 3);
       return this->EdgeBase + e * (L - 1) + (forward ? p.Step : L - p.Step) - 1;
     }
     default:

@@ -19,6 +19,7 @@
 #include <algorithm>
 
 #include <array>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,12 +55,13 @@ const double* GatherNet(const std::vector<int>& order, const IdT* ids, const dou
 /// The Bézier triangles of a data set: connectivity, degree, points and rational weights.
 struct BezierCells
 {
-  std::vector<vtkIdType> Offsets{ 0 };
-  std::vector<vtkIdType> Ids;
-  std::vector<signed char> Degree;
-  std::vector<ctk::Vec3> Points;  // every point of the data set
-  std::vector<double> Weights;    // one per point; empty: polynomial
-  std::vector<double> UV;         // 2 per point (ReadUV); empty: none
+  // OverwriteVectors: written whole after a resize (no zeroing), huge pages from 1 MiB.
+  ctk::OverwriteVector<vtkIdType> Offsets{ 0 };
+  ctk::OverwriteVector<vtkIdType> Ids;
+  ctk::OverwriteVector<signed char> Degree;
+  ctk::OverwriteVector<ctk::Vec3> Points; // every point of the data set
+  ctk::OverwriteVector<double> Weights;   // one per point; empty: polynomial
+  ctk::OverwriteVector<double> UV;        // 2 per point (ReadUV); empty: none
   std::array<std::vector<int>, ctk::MaxDegree + 1> Orders; // VtkBezierTriangleOrder, degrees used
 
   vtkIdType NumberOfCells() const { return static_cast<vtkIdType>(this->Degree.size()); }
@@ -113,7 +115,7 @@ private:
   {
     std::string Name;
     int Components = 0;
-    std::vector<double> Values;
+    ctk::OverwriteVector<double> Values;
     vtkSmartPointer<vtkDoubleArray> Out;
   };
   std::vector<Array> Arrays;
@@ -165,11 +167,38 @@ struct SamplingLattice
   vtkIdType NumberOfInteriorPoints() const { return static_cast<vtkIdType>(L - 1) * (L - 2) / 2; }
 };
 
-/// Output numbering of the lattice points of every cell. Shared: a corner shared by cells (same
-/// point id) and an edge shared by cells (same two corner point ids) get their points once, owned
-/// by the lowest cell id using them; points are numbered corners first (in order of first use),
-/// then edge inner points, then cell interiors. Not shared: every cell owns all its points,
-/// numbered cell by cell.
+/// The corners and edges that cells share: a corner is a point id, an edge the two point ids
+/// of its corners. Both are numbered in order of first use, cell by cell, and owned by the
+/// lowest cell id that uses them. They depend on the cells' corner point ids only, so a kept
+/// topology serves again for cells with the same corners (SameCorners), whatever their nets.
+class SharedCellTopology
+{
+public:
+  explicit SharedCellTopology(const BezierCells& cells);
+  /// Whether `cells` has this topology's cell count and corner point ids, cell by cell.
+  bool SameCorners(const BezierCells& cells) const;
+
+  vtkIdType NumberOfCells() const { return static_cast<vtkIdType>(this->CellOwns.size()); }
+  vtkIdType NumberOfCorners() const { return static_cast<vtkIdType>(this->CornerPoint.size()); }
+  vtkIdType NumberOfEdges() const { return this->NEdges; }
+  vtkIdType CornerId(vtkIdType c, int a) const { return this->CellCorner[3 * c + a]; }
+  vtkIdType EdgeId(vtkIdType c, int l) const { return this->CellEdge[3 * c + l]; }
+  bool OwnsCorner(vtkIdType c, int a) const { return (this->CellOwns[c] >> a) & 1; }
+  bool OwnsEdge(vtkIdType c, int l) const { return (this->CellOwns[c] >> (3 + l)) & 1; }
+
+private:
+  void NumberEdges();
+
+  ctk::OverwriteVector<vtkIdType> CellCorner, CellEdge; // written whole after ResizeForOverwrite
+  std::vector<vtkIdType> CornerPoint; // the point id of each corner
+  std::vector<unsigned char> CellOwns; // bits 0-2: corners, 3-5: edges the cell owns
+  vtkIdType NEdges = 0;
+};
+
+/// Output numbering of the lattice points of every cell. Shared: the points of a shared corner
+/// or edge (SharedCellTopology) are output once and evaluated by its owner; points are numbered
+/// corners first (in order of first use), then edge inner points, then cell interiors. Not
+/// shared: every cell owns all its points, numbered cell by cell.
 class LatticeNumbering
 {
 public:
@@ -182,22 +211,10 @@ public:
   void WriteTriangles(vtkIdType c, vtkIdType* offsets, vtkIdType* connectivity,
     vtkIdType* sourceCell) const;
 
-  /// The shared corners and edges (shared numbering only): ids, counts and owners.
-  vtkIdType CornerId(vtkIdType c, int a) const { return this->CellCorner[3 * c + a]; }
-  vtkIdType EdgeId(vtkIdType c, int l) const { return this->CellEdge[3 * c + l]; }
-  bool OwnsCorner(vtkIdType c, int a) const { return (this->CellOwns[c] >> a) & 1; }
-  bool OwnsEdge(vtkIdType c, int l) const { return (this->CellOwns[c] >> (3 + l)) & 1; }
-  vtkIdType NumberOfCorners() const { return static_cast<vtkIdType>(this->CornerOwner.size()); }
-  vtkIdType NumberOfEdges() const { return static_cast<vtkIdType>(this->EdgeOwner.size()); }
-
 private:
-  const BezierCells& Cells;
   const SamplingLattice& Lattice;
-  bool Shared;
+  std::unique_ptr<SharedCellTopology> Topology; // shared numbering only
   vtkIdType NPoints = 0, EdgeBase = 0, InteriorBase = 0;
-  ctk::OverwriteVector<vtkIdType> CellCorner, CellEdge; // written whole after ResizeForOverwrite
-  std::vector<vtkIdType> CornerOwner, EdgeOwner;
-  std::vector<unsigned char> CellOwns; // bits 0-2: corners, 3-5: edges the cell owns
 };
 
 /// Checks the input's cell data arrays: one tuple per cell each, and one component for

@@ -70,9 +70,10 @@ SnappedLattice::SnappedLattice(const SamplingLattice& lattice, const std::array<
   }
 }
 
-CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& levels)
+CellPatterns::CellPatterns(const BezierCells& cells, const std::vector<int>& levels,
+  const SharedCellTopology& topology)
   : Cells(cells)
-  , Topology(cells, this->UnitLattice, true)
+  , Topology(topology)
 {
   const vtkIdType nCells = cells.NumberOfCells();
   const vtkIdType nEdges = this->Topology.NumberOfEdges();

@@ -39,8 +39,10 @@ struct SnappedLattice
 class CellPatterns
 {
 public:
-  /// levels: one power of two per cell (raised where an edge needs more, see above).
-  CellPatterns(const BezierCells& cells, const std::vector<int>& levels);
+  /// levels: one power of two per cell (raised where an edge needs more, see above); topology:
+  /// the cells' (SharedCellTopology(cells) or one with the same corners), used while this lives.
+  CellPatterns(const BezierCells& cells, const std::vector<int>& levels,
+    const SharedCellTopology& topology);
   const SnappedLattice& Pattern(vtkIdType c) const { return *this->Of[c]; }
   /// Bernstein bases of cell c's degree at its pattern's points (shared by the cells of one
   /// pattern and degree).
@@ -63,14 +65,13 @@ private:
   void FindPattern(vtkIdType c, const std::array<int, 5>& key);
 
   const BezierCells& Cells;
-  SamplingLattice UnitLattice{ 1 };
-  LatticeNumbering Topology; // corners, edges and their owners (level-independent)
+  const SharedCellTopology& Topology; // corners, edges and their owners (level-independent)
   std::map<std::array<int, 4>, SnappedLattice> Patterns;
   std::map<int, SamplingLattice> Lattices;
   ctk::OverwriteVector<const SnappedLattice*> Of;
   std::map<std::array<int, 5>, ctk::BezierBasisTable> Bases; // pattern key and degree
   ctk::OverwriteVector<const ctk::BezierBasisTable*> BasisOf;
-  std::vector<int> EdgeSegments;
+  ctk::OverwriteVector<int> EdgeSegments;
   ctk::OverwriteVector<vtkIdType> EdgeStart, InteriorStart, TriangleStart;
   // Per cell and local edge: EdgeStart and EdgeSegments of the edge (read in cell order).
   ctk::OverwriteVector<vtkIdType> CellEdgeStart;

@@ -34,6 +34,8 @@ vtkStandardNewMacro(vtkBezierTriangleTessellator);
 
 struct vtkBezierTriangleTessellator::RecycledOutput : ctsplines::RecycledArrays
 {
+  // The last input's shared corners and edges, kept with the arrays (ReuseOutputArrays).
+  std::unique_ptr<ctsplines::SharedCellTopology> Topology;
 };
 
 vtkBezierTriangleTessellator::vtkBezierTriangleTessellator()
@@ -55,6 +57,7 @@ void vtkBezierTriangleTessellator::SetReuseOutputArrays(bool reuse)
     if (!reuse)
     {
       this->Recycled->Clear(); // the arrays go with the output, as without the property
+      this->Recycled->Topology.reset();
     }
     this->Modified();
   }
@@ -411,7 +414,18 @@ int vtkBezierTriangleTessellator::RequestData(
         this->GetAbsoluteChordalTolerance(input), this->AngularTolerance)
     : std::vector<int>(nCells, this->SubdivisionLevel);
   this->UpdateProgress(this->IsAdaptive() ? 0.3 : 0.0);
-  const ctsplines::CellPatterns patterns(cells, levels);
+  // The shared corners and edges: the previous input's when its cells had the same corners.
+  std::unique_ptr<ctsplines::SharedCellTopology> topology;
+  if (recycled)
+  {
+    topology = std::move(this->Recycled->Topology);
+  }
+  if (!topology || !topology->SameCorners(cells))
+  {
+    topology.reset(); // before the new one is built (peak memory)
+    topology.reset(new ctsplines::SharedCellTopology(cells));
+  }
+  const ctsplines::CellPatterns patterns(cells, levels, *topology);
   const vtkIdType nOutPoints = patterns.NumberOfPoints();
   const vtkIdType nOutCells = patterns.NumberOfTriangles();
   if (recycled)
@@ -477,8 +491,12 @@ int vtkBezierTriangleTessellator::RequestData(
     input, output->GetCellData(), bezierCellId->GetPointer(0), nOutCells, recycled);
   output->GetCellData()->AddArray(bezierCellId);
   ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
-  recycling.End(
-    output, ctsplines::RecycledArrays::MayKeepOutput(this, this->ReuseOutputArrays));
+  const bool keep = ctsplines::RecycledArrays::MayKeepOutput(this, this->ReuseOutputArrays);
+  recycling.End(output, keep);
+  if (recycled && keep)
+  {
+    this->Recycled->Topology = std::move(topology);
+  }
   this->UpdateProgress(1.0);
   return 1;
 }

@@ -968,10 +968,10 @@ TEST(vtkBezierTriangleTessellator, AdaptiveAngularTolerance)
   }
 }
 
-// The shared lattice numbering is the order of first use: corners by slot 3 c + a, edges by
-// lower corner then slot, each owned by its first cell; on 1 and 3 threads, on a random
-// Delaunay spline.
-TEST(vtkBezierTriangleTessellator, SharedNumberingIsTheOrderOfFirstUse)
+// The shared corners and edges are numbered in the order of first use: corners by slot 3 c + a,
+// edges by lower corner then slot, each owned by its first cell; on 1 and 3 threads, on a random
+// Delaunay spline. A kept topology is recognised by the same corners only.
+TEST(vtkBezierTriangleTessellator, SharedCornersAndEdgesAreInTheOrderOfFirstUse)
 {
   vtkNew<vtkSampledSurfaceSource> source;
   source->SetDomainToRandomDelaunay();
@@ -1010,11 +1010,20 @@ TEST(vtkBezierTriangleTessellator, SharedNumberingIsTheOrderOfFirstUse)
         .second;
     edge[item[2]] = edgeOf[{ item[0], item[1] }];
   }
-  const ctsplines::SamplingLattice lattice(4);
   for (const char* threads : { "1", "3" })
   {
     setenv("CTSPLINES_NUM_THREADS", threads, 1);
-    const ctsplines::LatticeNumbering numbering(cells, lattice, true);
+    const ctsplines::SharedCellTopology numbering(cells);
+    EXPECT_TRUE(numbering.SameCorners(cells)) << threads;
+    // Another corner in the last cell, then one cell fewer.
+    ctsplines::BezierCells changed = cells;
+    std::swap(changed.Ids[changed.Offsets[changed.NumberOfCells() - 1]],
+      changed.Ids[changed.Offsets[changed.NumberOfCells() - 1] + 1]);
+    EXPECT_FALSE(numbering.SameCorners(changed)) << threads;
+    changed = cells;
+    changed.Degree.pop_back();
+    changed.Offsets.pop_back();
+    EXPECT_FALSE(numbering.SameCorners(changed)) << threads;
     unsetenv("CTSPLINES_NUM_THREADS");
     ASSERT_EQ(numbering.NumberOfCorners(), static_cast<vtkIdType>(cornerOf.size())) << threads;
     ASSERT_EQ(numbering.NumberOfEdges(), static_cast<vtkIdType>(edgeOf.size())) << threads;

@@ -319,6 +319,44 @@ TEST(ReusedOutputArrays, TessellatorRewritesItsArraysWithTheBitsOfANewFilter)
   ExpectSameTessellation(tessellator->GetOutput(), fresh());
 }
 
+// The kept corners and edges (SharedCellTopology) serve only cells with the same corners: the
+// same spline with its cells in reverse order, the same counts everywhere, is numbered anew.
+TEST(ReusedOutputArrays, TessellatorNumbersCellsWithOtherCornersAnew)
+{
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputConnection(Source(vtkSampledSurfaceSource::Franke)->GetOutputPort());
+  spline->Update();
+  vtkUnstructuredGrid* forward = spline->GetOutput();
+  vtkNew<vtkUnstructuredGrid> reversed;
+  reversed->SetPoints(forward->GetPoints());
+  reversed->GetPointData()->ShallowCopy(forward->GetPointData());
+  const vtkIdType n = forward->GetNumberOfCells();
+  reversed->Allocate(n);
+  reversed->GetCellData()->CopyAllocate(forward->GetCellData(), n);
+  for (vtkIdType k = n - 1; k >= 0; --k)
+  {
+    vtkIdType count = 0;
+    const vtkIdType* ids = nullptr;
+    forward->GetCellPoints(k, count, ids);
+    const vtkIdType id = reversed->InsertNextCell(forward->GetCellType(k), count, ids);
+    reversed->GetCellData()->CopyData(forward->GetCellData(), k, id);
+  }
+  vtkNew<vtkBezierTriangleTessellator> tessellator;
+  tessellator->SetSubdivisionLevel(3);
+  for (vtkDataSet* input : { static_cast<vtkDataSet*>(forward), static_cast<vtkDataSet*>(reversed),
+         static_cast<vtkDataSet*>(reversed), static_cast<vtkDataSet*>(forward) })
+  {
+    tessellator->SetInputData(input);
+    tessellator->Update();
+    vtkNew<vtkBezierTriangleTessellator> fresh;
+    fresh->SetReuseOutputArrays(false);
+    fresh->SetInputData(input);
+    fresh->SetSubdivisionLevel(3);
+    fresh->Update();
+    ExpectSameTessellation(tessellator->GetOutput(), fresh->GetOutput());
+  }
+}
+
 // RecycledArrays itself: a kept array comes back only to a request of its class and sizes, only
 // while nothing else holds it, and as a new array would be: no name, no cached ranges, a newer
 // MTime (an unnamed array's ranges would otherwise be served stale).
