@@ -64,13 +64,12 @@ inline void AdviseHugePages(const void* p, std::size_t bytes)
 #endif
 #endif
 
-/// Blocks of at least this many bytes are mapped on their own (MapLargeBlock), in whole huge
-/// pages: the slack of the last one (under 2 MiB, cleared at huge-page speed) costs less than
-/// the 256 or more small-page faults of the heap's blocks (glibc maps its own above 128 KiB
-/// while its threshold has not risen, without huge pages). 4 MiB before session 26: the
-/// tessellator's cell patterns and the spline filter's input copies at 1e5 triangles took most
-/// of their time in such faults.
-constexpr std::size_t LargeBlockBytes = std::size_t(1) << 20;
+/// Blocks of at least this many bytes are mapped on their own (MapLargeBlock). Tried at 1 MiB
+/// in session 26: a fresh Python process then rebuilt a spline of 1e5 triangles 3x faster
+/// (glibc maps its own blocks above 128 KiB there, in small pages), but a process whose glibc
+/// threshold had risen (the benchmark's, ParaView's) lost its heap's resident memory: 1e6
+/// triangles 5-10 % slower, peak 1.01x -> 1.05x the output.
+constexpr std::size_t LargeBlockBytes = std::size_t(4) << 20;
 
 #if CTSPLINES_MAP_LARGE_ARRAYS
 /// A block of `bytes` (>= LargeBlockBytes) mapped on its own, in whole 2 MiB pages advised for
