@@ -523,7 +523,7 @@ SharedCellTopology::SharedCellTopology(const BezierCells& cells)
 void SharedCellTopology::NumberEdges()
 {
   // Edges bucketed by their lower corner, each item with its upper corner (the matching scans
-  // a bucket only, not the cells): O(n).
+  // a bucket only, not the cells): O(n) for bounded valence.
   const vtkIdType nCells = this->NumberOfCells();
   const vtkIdType nCorners = this->NumberOfCorners();
   auto lower = [this](vtkIdType c, int l) {
@@ -645,9 +645,7 @@ vtkIdType LatticeNumbering::OutputId(vtkIdType c, int index, bool& owned) const
     {
       const vtkIdType e = topology.EdgeId(c, p.Local);
       owned = topology.OwnsEdge(c, p.Local);
-      // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
-      const bool forward =
-        topology.CornerId(c, p.Local) <= topology.CornerId(c, (p.Local + 1) % 3);
+      const bool forward = topology.EdgeRunsForward(c, p.Local);
       return this->EdgeBase + e * (L - 1) + (forward ? p.Step : L - p.Step) - 1;
     }
     default:

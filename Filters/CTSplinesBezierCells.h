@@ -55,7 +55,7 @@ const double* GatherNet(const std::vector<int>& order, const IdT* ids, const dou
 /// The Bézier triangles of a data set: connectivity, degree, points and rational weights.
 struct BezierCells
 {
-  // OverwriteVectors: written whole after a resize (no zeroing), huge pages from 1 MiB.
+  // OverwriteVectors: written whole after a resize, without zeroing first (LargeArrays.h).
   ctk::OverwriteVector<vtkIdType> Offsets{ 0 };
   ctk::OverwriteVector<vtkIdType> Ids;
   ctk::OverwriteVector<signed char> Degree;
@@ -168,9 +168,10 @@ struct SamplingLattice
 };
 
 /// The corners and edges that cells share: a corner is a point id, an edge the two point ids
-/// of its corners. Both are numbered in order of first use, cell by cell, and owned by the
-/// lowest cell id that uses them. They depend on the cells' corner point ids only, so a kept
-/// topology serves again for cells with the same corners (SameCorners), whatever their nets.
+/// of its corners. Corners are numbered in order of first use (slot 3 c + a), edges by their
+/// lower corner and then in order of first use; each is owned by the lowest cell id that uses
+/// it. They depend on the cells' corner point ids only, so a kept topology serves again for
+/// cells with the same corners (SameCorners), whatever their nets.
 class SharedCellTopology
 {
 public:
@@ -185,6 +186,12 @@ public:
   vtkIdType EdgeId(vtkIdType c, int l) const { return this->CellEdge[3 * c + l]; }
   bool OwnsCorner(vtkIdType c, int a) const { return (this->CellOwns[c] >> a) & 1; }
   bool OwnsEdge(vtkIdType c, int l) const { return (this->CellOwns[c] >> (3 + l)) & 1; }
+  /// Edge points are stored from the lower corner id: whether cell c's edge l (corner l to
+  /// corner l + 1) runs that way, or its points are walked backwards.
+  bool EdgeRunsForward(vtkIdType c, int l) const
+  {
+    return this->CornerId(c, l) <= this->CornerId(c, (l + 1) % 3);
+  }
 
 private:
   void NumberEdges();

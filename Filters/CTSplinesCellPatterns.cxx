@@ -177,8 +177,7 @@ void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) 
   }
   for (int l = 0; l < 3; ++l)
   {
-    // Stored from the lower corner id: walk backwards when the cell's edge runs downwards.
-    forward[l] = corner[l] <= corner[(l + 1) % 3];
+    forward[l] = this->Topology.EdgeRunsForward(c, l);
   }
   const std::vector<SamplingLattice::Point>& points = this->Of[c]->Points;
   for (size_t p = 0; p < points.size(); ++p)

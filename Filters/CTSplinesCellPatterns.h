@@ -43,6 +43,7 @@ public:
   /// the cells' (SharedCellTopology(cells) or one with the same corners), used while this lives.
   CellPatterns(const BezierCells& cells, const std::vector<int>& levels,
     const SharedCellTopology& topology);
+  CellPatterns(const BezierCells&, const std::vector<int>&, SharedCellTopology&&) = delete;
   const SnappedLattice& Pattern(vtkIdType c) const { return *this->Of[c]; }
   /// Bernstein bases of cell c's degree at its pattern's points (shared by the cells of one
   /// pattern and degree).

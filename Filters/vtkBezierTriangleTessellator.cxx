@@ -25,6 +25,7 @@
 #include "vtkSmartPointer.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -36,6 +37,7 @@ struct vtkBezierTriangleTessellator::RecycledOutput : ctsplines::RecycledArrays
 {
   // The last input's shared corners and edges, kept with the arrays (ReuseOutputArrays).
   std::unique_ptr<ctsplines::SharedCellTopology> Topology;
+  std::atomic<vtkTypeUInt64> TopologyBuilds{ 0 }; // concurrent executions build their own
 };
 
 vtkBezierTriangleTessellator::vtkBezierTriangleTessellator()
@@ -47,6 +49,11 @@ vtkBezierTriangleTessellator::~vtkBezierTriangleTessellator() = default;
 vtkTypeUInt64 vtkBezierTriangleTessellator::GetReusedOutputBytes() const
 {
   return this->Recycled->GetReusedBytes();
+}
+
+vtkTypeUInt64 vtkBezierTriangleTessellator::GetNumberOfTopologyBuilds() const
+{
+  return this->Recycled->TopologyBuilds;
 }
 
 void vtkBezierTriangleTessellator::SetReuseOutputArrays(bool reuse)
@@ -390,6 +397,12 @@ int vtkBezierTriangleTessellator::RequestData(
     { input->GetNumberOfCells(), input->GetNumberOfPoints(), this->SubdivisionLevel,
       this->IsAdaptive() ? 1 : 0 });
   ctsplines::RecycledArrays* recycled = recycling.Get();
+  // The kept corners and edges are taken at once: an execution that fails keeps none.
+  std::unique_ptr<ctsplines::SharedCellTopology> topology;
+  if (recycled)
+  {
+    topology = std::move(this->Recycled->Topology);
+  }
   vtkNew<vtkPoints> outPoints;
   outPoints->SetDataTypeToDouble();
   output->SetPoints(outPoints);
@@ -415,15 +428,11 @@ int vtkBezierTriangleTessellator::RequestData(
     : std::vector<int>(nCells, this->SubdivisionLevel);
   this->UpdateProgress(this->IsAdaptive() ? 0.3 : 0.0);
   // The shared corners and edges: the previous input's when its cells had the same corners.
-  std::unique_ptr<ctsplines::SharedCellTopology> topology;
-  if (recycled)
-  {
-    topology = std::move(this->Recycled->Topology);
-  }
   if (!topology || !topology->SameCorners(cells))
   {
     topology.reset(); // before the new one is built (peak memory)
     topology.reset(new ctsplines::SharedCellTopology(cells));
+    ++this->Recycled->TopologyBuilds;
   }
   const ctsplines::CellPatterns patterns(cells, levels, *topology);
   const vtkIdType nOutPoints = patterns.NumberOfPoints();
@@ -528,4 +537,5 @@ void vtkBezierTriangleTessellator::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
   os << indent << "ReuseOutputArrays: " << this->ReuseOutputArrays << "\n";
   os << indent << "ReusedOutputBytes: " << this->GetReusedOutputBytes() << "\n";
+  os << indent << "NumberOfTopologyBuilds: " << this->GetNumberOfTopologyBuilds() << "\n";
 }

@@ -111,10 +111,13 @@ public:
   /// next execution, when it fails, or when this is turned off. The output's data released by
   /// the pipeline (ReleaseDataFlag) is not held. Arrays that a downstream filter or the caller
   /// still holds are never written; ParaView keeps a copy of every output until the next one
-  /// exists, so no array is reused there. With the arrays the filter also keeps the input's
-  /// shared corners and edges (a few tens of bytes per cell): an execution on cells with the
-  /// same corner point ids (another level, tolerance or feature angle, new nets on the same
-  /// mesh) does not number them again, in ParaView too. Default on.
+  /// exists, so no array is reused there. Default on.
+  ///
+  /// With the arrays the filter also keeps the input's shared corners and edges (a few tens of
+  /// bytes per cell): an execution on cells with the same corner point ids (another level,
+  /// tolerance or feature angle, new nets on the same mesh) does not number them again, in
+  /// ParaView too. One data set's are kept: the blocks of a composite input replace each
+  /// other's, and are numbered every time.
   virtual void SetReuseOutputArrays(bool reuse);
   vtkGetMacro(ReuseOutputArrays, bool);
   vtkBooleanMacro(ReuseOutputArrays, bool);
@@ -123,6 +126,10 @@ public:
   /// Bytes of the previous output's arrays that the last execution wrote again
   /// (ReuseOutputArrays); 0 when it allocated its output anew.
   vtkTypeUInt64 GetReusedOutputBytes() const;
+
+  /// Executions so far that numbered the shared corners and edges of their input, rather than
+  /// using the kept ones (ReuseOutputArrays).
+  vtkTypeUInt64 GetNumberOfTopologyBuilds() const;
 
 protected:
   vtkBezierTriangleTessellator();

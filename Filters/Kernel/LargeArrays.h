@@ -24,10 +24,10 @@ namespace ctk
 /// The size of a transparent huge page on x86-64 and of the blocks MapLargeBlock rounds to.
 constexpr std::size_t HugePageBytes = std::size_t(1) << 21;
 
-/// Asks for transparent huge pages on the whole 2 MiB pages inside [p, p + bytes). Contents are
-/// unchanged. The first touch of a small page costs a fault each: on KVM guests that hand
-/// freed memory back to the host, about 11 us per 4 KiB (0.37 GB/s) against 14-24 GB/s for
-/// huge pages (measured in session 26).
+/// Asks for transparent huge pages on the whole 2 MiB pages inside [p, p + bytes); a range
+/// without one is left alone. Contents are unchanged. Each small page costs a fault on its
+/// first touch: about 11 us per 4 KiB on this project's KVM guest, against 14-24 GB/s for huge
+/// pages (docs/performance_history.md, session 26).
 inline void AdviseHugePages(const void* p, std::size_t bytes)
 {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
@@ -64,11 +64,9 @@ inline void AdviseHugePages(const void* p, std::size_t bytes)
 #endif
 #endif
 
-/// Blocks of at least this many bytes are mapped on their own (MapLargeBlock). Tried at 1 MiB
-/// in session 26: a fresh Python process then rebuilt a spline of 1e5 triangles 3x faster
-/// (glibc maps its own blocks above 128 KiB there, in small pages), but a process whose glibc
-/// threshold had risen (the benchmark's, ParaView's) lost its heap's resident memory: 1e6
-/// triangles 5-10 % slower, peak 1.01x -> 1.05x the output.
+/// Blocks of at least this many bytes are mapped on their own (MapLargeBlock). Smaller ones stay
+/// with glibc, whose heap serves them resident once its threshold has risen: 1 MiB was slower
+/// and raised the peak at 1e6 triangles (performance_history.md, session 26).
 constexpr std::size_t LargeBlockBytes = std::size_t(4) << 20;
 
 #if CTSPLINES_MAP_LARGE_ARRAYS

@@ -968,10 +968,10 @@ TEST(vtkBezierTriangleTessellator, AdaptiveAngularTolerance)
   }
 }
 
-// The shared corners and edges are numbered in the order of first use: corners by slot 3 c + a,
-// edges by lower corner then slot, each owned by its first cell; on 1 and 3 threads, on a random
+// The shared corners and edges as defined: corners in order of first use (slot 3 c + a), edges
+// by lower corner then slot, each owned by its first cell; on 1 and 3 threads, on a random
 // Delaunay spline. A kept topology is recognised by the same corners only.
-TEST(vtkBezierTriangleTessellator, SharedCornersAndEdgesAreInTheOrderOfFirstUse)
+TEST(vtkBezierTriangleTessellator, SharedCornersAndEdgesFollowTheirDefinition)
 {
   vtkNew<vtkSampledSurfaceSource> source;
   source->SetDomainToRandomDelaunay();

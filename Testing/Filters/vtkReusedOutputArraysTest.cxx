@@ -320,7 +320,8 @@ TEST(ReusedOutputArrays, TessellatorRewritesItsArraysWithTheBitsOfANewFilter)
 }
 
 // The kept corners and edges (SharedCellTopology) serve only cells with the same corners: the
-// same spline with its cells in reverse order, the same counts everywhere, is numbered anew.
+// same spline with its cells in reverse order, the same counts everywhere, is numbered anew;
+// another level on the same cells is not. Nothing is kept with the property off.
 TEST(ReusedOutputArrays, TessellatorNumbersCellsWithOtherCornersAnew)
 {
   vtkNew<vtkCloughTocherSplineFilter> spline;
@@ -342,19 +343,33 @@ TEST(ReusedOutputArrays, TessellatorNumbersCellsWithOtherCornersAnew)
     reversed->GetCellData()->CopyData(forward->GetCellData(), k, id);
   }
   vtkNew<vtkBezierTriangleTessellator> tessellator;
-  tessellator->SetSubdivisionLevel(3);
-  for (vtkDataSet* input : { static_cast<vtkDataSet*>(forward), static_cast<vtkDataSet*>(reversed),
-         static_cast<vtkDataSet*>(reversed), static_cast<vtkDataSet*>(forward) })
+  struct Run
   {
-    tessellator->SetInputData(input);
+    vtkDataSet* Input;
+    int Level;
+    vtkTypeUInt64 Builds; // after the run
+  };
+  for (const Run& run : { Run{ forward, 3, 1 }, Run{ reversed, 3, 2 }, Run{ reversed, 4, 2 },
+         Run{ forward, 4, 3 } })
+  {
+    tessellator->SetInputData(run.Input);
+    tessellator->SetSubdivisionLevel(run.Level);
     tessellator->Update();
+    EXPECT_EQ(tessellator->GetNumberOfTopologyBuilds(), run.Builds);
     vtkNew<vtkBezierTriangleTessellator> fresh;
     fresh->SetReuseOutputArrays(false);
-    fresh->SetInputData(input);
-    fresh->SetSubdivisionLevel(3);
+    fresh->SetInputData(run.Input);
+    fresh->SetSubdivisionLevel(run.Level);
     fresh->Update();
     ExpectSameTessellation(tessellator->GetOutput(), fresh->GetOutput());
   }
+  tessellator->SetReuseOutputArrays(false);
+  tessellator->SetSubdivisionLevel(3);
+  tessellator->Update();
+  EXPECT_EQ(tessellator->GetNumberOfTopologyBuilds(), 4u);
+  tessellator->Modified();
+  tessellator->Update();
+  EXPECT_EQ(tessellator->GetNumberOfTopologyBuilds(), 5u);
 }
 
 // RecycledArrays itself: a kept array comes back only to a request of its class and sizes, only
