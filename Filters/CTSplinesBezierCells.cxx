@@ -526,16 +526,13 @@ void SharedCellTopology::NumberEdges()
   // a bucket only, not the cells): O(n) for bounded valence.
   const vtkIdType nCells = this->NumberOfCells();
   const vtkIdType nCorners = this->NumberOfCorners();
-  auto lower = [this](vtkIdType c, int l) {
-    return std::min(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
-  };
   ctk::OverwriteVector<vtkIdType> bucketStart;
   ctk::AssignLarge(bucketStart, nCorners + 1, vtkIdType(0));
   for (vtkIdType c = 0; c < nCells; ++c)
   {
     for (int l = 0; l < 3; ++l)
     {
-      ++bucketStart[lower(c, l) + 1];
+      ++bucketStart[this->EdgeCorners(c, l).first + 1];
     }
   }
   for (vtkIdType v = 0; v < nCorners; ++v)
@@ -551,9 +548,10 @@ void SharedCellTopology::NumberEdges()
   {
     for (int l = 0; l < 3; ++l)
     {
-      const vtkIdType i = fill[lower(c, l)]++;
+      const std::pair<vtkIdType, vtkIdType> edge = this->EdgeCorners(c, l);
+      const vtkIdType i = fill[edge.first]++;
       itemEdge[i] = 3 * c + l;
-      itemUpper[i] = std::max(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
+      itemUpper[i] = edge.second;
     }
   }
   ctk::ResizeForOverwrite(this->CellEdge, 3 * nCells);

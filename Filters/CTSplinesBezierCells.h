@@ -21,6 +21,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <utility> // for pair
 #include <vector>
 
 class vtkAbstractArray;
@@ -190,11 +191,19 @@ public:
   /// corner l + 1) runs that way, or its points are walked backwards.
   bool EdgeRunsForward(vtkIdType c, int l) const
   {
-    return this->CornerId(c, l) <= this->CornerId(c, (l + 1) % 3);
+    return RunsForward(this->CornerId(c, l), this->CornerId(c, (l + 1) % 3));
   }
+  /// The same from the edge's corner ids, for callers that have loaded them.
+  static bool RunsForward(vtkIdType from, vtkIdType to) { return from <= to; }
 
 private:
   void NumberEdges();
+  /// Cell c's edge l as its (lower, upper) corner ids.
+  std::pair<vtkIdType, vtkIdType> EdgeCorners(vtkIdType c, int l) const
+  {
+    const vtkIdType from = this->CornerId(c, l), to = this->CornerId(c, (l + 1) % 3);
+    return RunsForward(from, to) ? std::make_pair(from, to) : std::make_pair(to, from);
+  }
 
   ctk::OverwriteVector<vtkIdType> CellCorner, CellEdge; // written whole after ResizeForOverwrite
   std::vector<vtkIdType> CornerPoint; // the point id of each corner

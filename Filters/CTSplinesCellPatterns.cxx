@@ -177,7 +177,7 @@ void CellPatterns::OutputIds(vtkIdType c, vtkIdType* ids, unsigned char* owned) 
   }
   for (int l = 0; l < 3; ++l)
   {
-    forward[l] = this->Topology.EdgeRunsForward(c, l);
+    forward[l] = SharedCellTopology::RunsForward(corner[l], corner[(l + 1) % 3]);
   }
   const std::vector<SamplingLattice::Point>& points = this->Of[c]->Points;
   for (size_t p = 0; p < points.size(); ++p)

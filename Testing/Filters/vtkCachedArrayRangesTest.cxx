@@ -162,14 +162,16 @@ vtkSmartPointer<ArrayT> RandomArray(vtkIdType tuples, int nc, double lo, double 
 }
 } // namespace
 
-// Types and component counts through every loop of the scan (SSE2 pairs with an odd last tuple,
-// one component, many), on arrays split over threads and not.
+// Types and component counts through every loop of the scan (SSE2 pairs, four tuples at a time,
+// then a last pair, a last odd tuple or both; one component; many), on arrays split over threads
+// and not.
 TEST(CachedArrayRanges, AreVTKsOwnForEveryLoop)
 {
   for (int threads : { 1, 3 })
   {
     ModuleThreads scope(threads);
-    for (vtkIdType tuples : { vtkIdType(1), vtkIdType(7), vtkIdType(300001) })
+    for (vtkIdType tuples : { vtkIdType(1), vtkIdType(2), vtkIdType(5), vtkIdType(6),
+           vtkIdType(7), vtkIdType(300001) })
     {
       const std::string size = std::to_string(tuples) + " tuples, " +
         std::to_string(threads) + " threads: ";
@@ -198,14 +200,14 @@ TEST(CachedArrayRanges, AreVTKsOwnForEveryLoop)
   }
 }
 
-// The extremes are found wherever they are: first, last, or in a tuple split across the SSE2
-// pairs' registers.
+// The extremes are found wherever they are: first, last, in either set of SSE2 pairs (tuples
+// 4 k to 4 k + 1 and 4 k + 2 to 4 k + 3), or in a tuple split across a pair's registers.
 TEST(CachedArrayRanges, FindExtremesAtEveryPosition)
 {
   for (int nc : { 2, 3 })
   {
-    for (vtkIdType at : { vtkIdType(0), vtkIdType(1), vtkIdType(2), vtkIdType(4998),
-           vtkIdType(4999) })
+    for (vtkIdType at : { vtkIdType(0), vtkIdType(1), vtkIdType(2), vtkIdType(3), vtkIdType(6),
+           vtkIdType(4997), vtkIdType(4998), vtkIdType(4999) })
     {
       for (int c = 0; c < nc; ++c)
       {
