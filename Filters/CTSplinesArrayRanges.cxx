@@ -2,6 +2,7 @@
 #include "CTSplinesArrayRanges.h"
 
 #include "CTSplinesSMP.h" // for ParallelFor
+#include "LocalityOrder.h" // for PrefetchAhead
 
 #include "vtkCellData.h"
 #include "vtkCompositeDataIterator.h"
@@ -168,10 +169,11 @@ struct PairRanges
   }
 };
 
-// ScanTuples for doubles, two pairs of tuples at a time into two sets of extremes, with the data
-// prefetched 1 KiB ahead. The scalar loop ran at 7.5 GB/s, one set of pairs at 7.7 (its min and
-// max chains held the loads back), this at 11-12: a fifth, then a tenth of the spline filter on
-// one thread at 1e6 triangles, whose 570 MB of points and UV come from memory.
+// ScanTuples for doubles, two pairs of tuples at a time into two sets of extremes, the data
+// asked for StreamPrefetchBytes ahead. One thread, data from memory: the scalar loop ran at
+// 7.5 GB/s, one set of pairs at 7.7 (a sixth of the spline filter at 1e6 triangles, whose 570
+// MB of points and (u, v) it reads), this at 12.7 (in ForStreamChunks' chunks, whose merges
+// and bursts of prefetches cost more here, at 9-10.6).
 template <int NC>
 void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
 {
@@ -181,7 +183,7 @@ void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
   for (; i + 4 <= e; i += 4)
   {
     const double* p = v + NC * i;
-    _mm_prefetch(reinterpret_cast<const char*>(p) + 4096, _MM_HINT_T0);
+    ctk::PrefetchAhead(p, ctk::StreamPrefetchBytes); // a line per 96 bytes read
     even.Add(p);
     odd.Add(p + 2 * NC);
   }

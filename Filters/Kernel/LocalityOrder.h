@@ -36,6 +36,41 @@ inline void PrefetchRead(const void* p)
 /// How many rows ahead the gathers prefetch: enough misses in flight to cover the latency.
 constexpr Id PrefetchDistance = 16;
 
+/// How far ahead a loop reading a large array in sequence asks for its cache lines. The
+/// hardware prefetchers stop at each 4 KiB page: one core scanned the 570 MB of a 1e6-triangle
+/// spline's points and (u, v) at 7.7 GB/s without, 12.7 GB/s with this.
+constexpr std::size_t StreamPrefetchBytes = 4096;
+/// The chunks of ForStreamChunks: its prefetches come in bursts of a chunk's lines, and more
+/// than 8 at once waited for the core's line fill buffers (1 KiB: 10.0 GB/s, 4 KiB: 8.9, 512
+/// bytes: 10.3, for a check of usable values).
+constexpr std::size_t StreamChunkBytes = 512;
+/// Asks for the cache line `bytes` past p, which may lie beyond the array's end (a prefetch
+/// never faults; the address is formed as an integer, not by pointer arithmetic).
+inline void PrefetchAhead(const void* p, std::size_t bytes)
+{
+  PrefetchRead(reinterpret_cast<const void*>(reinterpret_cast<std::uintptr_t>(p) + bytes));
+}
+/// body(begin, end) over the items [0, n) of `data` (perItem values of T each) in chunks of
+/// StreamChunkBytes, the lines StreamPrefetchBytes ahead of each chunk asked for first: for
+/// bulk checks of large arrays. The body's inner loop stays vectorisable when it reduces into
+/// locals (a reduction into a captured variable stayed scalar: 4.7 GB/s).
+template <typename T, typename Body>
+void ForStreamChunks(const T* data, Id n, int perItem, Body&& body)
+{
+  constexpr std::size_t Line = 64;
+  const std::size_t itemBytes = sizeof(T) * static_cast<std::size_t>(perItem);
+  const Id chunk = std::max<Id>(1, static_cast<Id>(StreamChunkBytes / itemBytes));
+  for (Id b = 0; b < n; b += chunk)
+  {
+    const T* first = data + static_cast<std::size_t>(perItem) * static_cast<std::size_t>(b);
+    for (std::size_t k = 0; k < static_cast<std::size_t>(chunk) * itemBytes; k += Line)
+    {
+      PrefetchAhead(first, StreamPrefetchBytes + k);
+    }
+    body(b, std::min(n, b + chunk));
+  }
+}
+
 /// Meshes with fewer triangles keep their own order: their data fits in cache.
 constexpr Id MinTrianglesForLocalityOrder = Id(1) << 15;
 

@@ -166,15 +166,20 @@ BuildStatus DomainFailure(const SplineData& data, const MeshTopology& topology,
 
 // IsUsableValue as a select on doubles, which the compiler vectorises (a bool reduction, or an
 // early exit, stays scalar: a third of a probe's first call on 1e6 triangles).
+// These three read arrays of up to hundreds of MB in sequence: ForStreamChunks.
 bool AllUsableValues(const double* values, Id n, bool positive)
 {
   const double lowest = positive ? 0.0 : -std::numeric_limits<double>::infinity();
   double bad = 0.0;
-  for (Id i = 0; i < n; ++i)
-  {
-    const double x = values[i];
-    bad = IsUsableValue(x) && x > lowest ? bad : 1.0; // NaN compares false
-  }
+  ForStreamChunks(values, n, 1, [&](Id begin, Id end) {
+    double chunkBad = 0.0; // a local: a reduction into `bad` itself stayed scalar
+    for (Id i = begin; i < end; ++i)
+    {
+      const double x = values[i];
+      chunkBad = IsUsableValue(x) && x > lowest ? chunkBad : 1.0; // NaN compares false
+    }
+    bad = chunkBad != 0.0 ? chunkBad : bad;
+  });
   return bad == 0.0;
 }
 
@@ -182,13 +187,20 @@ bool AllUsablePairs(const double* uv, Id n, Vec2& lo, Vec2& hi)
 {
   Vec2 l = Vec2::Constant(std::numeric_limits<double>::infinity()), h = -l;
   double bad = 0.0;
-  for (Id i = 0; i < n; ++i)
-  {
-    const Vec2 x(uv[2 * i], uv[2 * i + 1]);
-    l = l.cwiseMin(x);
-    h = h.cwiseMax(x);
-    bad = IsUsableValue(x.x()) && IsUsableValue(x.y()) ? bad : 1.0;
-  }
+  ForStreamChunks(uv, n, 2, [&](Id begin, Id end) {
+    Vec2 chunkLo = l, chunkHi = h; // locals, as above
+    double chunkBad = 0.0;
+    for (Id i = begin; i < end; ++i)
+    {
+      const Vec2 x(uv[2 * i], uv[2 * i + 1]);
+      chunkLo = chunkLo.cwiseMin(x);
+      chunkHi = chunkHi.cwiseMax(x);
+      chunkBad = IsUsableValue(x.x()) && IsUsableValue(x.y()) ? chunkBad : 1.0;
+    }
+    l = chunkLo;
+    h = chunkHi;
+    bad = chunkBad != 0.0 ? chunkBad : bad;
+  });
   lo = l;
   hi = h;
   return bad == 0.0;
@@ -204,11 +216,15 @@ bool AllIdsInRange(const IdT* ids, Id n, Id nPoints)
   const U last = static_cast<U>(std::min<std::uint64_t>(static_cast<std::uint64_t>(nPoints - 1),
     static_cast<std::uint64_t>(std::numeric_limits<IdT>::max())));
   U any = 0;
-  for (Id i = 0; i < n; ++i)
-  {
-    const U id = static_cast<U>(ids[i]);
-    any |= id | static_cast<U>(last - id);
-  }
+  ForStreamChunks(ids, n, 1, [&](Id begin, Id end) {
+    U chunkAny = 0; // a local, as above
+    for (Id i = begin; i < end; ++i)
+    {
+      const U id = static_cast<U>(ids[i]);
+      chunkAny |= id | static_cast<U>(last - id);
+    }
+    any |= chunkAny;
+  });
   return (any >> (8 * sizeof(U) - 1)) == 0;
 }
 

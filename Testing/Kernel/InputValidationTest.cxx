@@ -425,6 +425,49 @@ TEST(InputValidation, DistanceQueriesSurviveDenormalCoordinates)
   EXPECT_NE(d.Build(3, tiny.data(), 1, tris.data()).find("too small"), std::string::npos);
 }
 
+// The bulk checks read their arrays in prefetched chunks (ForStreamChunks: 64 doubles, 32
+// pairs, 128 32-bit or 64 64-bit ids): a bad value, an extreme of the box or an id out of range
+// is caught in the first, a middle and the last chunk, and a good chunk after a bad one does not
+// clear it.
+TEST(InputValidation, BulkArrayChecksCatchEveryChunk)
+{
+  constexpr size_t n = 1001; // 16 chunks of values and a part
+  const std::vector<double> values(n, 0.5);
+  for (const size_t k : { size_t(0), size_t(63), size_t(64), size_t(500), n - 2, n - 1 })
+  {
+    std::vector<double> v = values;
+    v[k] = std::nan("");
+    EXPECT_FALSE(AllUsableValues(v.data(), n)) << k;
+    Vec2 lo, hi;
+    EXPECT_EQ(AllUsablePairs(v.data(), n / 2, lo, hi), k >= n - 1) << k;
+    v = values;
+    v[k] = 0.0;
+    EXPECT_FALSE(AllUsableValues(v.data(), n, true)) << k;
+    if (k < n - 3) // both values within the n / 2 pairs
+    {
+      v[k] = -3.0 - double(k);
+      v[n - 3 - k] = 4.0 + double(k); // the same component: n - 3 is even
+      ASSERT_TRUE(AllUsablePairs(v.data(), n / 2, lo, hi)) << k;
+      EXPECT_EQ(lo[k % 2], -3.0 - double(k)) << k;
+      EXPECT_EQ(hi[k % 2], 4.0 + double(k)) << k;
+    }
+  }
+  const Id nPoints = 100;
+  const std::vector<int> narrow(n, 99);
+  const std::vector<long long> wide(n, 0);
+  for (const size_t k : { size_t(0), size_t(127), size_t(128), size_t(700), n - 1 })
+  {
+    std::vector<int> a = narrow;
+    a[k] = 100;
+    EXPECT_FALSE(AllIdsInRange(a.data(), n, nPoints)) << k;
+    std::vector<long long> b = wide;
+    b[k] = -1;
+    EXPECT_FALSE(AllIdsInRange(b.data(), n, nPoints)) << k;
+  }
+  EXPECT_TRUE(AllIdsInRange(narrow.data(), n, nPoints));
+  EXPECT_TRUE(AllIdsInRange(wide.data(), n, nPoints));
+}
+
 // The bulk checks of raw arrays (the probe's source read in place) against the one-value rule,
 // value by value: every position of a bad value is caught whatever the vector lane it falls in,
 // ids at the ends of the range pass and those just outside fail (32-bit ids also beyond 2^31
