@@ -532,7 +532,7 @@ void SharedCellTopology::NumberEdges()
   {
     for (int l = 0; l < 3; ++l)
     {
-      ++bucketStart[this->EdgeCorners(c, l).first + 1];
+      ++bucketStart[this->LowerUpperCorners(c, l).first + 1];
     }
   }
   for (vtkIdType v = 0; v < nCorners; ++v)
@@ -548,7 +548,7 @@ void SharedCellTopology::NumberEdges()
   {
     for (int l = 0; l < 3; ++l)
     {
-      const std::pair<vtkIdType, vtkIdType> edge = this->EdgeCorners(c, l);
+      const std::pair<vtkIdType, vtkIdType> edge = this->LowerUpperCorners(c, l);
       const vtkIdType i = fill[edge.first]++;
       itemEdge[i] = 3 * c + l;
       itemUpper[i] = edge.second;

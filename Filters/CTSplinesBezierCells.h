@@ -199,7 +199,7 @@ public:
 private:
   void NumberEdges();
   /// Cell c's edge l as its (lower, upper) corner ids.
-  std::pair<vtkIdType, vtkIdType> EdgeCorners(vtkIdType c, int l) const
+  std::pair<vtkIdType, vtkIdType> LowerUpperCorners(vtkIdType c, int l) const
   {
     const vtkIdType from = this->CornerId(c, l), to = this->CornerId(c, (l + 1) % 3);
     return RunsForward(from, to) ? std::make_pair(from, to) : std::make_pair(to, from);

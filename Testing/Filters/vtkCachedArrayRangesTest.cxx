@@ -170,8 +170,8 @@ TEST(CachedArrayRanges, AreVTKsOwnForEveryLoop)
   for (int threads : { 1, 3 })
   {
     ModuleThreads scope(threads);
-    for (vtkIdType tuples : { vtkIdType(1), vtkIdType(2), vtkIdType(5), vtkIdType(6),
-           vtkIdType(7), vtkIdType(300001) })
+    for (vtkIdType tuples : { vtkIdType(1), vtkIdType(2), vtkIdType(3), vtkIdType(4),
+           vtkIdType(5), vtkIdType(6), vtkIdType(7), vtkIdType(300001) })
     {
       const std::string size = std::to_string(tuples) + " tuples, " +
         std::to_string(threads) + " threads: ";

@@ -15,6 +15,8 @@
 #include <algorithm>
 #include <array>
 #include <random>
+#include <tuple>
+#include <utility>
 #include <cmath>
 #include <cstdint>
 #include <vector>
@@ -425,13 +427,42 @@ TEST(InputValidation, DistanceQueriesSurviveDenormalCoordinates)
   EXPECT_NE(d.Build(3, tiny.data(), 1, tris.data()).find("too small"), std::string::npos);
 }
 
+// ForStreamChunks hands every item over once, in order, in chunks of StreamChunkBytes (the last
+// one shorter), for items of one value, of several, and of more bytes than a chunk; none for
+// n = 0.
+TEST(InputValidation, StreamChunksCoverEveryItemOnceInOrder)
+{
+  auto chunks = [](const auto* data, Id n, int perItem) {
+    std::vector<std::pair<Id, Id>> seen;
+    ForStreamChunks(data, n, perItem, [&](Id begin, Id end) { seen.emplace_back(begin, end); });
+    return seen;
+  };
+  const std::vector<double> values(3 * 1000);
+  const std::vector<std::int32_t> ids(1000);
+  for (const auto& [n, perItem, bytes] : { std::tuple<Id, int, std::size_t>{ 1000, 1, 8 },
+         { 1000, 3, 8 }, { 100, 30, 8 }, { 1000, 1, 4 }, { 0, 1, 8 }, { 1, 2, 8 } })
+  {
+    const auto seen = bytes == 4 ? chunks(ids.data(), n, perItem) : chunks(values.data(), n, perItem);
+    const Id chunk = std::max<Id>(1, Id(StreamChunkBytes / (bytes * perItem)));
+    ASSERT_EQ(seen.size(), static_cast<size_t>((n + chunk - 1) / chunk)) << n << " " << perItem;
+    Id next = 0;
+    for (const auto& [begin, end] : seen)
+    {
+      EXPECT_EQ(begin, next) << n << " " << perItem;
+      EXPECT_EQ(end, std::min(n, begin + chunk)) << n << " " << perItem;
+      next = end;
+    }
+    EXPECT_EQ(next, n) << perItem;
+  }
+}
+
 // The bulk checks read their arrays in prefetched chunks (ForStreamChunks: 64 doubles, 32
 // pairs, 128 32-bit or 64 64-bit ids): a bad value, an extreme of the box or an id out of range
 // is caught in the first, a middle and the last chunk, and a good chunk after a bad one does not
 // clear it.
 TEST(InputValidation, BulkArrayChecksCatchEveryChunk)
 {
-  constexpr size_t n = 1001; // 16 chunks of values and a part
+  constexpr size_t n = 1001; // 15 chunks of 64 values and a part
   const std::vector<double> values(n, 0.5);
   for (const size_t k : { size_t(0), size_t(63), size_t(64), size_t(500), n - 2, n - 1 })
   {
