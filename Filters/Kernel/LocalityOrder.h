@@ -59,11 +59,12 @@ template <typename T, typename Body>
 void ForStreamChunks(const T* data, Id n, int perItem, Body&& body)
 {
   constexpr std::size_t Line = 64;
-  const std::size_t itemBytes = sizeof(T) * static_cast<std::size_t>(std::max(perItem, 1));
+  const std::size_t per = static_cast<std::size_t>(std::max(perItem, 1));
+  const std::size_t itemBytes = sizeof(T) * per;
   const Id chunk = std::max<Id>(1, static_cast<Id>(StreamChunkBytes / itemBytes));
   for (Id b = 0; b < n; b += chunk)
   {
-    const T* first = data + static_cast<std::size_t>(perItem) * static_cast<std::size_t>(b);
+    const T* first = data + per * static_cast<std::size_t>(b);
     for (std::size_t k = 0; k < static_cast<std::size_t>(chunk) * itemBytes; k += Line)
     {
       PrefetchAhead(first, StreamPrefetchBytes + k);

@@ -178,7 +178,7 @@ bool AllUsableValues(const double* values, Id n, bool positive)
       const double x = values[i];
       chunkBad = IsUsableValue(x) && x > lowest ? chunkBad : 1.0; // NaN compares false
     }
-    bad = chunkBad != 0.0 ? chunkBad : bad;
+    bad = std::max(bad, chunkBad);
   });
   return bad == 0.0;
 }
@@ -199,7 +199,7 @@ bool AllUsablePairs(const double* uv, Id n, Vec2& lo, Vec2& hi)
     }
     l = chunkLo;
     h = chunkHi;
-    bad = chunkBad != 0.0 ? chunkBad : bad;
+    bad = std::max(bad, chunkBad);
   });
   lo = l;
   hi = h;

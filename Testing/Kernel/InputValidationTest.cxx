@@ -440,7 +440,7 @@ TEST(InputValidation, StreamChunksCoverEveryItemOnceInOrder)
   const std::vector<double> values(3 * 1000);
   const std::vector<std::int32_t> ids(1000);
   for (const auto& [n, perItem, bytes] : { std::tuple<Id, int, std::size_t>{ 1000, 1, 8 },
-         { 1000, 3, 8 }, { 100, 30, 8 }, { 1000, 1, 4 }, { 0, 1, 8 }, { 1, 2, 8 } })
+         { 1000, 3, 8 }, { 30, 100, 8 }, { 1000, 1, 4 }, { 0, 1, 8 }, { 1, 2, 8 } })
   {
     const auto seen = bytes == 4 ? chunks(ids.data(), n, perItem) : chunks(values.data(), n, perItem);
     const Id chunk = std::max<Id>(1, Id(StreamChunkBytes / (bytes * perItem)));
