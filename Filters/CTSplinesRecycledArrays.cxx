@@ -152,50 +152,60 @@ void RecycledArrays::Clear()
 
 void RecycledArrays::End(vtkDataSet* output, bool enabled)
 {
+  std::vector<vtkDataArray*> arrays;
+  if (enabled && output)
+  {
+    auto addCells = [&](vtkCellArray* cells) {
+      if (cells)
+      {
+        arrays.push_back(cells->GetOffsetsArray());
+        arrays.push_back(cells->GetConnectivityArray());
+      }
+    };
+    if (vtkPointSet* ps = vtkPointSet::SafeDownCast(output))
+    {
+      arrays.push_back(ps->GetPoints() ? ps->GetPoints()->GetData() : nullptr);
+    }
+    for (vtkDataSetAttributes* attributes :
+      { static_cast<vtkDataSetAttributes*>(output->GetPointData()),
+        static_cast<vtkDataSetAttributes*>(output->GetCellData()) })
+    {
+      for (int i = 0; i < attributes->GetNumberOfArrays(); ++i)
+      {
+        arrays.push_back(attributes->GetArray(i));
+      }
+    }
+    if (vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(output))
+    {
+      addCells(grid->GetCells());
+      arrays.push_back(grid->GetCellTypesArray());
+    }
+    else if (vtkPolyData* poly = vtkPolyData::SafeDownCast(output))
+    {
+      for (vtkCellArray* cells : { poly->GetVerts(), poly->GetLines(), poly->GetPolys(),
+             poly->GetStrips() })
+      {
+        addCells(cells);
+      }
+    }
+  }
+  this->End(arrays, enabled && output);
+}
+
+void RecycledArrays::End(const std::vector<vtkDataArray*>& arrays, bool enabled)
+{
   this->Kept.clear();
-  if (!enabled || !output)
+  if (!enabled)
   {
     this->Shape.clear();
     return;
   }
-  auto keep = [this](vtkDataArray* a) {
+  for (vtkDataArray* a : arrays)
+  {
     if (a && Bytes(a) >= MinimumBytes &&
       std::find(this->Kept.begin(), this->Kept.end(), a) == this->Kept.end())
     {
       this->Kept.emplace_back(a);
-    }
-  };
-  auto keepCells = [&](vtkCellArray* cells) {
-    if (cells)
-    {
-      keep(cells->GetOffsetsArray());
-      keep(cells->GetConnectivityArray());
-    }
-  };
-  if (vtkPointSet* ps = vtkPointSet::SafeDownCast(output))
-  {
-    keep(ps->GetPoints() ? ps->GetPoints()->GetData() : nullptr);
-  }
-  for (vtkDataSetAttributes* attributes :
-    { static_cast<vtkDataSetAttributes*>(output->GetPointData()),
-      static_cast<vtkDataSetAttributes*>(output->GetCellData()) })
-  {
-    for (int i = 0; i < attributes->GetNumberOfArrays(); ++i)
-    {
-      keep(attributes->GetArray(i));
-    }
-  }
-  if (vtkUnstructuredGrid* grid = vtkUnstructuredGrid::SafeDownCast(output))
-  {
-    keepCells(grid->GetCells());
-    keep(grid->GetCellTypesArray());
-  }
-  else if (vtkPolyData* poly = vtkPolyData::SafeDownCast(output))
-  {
-    for (vtkCellArray* cells : { poly->GetVerts(), poly->GetLines(), poly->GetPolys(),
-           poly->GetStrips() })
-    {
-      keepCells(cells);
     }
   }
 }

@@ -73,6 +73,9 @@ public:
   /// At the end of a successful execution: keeps output's arrays of MinimumBytes or more (points,
   /// point and cell data, cells, cell types) when enabled, for the next execution.
   void End(vtkDataSet* output, bool enabled);
+  /// The same for the given arrays only (of MinimumBytes or more; nulls are skipped): a filter
+  /// whose output also holds arrays it passes from its input keeps just its own.
+  void End(const std::vector<vtkDataArray*>& arrays, bool enabled);
 
   /// Whether an algorithm's output 0 may be kept for its next execution: reuse (its property)
   /// unless the pipeline releases the output's data once it is consumed (ReleaseDataFlag, its own
@@ -123,8 +126,9 @@ public:
   /// The arrays for this execution, or null.
   RecycledArrays* Get() const { return this->Lock.owns_lock() ? &this->Recycled : nullptr; }
 
-  /// RecycledArrays::End.
-  void End(vtkDataSet* output, bool enabled)
+  /// RecycledArrays::End, of an output or of some arrays.
+  template <typename Output>
+  void End(const Output& output, bool enabled)
   {
     if (this->Lock.owns_lock())
     {

@@ -5,6 +5,7 @@
 #include "CTSplinesArrayRanges.h"
 #include "CTSplinesBezierCells.h"
 #include "CTSplinesInput.h"
+#include "CTSplinesRecycledArrays.h"
 #include "CTSplinesSMP.h"
 #include "LargeArrays.h"
 #include "LocalityOrder.h"
@@ -54,11 +55,30 @@
 vtkStandardNewMacro(vtkSplineParameterProbe);
 
 vtkSplineParameterProbe::vtkSplineParameterProbe()
+  : Recycled(new ctsplines::RecycledArrays)
 {
   this->SetNumberOfInputPorts(2);
 }
 
 vtkSplineParameterProbe::~vtkSplineParameterProbe() = default;
+
+void vtkSplineParameterProbe::SetReuseOutputArrays(bool reuse)
+{
+  if (reuse != this->ReuseOutputArrays)
+  {
+    this->ReuseOutputArrays = reuse;
+    if (!reuse)
+    {
+      this->Recycled->Clear(); // the arrays go with the output, as without the property
+    }
+    this->Modified();
+  }
+}
+
+vtkTypeUInt64 vtkSplineParameterProbe::GetReusedOutputBytes() const
+{
+  return this->Recycled->GetReusedBytes();
+}
 
 void vtkSplineParameterProbe::ReleaseSpline()
 {
@@ -810,29 +830,31 @@ namespace
 // is an out-of-line call into VTK: four per query were about 4 % of a probe's instructions).
 struct ProbeArrays
 {
-  vtkNew<vtkDoubleArray> Coords, Du, Dv, Normals; // Du, Dv, Normals with Derivatives only
+  vtkSmartPointer<vtkDoubleArray> Coords, Du, Dv, Normals; // Du, Dv, Normals: Derivatives only
   bool Derivatives;
-  vtkNew<vtkIdTypeArray> MacroIds;
-  vtkNew<vtkCharArray> Mask;
+  vtkSmartPointer<vtkIdTypeArray> MacroIds;
+  vtkSmartPointer<vtkCharArray> Mask;
   double *CoordsData, *DuData = nullptr, *DvData = nullptr, *NormalsData = nullptr;
   vtkIdType* MacroIdsData;
   char* MaskData;
 
-  ProbeArrays(vtkIdType nPoints, bool derivatives)
+  /// New arrays, or the previous output's from recycled (see ReuseOutputArrays).
+  ProbeArrays(vtkIdType nPoints, bool derivatives, ctsplines::RecycledArrays* recycled)
     : Derivatives(derivatives)
   {
-    for (vtkDoubleArray* a : { this->Coords.Get(), this->Du.Get(), this->Dv.Get(), this->Normals.Get() })
-    {
-      a->SetNumberOfComponents(3);
-      ctsplines::AllocateTuples(a, a == this->Coords.Get() || derivatives ? nPoints : 0);
-    }
+    using ctsplines::NewOutputArray;
+    this->Coords = NewOutputArray<vtkDoubleArray>(recycled, 3, nPoints);
+    const vtkIdType nDerivatives = derivatives ? nPoints : 0;
+    this->Du = NewOutputArray<vtkDoubleArray>(recycled, 3, nDerivatives);
+    this->Dv = NewOutputArray<vtkDoubleArray>(recycled, 3, nDerivatives);
+    this->Normals = NewOutputArray<vtkDoubleArray>(recycled, 3, nDerivatives);
+    this->MacroIds = NewOutputArray<vtkIdTypeArray>(recycled, 1, nPoints);
+    this->Mask = NewOutputArray<vtkCharArray>(recycled, 1, nPoints);
     this->Du->SetName("dFdu");
     this->Dv->SetName("dFdv");
     this->Normals->SetName("Normals");
     this->MacroIds->SetName("MacroTriangleId");
-    ctsplines::AllocateTuples(this->MacroIds, nPoints);
     this->Mask->SetName("vtkValidPointMask");
-    ctsplines::AllocateTuples(this->Mask, nPoints);
     this->CoordsData = this->Coords->GetPointer(0);
     if (derivatives)
     {
@@ -899,6 +921,10 @@ int vtkSplineParameterProbe::RequestData(
     vtkErrorMacro(<< "missing input or output data object");
     return 0;
   }
+  // The previous output's arrays for as many queries (see ReuseOutputArrays); otherwise, or when
+  // this execution fails, they are released.
+  ctsplines::RecycledArraysScope recycling(*this->Recycled, this->ReuseOutputArrays,
+    { input->GetNumberOfPoints(), this->ComputeDerivatives ? 1 : 0 });
   if (!source)
   {
     vtkErrorMacro(<< "no spline source: set the spline (VTK_BEZIER_TRIANGLE cells with point "
@@ -931,7 +957,7 @@ int vtkSplineParameterProbe::RequestData(
   this->UpdateProgress(0.1);
 
   const vtkIdType nPoints = input->GetNumberOfPoints();
-  ProbeArrays out(nPoints, this->ComputeDerivatives);
+  ProbeArrays out(nPoints, this->ComputeDerivatives, recycling.Get());
   const int order = this->ComputeDerivatives ? 1 : 0;
   const QueryPoints queries(input);
   const ctk::OverwriteVector<std::uint64_t> queryOrder = LocalityOrder(queries, nPoints, spline.Grid);
@@ -1000,6 +1026,10 @@ int vtkSplineParameterProbe::RequestData(
   outPD->AddArray(out.MacroIds);
   outPD->AddArray(out.Mask);
   ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
+  // Only the arrays made here: the input's passed arrays and structure are the input's.
+  recycling.End(std::vector<vtkDataArray*>{ out.Coords, out.Du, out.Dv, out.Normals,
+                  out.MacroIds, out.Mask },
+    ctsplines::RecycledArrays::MayKeepOutput(this, this->ReuseOutputArrays));
   this->UpdateProgress(1.0);
   return 1;
 }
@@ -1017,6 +1047,7 @@ void vtkSplineParameterProbe::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Source: " << this->GetSource() << "\n";
   os << indent << "UVArrayName: " << this->UVArrayName << "\n";
   os << indent << "ComputeDerivatives: " << this->ComputeDerivatives << "\n";
+  os << indent << "ReuseOutputArrays: " << this->ReuseOutputArrays << "\n";
   os << indent << "NumberOfSplineBuilds: " << this->NumberOfSplineBuilds << "\n";
   os << indent << "NumberOfCellsPerLocatorEntry: " << this->GetNumberOfCellsPerLocatorEntry()
      << "\n";

@@ -139,7 +139,7 @@ void Usage(const char* argv0)
               "                     the points and the triangulation come (no locality order)\n"
               "  --renumber         morton: renumber the mesh by Morton keys first\n"
               "  --output-order     the spline filter's OutputOrder (default locality)\n"
-              "  --reuse-output     the spline filter's and tessellator's ReuseOutputArrays\n"
+              "  --reuse-output     ReuseOutputArrays of the spline filter, tessellator, probe\n"
               "                     (default 1: runs after the first write into the previous\n"
               "                     output's arrays; 0: every run allocates its output)\n"
               "  --memory           1: peak resident memory of each spline row (one more run)\n"
@@ -564,6 +564,7 @@ void ProbeRow(vtkUnstructuredGrid* ctiSpline, long long nT, Context& ctx)
   vtkNew<vtkSplineParameterProbe> probe;
   probe->SetInputData(queries);
   probe->SetSourceData(ctiSpline);
+  probe->SetReuseOutputArrays(opt.ReuseOutput);
   const double t = BestUpdate(probe, opt.Repeat, ok);
   ctx.AllOk = ctx.AllOk && ok;
   std::ostringstream stage;

@@ -7,22 +7,26 @@
 #include "vtkBezierTriangleTessellator.h"
 #include "vtkCloughTocherSplineFilter.h"
 #include "vtkSampledSurfaceSource.h"
+#include "vtkSplineParameterProbe.h"
 
 #include "vtkCellArray.h"
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
+#include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
 #include "vtkPointData.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkStreamingDemandDrivenPipeline.h"
 #include "vtkUnstructuredGrid.h"
+#include "vtkWeakPointer.h"
 
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -115,6 +119,58 @@ vtkTypeUInt64 Bytes(vtkDataArray* a)
 {
   return static_cast<vtkTypeUInt64>(a->GetNumberOfValues()) * a->GetDataTypeSize();
 }
+
+// n random (u, v, 0) queries in [-0.05, 1.05]^2 (some outside the grid's [0, 1]^2), with a
+// point data array "Payload" of 3 x n doubles for the probe to pass through.
+vtkSmartPointer<vtkPolyData> Queries(vtkIdType n, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uv(-0.05, 1.05);
+  vtkNew<vtkPoints> points;
+  points->SetDataTypeToDouble();
+  points->SetNumberOfPoints(n);
+  vtkNew<vtkDoubleArray> payload;
+  payload->SetName("Payload");
+  payload->SetNumberOfComponents(3);
+  payload->SetNumberOfTuples(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    const double u = uv(rng), v = uv(rng);
+    points->SetPoint(i, u, v, 0.0);
+    payload->SetTuple3(i, v, u, double(i));
+  }
+  auto queries = vtkSmartPointer<vtkPolyData>::New();
+  queries->SetPoints(points);
+  queries->GetPointData()->AddArray(payload);
+  return queries;
+}
+
+// The probe's output on these queries from a probe that allocates its output.
+vtkSmartPointer<vtkPolyData> FreshProbe(vtkDataSet* spline, vtkPolyData* queries)
+{
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetReuseOutputArrays(false);
+  probe->SetSourceData(spline);
+  probe->SetInputData(queries);
+  probe->Update();
+  EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
+  auto out = vtkSmartPointer<vtkPolyData>::New();
+  out->ShallowCopy(probe->GetOutput());
+  return out;
+}
+
+void ExpectSameProbe(vtkDataSet* output, vtkPolyData* b)
+{
+  vtkPolyData* a = vtkPolyData::SafeDownCast(output);
+  ASSERT_NE(a, nullptr);
+  ExpectSameArray(a->GetPoints()->GetData(), b->GetPoints()->GetData(), "points");
+  ExpectSameData(a->GetPointData(), b->GetPointData(), "point data");
+}
+
+// 50,000 queries: their points, derivatives and normals are each above RecycledArrays' 1 MiB
+// (the 400 KB of macro-triangle ids and the 50 KB mask are not kept).
+constexpr vtkIdType ProbePoints = 50000;
+constexpr vtkTypeUInt64 ProbeKeptBytes = ProbePoints * 4 * 3 * sizeof(double);
 } // namespace
 
 // A new surface on the same grid, then a quartic construction (other sizes, not reused) and
@@ -439,4 +495,64 @@ TEST(ReusedOutputArrays, RecycledArraysGiveBackArraysAsNew)
   EXPECT_EQ(range[0], 1.0 - n);
   EXPECT_EQ(range[1], 0.0);
   EXPECT_NE(recycled.New<vtkDoubleArray>(1, n).Get(), a.Get());
+}
+
+// The probe: other queries of the same count reuse its points, derivatives, normals and ids,
+// with the bits of a new probe; the input's arrays that it passes through are the input's and
+// are never kept (nor written); an array the caller holds is never written; another count, or
+// positions only, allocate anew.
+TEST(ReusedOutputArrays, ProbeRewritesItsArraysWithTheBitsOfANewProbe)
+{
+  auto spline = FreshSpline(vtkSampledSurfaceSource::Franke, vtkCloughTocherSplineFilter::CTi);
+  vtkNew<vtkSplineParameterProbe> probe;
+  ASSERT_TRUE(probe->GetReuseOutputArrays()); // the default
+  probe->SetSourceData(spline);
+  vtkWeakPointer<vtkDataArray> payload;
+  {
+    auto first = Queries(ProbePoints, 1);
+    payload = first->GetPointData()->GetArray("Payload");
+    probe->SetInputData(first);
+    probe->Update();
+    EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
+    ASSERT_EQ(probe->GetOutput()->GetPointData()->GetArray("Payload"), payload.Get());
+  }
+  // The first queries are gone; their payload lives in the output until the next execution.
+  auto second = Queries(ProbePoints, 2);
+  probe->SetInputData(second);
+  probe->Update();
+  EXPECT_EQ(payload.Get(), nullptr) << "the input's passed array was kept";
+  EXPECT_EQ(probe->GetReusedOutputBytes(), ProbeKeptBytes);
+  ExpectSameProbe(probe->GetOutput(), FreshProbe(spline, second));
+
+  // The caller holds the derivative array: it keeps its values, the rest is reused.
+  vtkSmartPointer<vtkDataArray> heldDu = probe->GetOutput()->GetPointData()->GetArray("dFdu");
+  auto snapshot = vtkSmartPointer<vtkPolyData>::New();
+  snapshot->DeepCopy(vtkPolyData::SafeDownCast(probe->GetOutput()));
+  auto third = Queries(ProbePoints, 3);
+  probe->SetInputData(third);
+  probe->Update();
+  ExpectSameArray(heldDu, snapshot->GetPointData()->GetArray("dFdu"), "held dFdu");
+  EXPECT_NE(probe->GetOutput()->GetPointData()->GetArray("dFdu"), heldDu.Get());
+  EXPECT_EQ(probe->GetReusedOutputBytes(), ProbeKeptBytes - Bytes(heldDu));
+  ExpectSameProbe(probe->GetOutput(), FreshProbe(spline, third));
+
+  // Another count of queries, then positions only: new arrays, as a new probe's.
+  auto fewer = Queries(ProbePoints - 1, 4);
+  probe->SetInputData(fewer);
+  probe->Update();
+  EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
+  ExpectSameProbe(probe->GetOutput(), FreshProbe(spline, fewer));
+  probe->SetComputeDerivatives(false);
+  probe->Update();
+  EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
+  EXPECT_EQ(probe->GetOutput()->GetPointData()->GetArray("dFdu"), nullptr);
+
+  // Off: nothing is kept.
+  probe->SetComputeDerivatives(true);
+  probe->SetReuseOutputArrays(false);
+  probe->Update();
+  probe->SetInputData(third);
+  probe->Update();
+  EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
+  ExpectSameProbe(probe->GetOutput(), FreshProbe(spline, third));
 }

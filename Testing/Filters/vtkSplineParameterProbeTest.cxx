@@ -869,5 +869,8 @@ TEST(vtkSplineParameterProbe, PrintSelfAndDefaults)
   std::ostringstream os;
   probe->Print(os);
   EXPECT_NE(os.str().find("UVArrayName: UV"), std::string::npos);
+  EXPECT_NE(os.str().find("ReuseOutputArrays: 1"), std::string::npos);
+  EXPECT_TRUE(probe->GetReuseOutputArrays());
+  EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
   EXPECT_EQ(probe->GetNumberOfCellsPerLocatorEntry(), 0);
 }
