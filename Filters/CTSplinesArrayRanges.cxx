@@ -11,8 +11,10 @@
 #include "vtkDataSet.h"
 #include "vtkInformation.h"
 #include "vtkInformationDoubleVectorKey.h"
+#include "vtkInformationIdTypeKey.h"
 #include "vtkInformationInformationVectorKey.h"
 #include "vtkInformationVector.h"
+#include "vtkInformationKey.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -30,6 +32,17 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+
+namespace ctsplines
+{
+// The array's MTime when CacheRanges stored its ranges from a scan that met no NaN or inf
+// (FiniteRanges). VTK's own keys cannot tell: its ranges skip NaN.
+struct ArrayRangeKeys
+{
+  static vtkInformationIdTypeKey* FINITE_AT();
+};
+vtkInformationKeyMacro(ArrayRangeKeys, FINITE_AT, IdType);
+} // namespace ctsplines
 
 namespace
 {
@@ -396,6 +409,25 @@ bool CacheRanges(vtkDataArray* array)
     r.Hi[c] = r.Hi[c] == 0.0 ? 0.0 : r.Hi[c];
   }
   StoreRanges(array, r, norms && NormsLikeVTK(r));
+  array->GetInformation()->Set(
+    ArrayRangeKeys::FINITE_AT(), static_cast<vtkIdType>(array->GetMTime()));
+  return true;
+}
+
+bool FiniteRanges(vtkDataArray* array, double* range)
+{
+  vtkInformation* info = array && array->HasInformation() ? array->GetInformation() : nullptr;
+  if (!info || !info->Has(ArrayRangeKeys::FINITE_AT()) ||
+    info->Get(ArrayRangeKeys::FINITE_AT()) != static_cast<vtkIdType>(array->GetMTime()) ||
+    !RangesCached(array, false))
+  {
+    return false;
+  }
+  vtkInformationVector* perComponent = info->Get(vtkDataArray::PER_COMPONENT());
+  for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+  {
+    perComponent->GetInformationObject(c)->Get(vtkDataArray::COMPONENT_RANGE(), range + 2 * c);
+  }
   return true;
 }
 

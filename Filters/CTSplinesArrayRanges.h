@@ -31,6 +31,14 @@ namespace ctsplines
 /// on return.
 bool CacheRanges(vtkDataArray* array);
 
+/// The range of every component of `array` (range[2 c], range[2 c + 1]), when CacheRanges
+/// stored them and the array has not been modified since (its MTime is the one CacheRanges saw;
+/// Modified() after a change of values, as for VTK's own range cache): CacheRanges stores ranges
+/// only for arrays without NaN or inf, so these bound every value, and a caller may take them for
+/// a check of all values (the probe's reading of a spline filter's output). False, with range
+/// untouched, otherwise: ranges VTK computed itself (which skip NaN), or none.
+bool FiniteRanges(vtkDataArray* array, double* range);
+
 /// CacheRanges of a data set's points and of every data array of its point and cell data:
 /// called by the filters as the last step of RequestData, on the arrays they wrote and those
 /// they passed through.

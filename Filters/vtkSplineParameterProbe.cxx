@@ -370,7 +370,7 @@ struct ProbeSpline
 template <typename OffsetT, typename IdT>
 bool CheckCells(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in, vtkIdType nIds,
   vtkIdType group, const ctk::TriangleBucketGrid& grid,
-  std::vector<ctk::TriangleBucketGrid::GroupSpan>& spans, ctk::Vec2& lo, ctk::Vec2& hi,
+  ctk::TriangleBucketGrid::Spans& spans, ctk::Vec2& lo, ctk::Vec2& hi,
   double& minArea)
 {
   constexpr vtkIdType BlockGroups = 512; // 1536 cubic cells: 60 KB of ids
@@ -417,28 +417,60 @@ bool CheckCells(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in
   return true;
 }
 
+// Whether every value of the points' coordinates, (u, v) and weights (null: none) is usable, and
+// the box [lo, hi] of the (u, v). From the ranges CacheRanges stored for an array unmodified
+// since (FiniteRanges: the spline filter's output), which bound all its values; otherwise from a
+// pass over them (at 1e6 triangles, 540 MB: 50-55 ms of a first call).
+bool UsablePointArrays(vtkDataArray* xyz, vtkDataArray* uv, vtkDataArray* w, vtkIdType nPoints,
+  ctk::Vec2& lo, ctk::Vec2& hi)
+{
+  double ranges[6];
+  auto usableRanges = [&](vtkDataArray* a, int nc) {
+    if (!ctsplines::FiniteRanges(a, ranges))
+    {
+      return false;
+    }
+    for (int k = 0; k < 2 * nc; ++k)
+    {
+      if (!ctk::IsUsableValue(ranges[k]))
+      {
+        return false;
+      }
+    }
+    return true;
+  };
+  auto values = [](vtkDataArray* a) { return vtkDoubleArray::FastDownCast(a)->GetPointer(0); };
+  if (!(usableRanges(xyz, 3) || ctk::AllUsableValues(values(xyz), 3 * nPoints)))
+  {
+    return false;
+  }
+  if (w && !(usableRanges(w, 1) && ranges[0] > 0.0) &&
+    !ctk::AllUsableValues(values(w), nPoints, true))
+  {
+    return false;
+  }
+  if (usableRanges(uv, 2))
+  {
+    lo = ctk::Vec2(ranges[0], ranges[2]);
+    hi = ctk::Vec2(ranges[1], ranges[3]);
+    return true;
+  }
+  return ctk::AllUsablePairs(values(uv), nPoints, lo, hi);
+}
+
 // Whether the source's own arrays pass every check of ReadSpline (cell types and sizes, point
-// ids, usable coordinates, (u, v) and weights, macro-triangle ids, parameter triangles of
-// nonzero area); if so, `out` adopts them. The grid is laid over the box of the points' (u, v)
-// before the one pass over the cells, which then gives every group's span: the corners are
-// read once, not again by the grid's build (25 ms of a 0.2 s first call on 1e6 triangles).
-// The box is the cells' for the spline filter's output (its control points lie in their
-// triangles); for another, the grid is built again over the cells' box (the same results: a
-// grid finds the same triangles over any box). nIds: the length of the connectivity array.
+// ids, macro-triangle ids, parameter triangles of nonzero area; the points' arrays, checked by
+// UsablePointArrays, whose (u, v) span [pointsLo, pointsHi]); if so, `out` adopts them. The
+// grid is laid over the box of the points' (u, v) before the one pass over the cells, which
+// then gives every group's span: the corners are read once, not again by the grid's build (25
+// ms of a 0.2 s first call on 1e6 triangles). The box is the cells' for the spline filter's
+// output (its control points lie in their triangles); for another, the grid is built again over
+// the cells' box (the same results: a grid finds the same triangles over any box). nIds: the
+// length of the connectivity array.
 template <typename OffsetT, typename IdT>
 bool AdoptInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& in,
-  vtkIdType nIds, ProbeSpline& out)
+  vtkIdType nIds, const ctk::Vec2& pointsLo, const ctk::Vec2& pointsHi, ProbeSpline& out)
 {
-  ctk::Vec2 pointsLo, pointsHi;
-  if (!ctk::AllUsableValues(in.XYZ, 3 * in.NPoints) ||
-    !ctk::AllUsablePairs(in.UV, in.NPoints, pointsLo, pointsHi))
-  {
-    return false;
-  }
-  if (in.Weights && !ctk::AllUsableValues(in.Weights, in.NPoints, true))
-  {
-    return false;
-  }
   if (in.NCells > 0 ? in.Offsets[0] != 0 || static_cast<vtkIdType>(in.Offsets[in.NCells]) != nIds
                     : nIds != 0)
   {
@@ -450,7 +482,7 @@ bool AdoptInPlace(const unsigned char* types, const SplineArrays<OffsetT, IdT>& 
   {
     return false; // ReadSpline names the limit
   }
-  std::vector<ctk::TriangleBucketGrid::GroupSpan> spans;
+  ctk::TriangleBucketGrid::Spans spans;
   ctk::ResizeForOverwrite(spans, static_cast<size_t>(grid.GetNumberOfGroups()));
   // Every area must exceed the bound relative to the box (the spline filter's test), which is
   // the smallest exceeding it.
@@ -503,13 +535,19 @@ bool ReadSplineInPlace(vtkDataSet* source, const std::string& uvName, ProbeSplin
   {
     return false;
   }
+  ctk::Vec2 pointsLo, pointsHi;
+  if (!UsablePointArrays(xyzArray, uvArray, weights ? w : nullptr, nPoints, pointsLo, pointsHi))
+  {
+    return false;
+  }
   auto build = [&](vtkDataArray* offsetArray, vtkDataArray* idArray, const auto* offsets,
                  const auto* ids) {
     using OffsetT = std::remove_cv_t<std::remove_pointer_t<decltype(offsets)>>;
     using IdT = std::remove_cv_t<std::remove_pointer_t<decltype(ids)>>;
     const SplineArrays<OffsetT, IdT> arrays{ offsets, ids, xyz, weights, uv,
       macroIds ? macroIds->GetPointer(0) : nullptr, nPoints, nCells };
-    if (!AdoptInPlace(types->GetPointer(0), arrays, idArray->GetNumberOfValues(), out))
+    if (!AdoptInPlace(
+          types->GetPointer(0), arrays, idArray->GetNumberOfValues(), pointsLo, pointsHi, out))
     {
       return false;
     }

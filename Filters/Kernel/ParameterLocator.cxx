@@ -134,7 +134,7 @@ bool TriangleBucketGrid::Prepare(Id numTriangles, const Vec2& lo, const Vec2& hi
   }
   if (numTriangles > 0)
   {
-    this->SetGeometry(lo, hi, this->GetNumberOfGroups());
+    this->SetGeometry(lo, hi, BucketsFor(this->GetNumberOfGroups()));
   }
   return true;
 }
@@ -190,33 +190,36 @@ bool TriangleBucketGrid::BuildFrom(
   {
     return true;
   }
-  // About one bucket per group: a query tests the triangles of the listed groups whose box
-  // holds it (MayHold), about as many on any grid, so coarser buckets cost a few more box tests
-  // and save entries (1e6 Delaunay macro-triangles: 6.6e6 entries; 13.9e6 with a bucket per
-  // triangle, whose queries tested every listed group's triangles, 13.9 instead of 7.6).
-  this->SetGeometry(lo, hi, (usable + k - 1) / k);
-  std::vector<GroupSpan> spans;
+  this->SetGeometry(lo, hi, BucketsFor((usable + k - 1) / k));
+  Spans spans;
   ResizeForOverwrite(spans, static_cast<size_t>(this->GetNumberOfGroups()));
   forGroups([&](Id g, const Vec2* a, Id n) { spans[g] = this->Span(a, n, box != nullptr); });
   return this->List(spans);
 }
 
-bool TriangleBucketGrid::List(const std::vector<GroupSpan>& spans)
+bool TriangleBucketGrid::List(const Spans& spans)
 {
-  // Pass 1: bucket sizes (counted from index 1); prefix sums give the row starts.
-  const Id nBuckets = this->NX * this->NY;
+  // Pass 1: bucket sizes (counted from index 1); prefix sums give the row starts. Through
+  // local pointers: the compiler reloaded the vectors' data pointers after every store.
+  const Id nx = this->NX, nBuckets = nx * this->NY;
   AssignLarge(this->Offsets, static_cast<size_t>(nBuckets + 1), std::uint32_t(0));
+  std::uint32_t* const offsets = this->Offsets.data();
   std::uint64_t total = 0;
   for (const GroupSpan& s : spans)
   {
-    for (Id iy = s.Y0; iy <= Id(s.Y1); ++iy)
+    if (s.X1 < s.X0)
     {
-      for (Id ix = s.X0; ix <= Id(s.X1); ++ix)
+      continue; // no usable triangle
+    }
+    std::uint32_t* row = offsets + 1 + Id(s.Y0) * nx;
+    for (std::uint32_t iy = s.Y0; iy <= s.Y1; ++iy, row += nx)
+    {
+      for (std::uint32_t ix = s.X0; ix <= s.X1; ++ix)
       {
-        ++this->Offsets[iy * this->NX + ix + 1];
+        ++row[ix];
       }
     }
-    total += s.X1 < s.X0 ? 0 : std::uint64_t(s.X1 - s.X0 + 1) * std::uint64_t(s.Y1 - s.Y0 + 1);
+    total += std::uint64_t(s.X1 - s.X0 + 1) * std::uint64_t(s.Y1 - s.Y0 + 1);
   }
   if (total > UINT32_MAX)
   {
@@ -225,7 +228,7 @@ bool TriangleBucketGrid::List(const std::vector<GroupSpan>& spans)
   }
   for (Id b = 0; b < nBuckets; ++b)
   {
-    this->Offsets[b + 1] += this->Offsets[b];
+    offsets[b + 1] += offsets[b];
   }
   // Pass 2: fill in group order, so every row is sorted by id, each entry with the part of the
   // group's box in its bucket (see MayHold: the span's edges in its first and last buckets, the
@@ -234,26 +237,33 @@ bool TriangleBucketGrid::List(const std::vector<GroupSpan>& spans)
   ResizeForOverwrite(this->Items, static_cast<size_t>(total));
   ResizeForOverwrite(this->ItemBoxes, static_cast<size_t>(total) + BoxPadding);
   std::fill(this->ItemBoxes.end() - BoxPadding, this->ItemBoxes.end(), EntryBox{});
+  std::uint32_t* const items = this->Items.data();
+  EntryBox* const boxes = this->ItemBoxes.data();
   for (std::size_t g = 0; g < spans.size(); ++g)
   {
     const GroupSpan& s = spans[g];
-    for (std::uint32_t iy = s.Y0; iy <= s.Y1; ++iy)
+    if (s.X1 < s.X0)
+    {
+      continue;
+    }
+    std::uint32_t* row = offsets + Id(s.Y0) * nx;
+    for (std::uint32_t iy = s.Y0; iy <= s.Y1; ++iy, row += nx)
     {
       const std::uint8_t y0 = iy == s.Y0 ? s.From[1] : 0, y1 = iy == s.Y1 ? s.To[1] : 255;
       for (std::uint32_t ix = s.X0; ix <= s.X1; ++ix)
       {
-        const std::uint32_t i = this->Offsets[iy * this->NX + ix]++;
-        this->Items[i] = static_cast<std::uint32_t>(g);
-        this->ItemBoxes[i] = { ix == s.X0 ? s.From[0] : std::uint8_t(0),
+        const std::uint32_t i = row[ix]++;
+        items[i] = static_cast<std::uint32_t>(g);
+        boxes[i] = { ix == s.X0 ? s.From[0] : std::uint8_t(0),
           ix == s.X1 ? s.To[0] : std::uint8_t(255), y0, y1 };
       }
     }
   }
   for (Id b = nBuckets; b > 0; --b)
   {
-    this->Offsets[b] = this->Offsets[b - 1];
+    offsets[b] = offsets[b - 1];
   }
-  this->Offsets[0] = 0;
+  offsets[0] = 0;
   return true;
 }
 

@@ -2,18 +2,20 @@
 // Point location among planar triangles (the parameter triangles of a spline): which triangle
 // contains (u, v), and its barycentric coordinates there. Pure maths: no VTK.
 //
-// A uniform bucket grid over the bounding box of all triangles, about one bucket per group of
-// triangles (see Build); each group is listed in every bucket its (slightly enlarged) bounding
-// box touches, with the part of its box in that bucket, stored in compressed rows of 32-bit ids
-// and 4-byte boxes built in two passes (count, then fill): O(n) build for meshes without extreme
-// slivers, O(1) expected query. A query tests the triangles of the listed groups whose box holds
-// it. The grid holds ids and boxes only: the corners come from the caller (TriangleBucketGrid,
-// which reads them where they already are) or from a copy (ParameterLocator). Queries only read
-// the structure, so any number of threads may query one built grid concurrently.
+// A uniform bucket grid over the bounding box of all triangles, about one bucket per two groups
+// of triangles (see BucketsFor); each group is listed in every bucket its (slightly enlarged)
+// bounding box touches, with the part of its box in that bucket, stored in compressed rows of
+// 32-bit ids and 4-byte boxes built in two passes (count, then fill): O(n) build for meshes
+// without extreme slivers, O(1) expected query. A query tests the triangles of the listed groups
+// whose box holds it. The grid holds ids and boxes only: the corners come from the caller
+// (TriangleBucketGrid, which reads them where they already are) or from a copy
+// (ParameterLocator). Queries only read the structure, so any number of threads may query one
+// built grid concurrently.
 #ifndef CTSplines_Kernel_ParameterLocator_h
 #define CTSplines_Kernel_ParameterLocator_h
 
 #include "BezierTriangle.h"
+#include "LargeArrays.h"  // for OverwriteVector
 #include "MeshTopology.h" // for Id
 
 #include <algorithm>
@@ -103,7 +105,9 @@ public:
   };
   /// The span of a group whose triangles' corners span [lo, hi] (lo > hi: no usable triangle).
   GroupSpan SpanOf(const Vec2& lo, const Vec2& hi) const;
-  bool List(const std::vector<GroupSpan>& spans);
+  /// Every group's span, written whole after ResizeForOverwrite.
+  using Spans = OverwriteVector<GroupSpan>;
+  bool List(const Spans& spans);
   Id GetNumberOfGroups() const
   {
     return (this->NumTriangles + this->GroupSize - 1) / this->GroupSize;
@@ -156,7 +160,7 @@ public:
   /// in 255ths of the bucket from its lower corner, rounded outwards; 0 and 255 reach the
   /// bucket's edges and beyond), enlarged as for the buckets, so that none of the group's
   /// triangles holds the point within the tolerance. At 1e6 Delaunay macro-triangles a bucket
-  /// lists 6.6 groups and this keeps 2.5.
+  /// lists 8.9 groups and this keeps 2.54.
   static bool MayHold(const EntryBox& box, const Place& place)
   {
     return box[0] <= place.Low[0] && place.High[0] <= box[1] && box[2] <= place.Low[1] &&
@@ -193,6 +197,14 @@ private:
   void SetGeometry(const Vec2& lo, const Vec2& hi, Id buckets);
   // BucketCell, also giving (u, v) in grid coordinates.
   bool BucketCell(double u, double v, Id& ix, Id& iy, Vec2& p) const;
+  // The buckets of a grid over `groups` groups: about one per GroupsPerBucket. A query tests the
+  // triangles of the listed groups whose box holds it (MayHold), about as many on any grid
+  // (2.54 groups at 1e6 Delaunay macro-triangles, with one or two groups per bucket), so coarser
+  // buckets cost a few more box tests and save entries: 4.4e6 with two groups per bucket, 6.6e6
+  // with one (a first call's grid build then took 100 ms instead of 40, of fresh memory mostly),
+  // 13.9e6 with a bucket per triangle (whose queries tested 13.9 triangles instead of 7.6).
+  static constexpr Id GroupsPerBucket = 2;
+  static Id BucketsFor(Id groups) { return std::max<Id>(1, groups / GroupsPerBucket); }
   // An empty grid for numTriangles in groups of groupSize; false beyond MaxTriangles.
   bool Reset(Id numTriangles, Id groupSize);
   // The span of count triangles' corners c (only the usable ones, or all when `checked`: the
@@ -209,13 +221,13 @@ private:
   Id NumTriangles = 0, GroupSize = 1;
   /// Compressed rows: groups of bucket b are Items[Offsets[b] .. Offsets[b + 1]), sorted by
   /// id.
-  std::vector<std::uint32_t> Offsets;
-  std::vector<std::uint32_t> Items;
+  OverwriteVector<std::uint32_t> Offsets;
+  OverwriteVector<std::uint32_t> Items;
   /// One per item (see MayHold), then BoxPadding zero entries that ForEachCandidate may read
   /// past the last row (and ignore). An array of its own: with ids and boxes in one array of
   /// 8-byte entries (53 MB at 1e6 macro-triangles), a fresh process' first build took 0.29-0.31
   /// s instead of 0.24 s here, as glibc serves large blocks from fresh pages.
-  std::vector<EntryBox> ItemBoxes;
+  OverwriteVector<EntryBox> ItemBoxes;
   static constexpr std::size_t BoxPadding = 3;
 };
 

@@ -251,6 +251,51 @@ TEST(CachedArrayRanges, AreServedUntilTheArrayIsModified)
   ExpectCachedVTKRanges(a, "after Modified");
 }
 
+// FiniteRanges serves the ranges CacheRanges stored, which bound every value, until the array
+// is modified; never ranges VTK stored itself (they skip NaN), nor a copy's.
+TEST(CachedArrayRanges, FiniteRangesHoldUntilTheArrayIsModified)
+{
+  double range[8];
+  EXPECT_FALSE(ctsplines::FiniteRanges(nullptr, range));
+  auto a = RandomArray<vtkDoubleArray>(100000, 3, -2.0, 5.0, 9);
+  double vtkRange[2];
+  a->GetRange(vtkRange, 0); // VTK's own cache
+  EXPECT_FALSE(ctsplines::FiniteRanges(a, range));
+  a->Modified();
+  ASSERT_TRUE(ctsplines::CacheRanges(a));
+  ASSERT_TRUE(ctsplines::FiniteRanges(a, range));
+  for (int c = 0; c < 3; ++c)
+  {
+    a->GetRange(vtkRange, c);
+    EXPECT_EQ(range[2 * c], vtkRange[0]) << c;
+    EXPECT_EQ(range[2 * c + 1], vtkRange[1]) << c;
+  }
+  vtkNew<vtkDoubleArray> copy;
+  copy->DeepCopy(a);
+  EXPECT_FALSE(ctsplines::FiniteRanges(copy, range)) << "a deep copy";
+  vtkNew<vtkDoubleArray> view;
+  view->ShallowCopy(a);
+  EXPECT_FALSE(ctsplines::FiniteRanges(view, range)) << "a shallow copy";
+
+  // A NaN, marked modified, then VTK's ranges (which skip it) stored after the old ones.
+  a->SetComponent(500, 1, std::numeric_limits<double>::quiet_NaN());
+  a->Modified();
+  EXPECT_FALSE(ctsplines::FiniteRanges(a, range));
+  for (int c = 0; c < 3; ++c)
+  {
+    a->GetRange(vtkRange, c);
+    a->GetFiniteRange(vtkRange, c);
+  }
+  EXPECT_FALSE(ctsplines::FiniteRanges(a, range));
+  EXPECT_FALSE(ctsplines::CacheRanges(a));
+  EXPECT_FALSE(ctsplines::FiniteRanges(a, range));
+  // Finite again: stored and served again.
+  a->SetComponent(500, 1, 0.25);
+  a->Modified();
+  ASSERT_TRUE(ctsplines::CacheRanges(a));
+  EXPECT_TRUE(ctsplines::FiniteRanges(a, range));
+}
+
 // Values that are not finite make VTK's plain and finite ranges differ: nothing is stored, and
 // VTK computes both itself. Empty arrays store nothing either.
 TEST(CachedArrayRanges, LeaveNonFiniteAndEmptyArraysToVTK)

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 #include "vtkSplineParameterProbe.h"
 
+#include "CTSplinesArrayRanges.h"
 #include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
 #include "vtkBezierTriangleTessellator.h"
@@ -801,6 +802,33 @@ std::string FailingProbe(vtkDataObject* source)
   return errors->Message;
 }
 } // namespace
+
+// The spline filter's output carries ranges stored from values all finite (FiniteRanges): the
+// probe takes them for its check of the points, (u, v) and weights instead of a pass over them,
+// but only while the array is unmodified: a NaN set and marked modified is found and named.
+TEST(vtkSplineParameterProbe, StoredRangesServeUntilTheSourceIsModified)
+{
+  for (const std::string what : { "points", "UV" })
+  {
+    vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke);
+    auto* array = vtkDoubleArray::FastDownCast(what == "UV"
+        ? spline->GetPointData()->GetArray("UV")
+        : spline->GetPoints()->GetData());
+    ASSERT_NE(array, nullptr);
+    double range[6];
+    ASSERT_TRUE(ctsplines::FiniteRanges(array, range)) << what;
+    vtkSmartPointer<vtkDataSet> good = Probe(QueryPoints({ ctk::Vec2(0.5, 0.5) }), spline);
+    ASSERT_NE(good, nullptr) << what;
+    array->GetPointer(0)[7] = std::nan(""); // point 3 (UV) or 2 (points)
+    array->Modified();
+    EXPECT_FALSE(ctsplines::FiniteRanges(array, range)) << what;
+    const std::string m = FailingProbe(spline);
+    EXPECT_NE(m.find(what == "UV" ? "'UV' has a non-finite value (nan) at point 3"
+                                  : "point 2 has the coordinates"),
+      std::string::npos)
+      << what << ": " << m;
+  }
+}
 
 TEST(vtkSplineParameterProbe, MissingSource)
 {

@@ -351,7 +351,7 @@ TEST(TriangleBucketGrid, GroupsLocateAsSingleTriangles)
       const Vec2 margin = grid == &steps ? Vec2(0, 0) : Vec2(0.3, 0.2);
       ASSERT_TRUE(grid->Prepare(n, lo - margin, hi + margin, 3));
       ASSERT_EQ(grid->GetNumberOfGroups(), (n + 2) / 3);
-      std::vector<TriangleBucketGrid::GroupSpan> spans;
+      TriangleBucketGrid::Spans spans;
       for (Id t = 0; t < n; t += 3)
       {
         Vec2 groupLo = micro[3 * t], groupHi = groupLo;
