@@ -26,6 +26,9 @@
  * built once per source and reused while the source is unchanged.
  * The spline is read where it is: the source's own arrays for an unstructured grid with double
  * points, UV and weights (checked, not copied), a checked copy otherwise; nothing is renumbered.
+ * The check of the points, UV and weights takes the ranges a CTSplines filter stored for an
+ * array whose values were all finite, while the array is unmodified since (Modified(), as for
+ * VTK's own cached ranges); other arrays are read whole.
  * Queries that already come in a coherent order (at least half of them in their predecessor's
  * locator bucket or a neighbour: grid rows, polylines) are processed as they come; others in
  * the Morton order of their buckets, the results scattered back: neighbouring queries read
