@@ -11,10 +11,8 @@
 #include "vtkDataSet.h"
 #include "vtkInformation.h"
 #include "vtkInformationDoubleVectorKey.h"
-#include "vtkInformationIdTypeKey.h"
 #include "vtkInformationInformationVectorKey.h"
 #include "vtkInformationVector.h"
-#include "vtkInformationKey.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
@@ -25,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <mutex>
 #include <type_traits>
@@ -33,19 +32,49 @@
 #include <emmintrin.h>
 #endif
 
-namespace ctsplines
-{
-// The array's MTime when CacheRanges stored its ranges from a scan that met no NaN or inf
-// (FiniteRanges). VTK's own keys cannot tell: its ranges skip NaN.
-struct ArrayRangeKeys
-{
-  static vtkInformationIdTypeKey* FINITE_AT();
-};
-vtkInformationKeyMacro(ArrayRangeKeys, FINITE_AT, IdType);
-} // namespace ctsplines
-
 namespace
 {
+// The stamp of an array whose values CacheRanges found all finite when it stored their ranges
+// (FiniteRanges): the array's MTime, data pointer and number of values then, as doubles (exact
+// below 2^53). VTK's own range keys cannot tell finiteness: its ranges skip NaN. A key of its
+// own kind, which vtkInformation::Copy never copies (nor, so, CopyInformation and DeepCopy): a
+// stamp copied with the information to another array could match that array's MTime once
+// values without the stamp's guarantee are copied into it.
+class FiniteStampKey : public vtkInformationDoubleVectorKey
+{
+public:
+  FiniteStampKey()
+    : vtkInformationDoubleVectorKey("FINITE_STAMP", "ctsplines::CacheRanges", 3)
+  {
+  }
+  void ShallowCopy(vtkInformation*, vtkInformation*) override {}
+  void DeepCopy(vtkInformation*, vtkInformation*) override {}
+};
+
+vtkInformationDoubleVectorKey* FiniteStamp()
+{
+  static FiniteStampKey* const key = new FiniteStampKey; // as VTK's keys: never deleted
+  return key;
+}
+
+// The stamp of `array` as it is now; false when a part is not exact in a double.
+bool CurrentStamp(vtkDataArray* array, double stamp[3])
+{
+  constexpr std::uint64_t exact = std::uint64_t(1) << 53;
+  const std::uint64_t parts[3] = { static_cast<std::uint64_t>(array->GetMTime()),
+    static_cast<std::uint64_t>(reinterpret_cast<std::uintptr_t>(array->GetVoidPointer(0))),
+    static_cast<std::uint64_t>(array->GetNumberOfValues()) };
+  for (int k = 0; k < 3; ++k)
+  {
+    if (parts[k] >= exact)
+    {
+      return false;
+    }
+    stamp[k] = static_cast<double>(parts[k]);
+  }
+  return true;
+}
+
 // Arrays with more components are left to VTK (the module writes at most 18: mid-edge gradients).
 constexpr int MaxComponents = 32;
 
@@ -409,16 +438,21 @@ bool CacheRanges(vtkDataArray* array)
     r.Hi[c] = r.Hi[c] == 0.0 ? 0.0 : r.Hi[c];
   }
   StoreRanges(array, r, norms && NormsLikeVTK(r));
-  array->GetInformation()->Set(
-    ArrayRangeKeys::FINITE_AT(), static_cast<vtkIdType>(array->GetMTime()));
+  double stamp[3];
+  if (CurrentStamp(array, stamp))
+  {
+    array->GetInformation()->Set(FiniteStamp(), stamp, 3);
+  }
   return true;
 }
 
 bool FiniteRanges(vtkDataArray* array, double* range)
 {
   vtkInformation* info = array && array->HasInformation() ? array->GetInformation() : nullptr;
-  if (!info || !info->Has(ArrayRangeKeys::FINITE_AT()) ||
-    info->Get(ArrayRangeKeys::FINITE_AT()) != static_cast<vtkIdType>(array->GetMTime()) ||
+  double stamp[3];
+  if (!info || !info->Has(FiniteStamp()) || info->Length(FiniteStamp()) != 3 ||
+    array->GetNumberOfTuples() <= 0 || !array->HasStandardMemoryLayout() ||
+    !CurrentStamp(array, stamp) || !std::equal(stamp, stamp + 3, info->Get(FiniteStamp())) ||
     !RangesCached(array, false))
   {
     return false;

@@ -31,12 +31,13 @@ namespace ctsplines
 /// on return.
 bool CacheRanges(vtkDataArray* array);
 
-/// The range of every component of `array` (range[2 c], range[2 c + 1]), when CacheRanges
-/// stored them and the array has not been modified since (its MTime is the one CacheRanges saw;
-/// Modified() after a change of values, as for VTK's own range cache): CacheRanges stores ranges
-/// only for arrays without NaN or inf, so these bound every value, and a caller may take them for
-/// a check of all values (the probe's reading of a spline filter's output). False, with range
-/// untouched, otherwise: ranges VTK computed itself (which skip NaN), or none.
+/// The range of every component of `array` (range[2 c], range[2 c + 1]: range holds 2 values per
+/// component), when CacheRanges stored them and the array has not changed since: its MTime,
+/// data pointer and number of values are the ones CacheRanges saw (Modified() after a change of
+/// values, as for VTK's own range cache). CacheRanges stores ranges only for arrays without NaN
+/// or inf, so these bound every value, and a caller may take them for a check of all values
+/// (the probe's reading of a spline filter's output). False, with range untouched, otherwise:
+/// ranges VTK computed itself (which skip NaN), a copy's (the stamp is never copied), or none.
 bool FiniteRanges(vtkDataArray* array, double* range);
 
 /// CacheRanges of a data set's points and of every data array of its point and cell data:

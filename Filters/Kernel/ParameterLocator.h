@@ -225,8 +225,9 @@ private:
   OverwriteVector<std::uint32_t> Items;
   /// One per item (see MayHold), then BoxPadding zero entries that ForEachCandidate may read
   /// past the last row (and ignore). An array of its own: with ids and boxes in one array of
-  /// 8-byte entries (53 MB at 1e6 macro-triangles), a fresh process' first build took 0.29-0.31
-  /// s instead of 0.24 s here, as glibc serves large blocks from fresh pages.
+  /// 8-byte entries (53 MB at 1e6 macro-triangles, one bucket per group then), a fresh
+  /// process' first build took 0.29-0.31 s instead of 0.24 s here, as glibc serves large blocks
+  /// from fresh pages.
   OverwriteVector<EntryBox> ItemBoxes;
   static constexpr std::size_t BoxPadding = 3;
 };

@@ -294,6 +294,32 @@ TEST(CachedArrayRanges, FiniteRangesHoldUntilTheArrayIsModified)
   a->Modified();
   ASSERT_TRUE(ctsplines::CacheRanges(a));
   EXPECT_TRUE(ctsplines::FiniteRanges(a, range));
+
+  // Values copied in without Modified() (DeepCopy into an array of the same size does not call
+  // it): the stamp is not copied with the information, so it cannot match the MTime it keeps.
+  vtkNew<vtkDoubleArray> backup;
+  backup->DeepCopy(a);
+  backup->SetComponent(7, 2, std::numeric_limits<double>::quiet_NaN());
+  backup->Modified();
+  a->DeepCopy(backup);
+  for (int c = 0; c < 3; ++c)
+  {
+    a->GetRange(vtkRange, c); // VTK's ranges, which skip the NaN
+    a->GetFiniteRange(vtkRange, c);
+  }
+  EXPECT_FALSE(ctsplines::FiniteRanges(a, range)) << "values deep-copied in";
+  // Another array's storage taken in place: another data pointer.
+  a->SetComponent(7, 2, 0.5);
+  a->Modified();
+  ASSERT_TRUE(ctsplines::CacheRanges(a));
+  ASSERT_TRUE(ctsplines::FiniteRanges(a, range));
+  a->ShallowCopy(backup);
+  for (int c = 0; c < 3; ++c)
+  {
+    a->GetRange(vtkRange, c);
+    a->GetFiniteRange(vtkRange, c);
+  }
+  EXPECT_FALSE(ctsplines::FiniteRanges(a, range)) << "storage shallow-copied in";
 }
 
 // Values that are not finite make VTK's plain and finite ranges differ: nothing is stored, and

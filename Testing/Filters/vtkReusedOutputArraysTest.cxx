@@ -517,6 +517,7 @@ TEST(ReusedOutputArrays, ProbeRewritesItsArraysWithTheBitsOfANewProbe)
     ASSERT_EQ(probe->GetOutput()->GetPointData()->GetArray("Payload"), payload.Get());
   }
   // The first queries are gone; their payload lives in the output until the next execution.
+  // (Kept with the output, it would be taken for the first new array of its size, the points.)
   auto second = Queries(ProbePoints, 2);
   probe->SetInputData(second);
   probe->Update();
@@ -547,11 +548,16 @@ TEST(ReusedOutputArrays, ProbeRewritesItsArraysWithTheBitsOfANewProbe)
   EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
   EXPECT_EQ(probe->GetOutput()->GetPointData()->GetArray("dFdu"), nullptr);
 
-  // Off: nothing is kept.
+  // Off: nothing is kept, for the same count either.
   probe->SetComputeDerivatives(true);
+  probe->SetInputData(third);
+  probe->Update();
+  probe->Modified();
+  probe->Update();
+  ASSERT_EQ(probe->GetReusedOutputBytes(), ProbeKeptBytes); // on, as a control
   probe->SetReuseOutputArrays(false);
   probe->Update();
-  probe->SetInputData(third);
+  probe->Modified();
   probe->Update();
   EXPECT_EQ(probe->GetReusedOutputBytes(), 0u);
   ExpectSameProbe(probe->GetOutput(), FreshProbe(spline, third));

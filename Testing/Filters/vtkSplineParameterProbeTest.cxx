@@ -830,6 +830,28 @@ TEST(vtkSplineParameterProbe, StoredRangesServeUntilTheSourceIsModified)
   }
 }
 
+// Rational weights with stored ranges: finite ones are not all usable, the lowest must be
+// positive; a zero weight in an array with stored ranges is found and named.
+TEST(vtkSplineParameterProbe, StoredRangesOfWeightsMustBePositive)
+{
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke);
+  vtkNew<vtkDoubleArray> weights;
+  weights->SetName("RationalWeights");
+  weights->SetNumberOfTuples(spline->GetNumberOfPoints());
+  weights->Fill(1.0);
+  spline->GetPointData()->SetRationalWeights(weights);
+  ASSERT_TRUE(ctsplines::CacheRanges(weights));
+  ASSERT_NE(Probe(QueryPoints({ ctk::Vec2(0.5, 0.5) }), spline), nullptr);
+  weights->SetValue(3, 0.0);
+  weights->Modified();
+  ASSERT_TRUE(ctsplines::CacheRanges(weights));
+  double range[2];
+  ASSERT_TRUE(ctsplines::FiniteRanges(weights, range));
+  EXPECT_EQ(range[0], 0.0);
+  const std::string m = FailingProbe(spline);
+  EXPECT_NE(m.find("point 3"), std::string::npos) << m;
+}
+
 TEST(vtkSplineParameterProbe, MissingSource)
 {
   const std::string m = FailingProbe(nullptr);
