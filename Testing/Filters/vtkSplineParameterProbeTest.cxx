@@ -828,6 +828,19 @@ TEST(vtkSplineParameterProbe, StoredRangesServeUntilTheSourceIsModified)
       std::string::npos)
       << what << ": " << m;
   }
+  // The stored ranges are taken instead of the values: a coordinate changed without Modified()
+  // (which VTK's own range cache needs too) is not read; marked modified, it is.
+  vtkSmartPointer<vtkUnstructuredGrid> spline = MakeSpline(ctk::AnalyticSurface::Franke);
+  auto* points = vtkDoubleArray::FastDownCast(spline->GetPoints()->GetData());
+  ASSERT_NE(points, nullptr);
+  points->GetPointer(0)[7] = 1e200; // point 2, above the usable magnitude
+  vtkNew<vtkSplineParameterProbe> probe;
+  probe->SetInputData(QueryPoints({ ctk::Vec2(0.5, 0.5) }));
+  probe->SetSourceData(spline);
+  EXPECT_EQ(probe->GetExecutive()->Update(), 1) << "the points were read, not their ranges";
+  points->Modified();
+  const std::string m = FailingProbe(spline);
+  EXPECT_NE(m.find("point 2 has the coordinates"), std::string::npos) << m;
 }
 
 // Rational weights with stored ranges: finite ones are not all usable, the lowest must be
