@@ -143,6 +143,20 @@ void RecycledArrays::ReleaseUnused()
   this->Kept.clear();
 }
 
+bool RecycledArrays::SetReuse(bool& property, bool reuse)
+{
+  if (reuse == property)
+  {
+    return false;
+  }
+  property = reuse;
+  if (!reuse)
+  {
+    this->Clear();
+  }
+  return true;
+}
+
 void RecycledArrays::Clear()
 {
   this->Kept.clear();

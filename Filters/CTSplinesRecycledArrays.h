@@ -88,6 +88,11 @@ public:
   /// Releases everything kept.
   void Clear();
 
+  /// A filter's ReuseOutputArrays setter: sets `property` to `reuse`, and when turned off
+  /// releases everything kept (the arrays go with the output, as without the property). True
+  /// when the property changed: the filter then calls Modified().
+  bool SetReuse(bool& property, bool reuse);
+
 private:
   friend class RecycledArraysScope;
   std::mutex Executing; // held by the RecycledArraysScope of an execution
@@ -126,13 +131,21 @@ public:
   /// The arrays for this execution, or null.
   RecycledArrays* Get() const { return this->Lock.owns_lock() ? &this->Recycled : nullptr; }
 
-  /// RecycledArrays::End, of an output or of some arrays.
-  template <typename Output>
-  void End(const Output& output, bool enabled)
+  /// RecycledArrays::End of an output.
+  void End(vtkDataSet* output, bool enabled)
   {
     if (this->Lock.owns_lock())
     {
       this->Recycled.End(output, enabled);
+      this->Ended = true;
+    }
+  }
+  /// RecycledArrays::End of the given arrays.
+  void End(const std::vector<vtkDataArray*>& arrays, bool enabled)
+  {
+    if (this->Lock.owns_lock())
+    {
+      this->Recycled.End(arrays, enabled);
       this->Ended = true;
     }
   }

@@ -58,13 +58,11 @@ vtkTypeUInt64 vtkBezierTriangleTessellator::GetNumberOfTopologyBuilds() const
 
 void vtkBezierTriangleTessellator::SetReuseOutputArrays(bool reuse)
 {
-  if (reuse != this->ReuseOutputArrays)
+  if (this->Recycled->SetReuse(this->ReuseOutputArrays, reuse))
   {
-    this->ReuseOutputArrays = reuse;
     if (!reuse)
     {
-      this->Recycled->Clear(); // the arrays go with the output, as without the property
-      this->Recycled->Topology.reset();
+      this->Recycled->Topology.reset(); // kept with the arrays
     }
     this->Modified();
   }

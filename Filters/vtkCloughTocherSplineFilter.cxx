@@ -68,13 +68,8 @@ vtkTypeUInt64 vtkCloughTocherSplineFilter::GetReusedOutputBytes() const
 
 void vtkCloughTocherSplineFilter::SetReuseOutputArrays(bool reuse)
 {
-  if (reuse != this->ReuseOutputArrays)
+  if (this->Recycled->SetReuse(this->ReuseOutputArrays, reuse))
   {
-    this->ReuseOutputArrays = reuse;
-    if (!reuse)
-    {
-      this->Recycled->Clear(); // the arrays go with the output, as without the property
-    }
     this->Modified();
   }
 }

@@ -64,13 +64,8 @@ vtkSplineParameterProbe::~vtkSplineParameterProbe() = default;
 
 void vtkSplineParameterProbe::SetReuseOutputArrays(bool reuse)
 {
-  if (reuse != this->ReuseOutputArrays)
+  if (this->Recycled->SetReuse(this->ReuseOutputArrays, reuse))
   {
-    this->ReuseOutputArrays = reuse;
-    if (!reuse)
-    {
-      this->Recycled->Clear(); // the arrays go with the output, as without the property
-    }
     this->Modified();
   }
 }
