@@ -731,7 +731,7 @@ ctk::OverwriteVector<std::uint64_t> LocalityOrder(
   }
   // Columns and rows beyond 2^16 share keys (the order is only coarser).
   int shift = 0;
-  while (std::max(grid.GetNumberOfColumns(), grid.GetNumberOfRows()) - 1 >> shift >= 65536)
+  while (((std::max(grid.GetNumberOfColumns(), grid.GetNumberOfRows()) - 1) >> shift) >= 65536)
   {
     ++shift;
   }
