@@ -10,8 +10,9 @@
 #include "vtkDataArray.h"
 #include "vtkDataSet.h"
 #include "vtkInformation.h"
-#include "vtkInformationDoubleVectorKey.h"
+#include "vtkDoubleArray.h"
 #include "vtkInformationInformationVectorKey.h"
+#include "vtkInformationObjectBaseKey.h"
 #include "vtkInformationVector.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -36,22 +37,24 @@ namespace
 {
 // The stamp of an array whose values CacheRanges found all finite when it stored their ranges
 // (FiniteRanges): the array's MTime, data pointer and number of values then, as doubles (exact
-// below 2^53). VTK's own range keys cannot tell finiteness: its ranges skip NaN. A key of its
-// own kind, which vtkInformation::Copy never copies (nor, so, CopyInformation and DeepCopy): a
-// stamp copied with the information to another array could match that array's MTime once
-// values without the stamp's guarantee are copied into it.
-class FiniteStampKey : public vtkInformationDoubleVectorKey
+// below 2^53), in a vtkDoubleArray of 3 values. VTK's own range keys cannot tell finiteness: its
+// ranges skip NaN. A key of its own kind, which vtkInformation::Copy never copies (nor, so,
+// CopyInformation and DeepCopy): a stamp copied with the information to another array could
+// match that array's MTime once values without the stamp's guarantee are copied into it. An
+// object key, which VTK's XML and legacy writers leave out: as a double vector key it went into
+// every file written from an output, and readers without this module warned about it.
+class FiniteStampKey : public vtkInformationObjectBaseKey
 {
 public:
   FiniteStampKey()
-    : vtkInformationDoubleVectorKey("FINITE_STAMP", "ctsplines::CacheRanges", 3)
+    : vtkInformationObjectBaseKey("FINITE_STAMP", "ctsplines::CacheRanges", "vtkDoubleArray")
   {
   }
   void ShallowCopy(vtkInformation*, vtkInformation*) override {}
   void DeepCopy(vtkInformation*, vtkInformation*) override {}
 };
 
-vtkInformationDoubleVectorKey* FiniteStamp()
+vtkInformationObjectBaseKey* FiniteStamp()
 {
   static FiniteStampKey* const key = new FiniteStampKey; // as VTK's keys: never deleted
   return key;
@@ -438,10 +441,11 @@ bool CacheRanges(vtkDataArray* array)
     r.Hi[c] = r.Hi[c] == 0.0 ? 0.0 : r.Hi[c];
   }
   StoreRanges(array, r, norms && NormsLikeVTK(r));
-  double stamp[3];
-  if (CurrentStamp(array, stamp))
+  vtkNew<vtkDoubleArray> stamp;
+  stamp->SetNumberOfValues(3);
+  if (CurrentStamp(array, stamp->GetPointer(0)))
   {
-    array->GetInformation()->Set(FiniteStamp(), stamp, 3);
+    array->GetInformation()->Set(FiniteStamp(), stamp);
   }
   return true;
 }
@@ -449,11 +453,11 @@ bool CacheRanges(vtkDataArray* array)
 bool FiniteRanges(vtkDataArray* array, double* range)
 {
   vtkInformation* info = array && array->HasInformation() ? array->GetInformation() : nullptr;
+  vtkDoubleArray* stored = info ? vtkDoubleArray::SafeDownCast(info->Get(FiniteStamp())) : nullptr;
   double stamp[3];
-  if (!info || !info->Has(FiniteStamp()) || info->Length(FiniteStamp()) != 3 ||
-    array->GetNumberOfTuples() <= 0 || !array->HasStandardMemoryLayout() ||
-    !CurrentStamp(array, stamp) || !std::equal(stamp, stamp + 3, info->Get(FiniteStamp())) ||
-    !RangesCached(array, false))
+  if (!stored || stored->GetNumberOfValues() != 3 || array->GetNumberOfTuples() <= 0 ||
+    !array->HasStandardMemoryLayout() || !CurrentStamp(array, stamp) ||
+    !std::equal(stamp, stamp + 3, stored->GetPointer(0)) || !RangesCached(array, false))
   {
     return false;
   }

@@ -206,6 +206,12 @@ void RecycledArrays::End(vtkDataSet* output, bool enabled)
   this->End(arrays, enabled && output);
 }
 
+std::atomic<std::size_t>& RecycledArrays::MinimumBytesValue()
+{
+  static std::atomic<std::size_t> bytes{ std::size_t(1) << 20 };
+  return bytes;
+}
+
 void RecycledArrays::End(const std::vector<vtkDataArray*>& arrays, bool enabled)
 {
   this->Kept.clear();
@@ -216,7 +222,7 @@ void RecycledArrays::End(const std::vector<vtkDataArray*>& arrays, bool enabled)
   }
   for (vtkDataArray* a : arrays)
   {
-    if (a && Bytes(a) >= MinimumBytes &&
+    if (a && Bytes(a) >= MinimumBytes() &&
       std::find(this->Kept.begin(), this->Kept.end(), a) == this->Kept.end())
     {
       this->Kept.emplace_back(a);

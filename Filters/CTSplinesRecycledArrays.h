@@ -36,8 +36,14 @@ namespace ctsplines
 class RecycledArrays
 {
 public:
-  /// Arrays below this size are not kept: their pages are not worth it.
-  static constexpr std::size_t MinimumBytes = std::size_t(1) << 20;
+  /// Arrays below this size (1 MiB unless set) are not kept: their pages are not worth it.
+  static std::size_t MinimumBytes() { return MinimumBytesValue().load(std::memory_order_relaxed); }
+  /// For tests and fuzzing only: with a smaller size, small outputs take the recycling paths too
+  /// (the fuzzer sets 0 and checks that a re-execution gives the first one's bits).
+  static void SetMinimumBytes(std::size_t bytes)
+  {
+    MinimumBytesValue().store(bytes, std::memory_order_relaxed);
+  }
 
   /// At the start of an execution (RecycledArraysScope), with the sizes that decide the
   /// output's (shape): keeps the previous output's arrays only when enabled and the shape is the
@@ -94,6 +100,7 @@ public:
   bool SetReuse(bool& property, bool reuse);
 
 private:
+  static std::atomic<std::size_t>& MinimumBytesValue(); // one for the process: in the .cxx
   friend class RecycledArraysScope;
   std::mutex Executing; // held by the RecycledArraysScope of an execution
   std::vector<vtkSmartPointer<vtkDataArray>> Kept;

@@ -10,6 +10,7 @@
 
 #include "vtkCADFaceSampler.h"
 
+#include "CADTestFiles.h"
 #include "CADTestShapes.h"
 
 #include "vtkMultiBlockDataSet.h"
@@ -43,7 +44,7 @@ struct Sampled
   void Run(const std::string& name, const TopoDS_Shape& shape, double tolerance = 1e-4)
   {
     ASSERT_FALSE(shape.IsNull()) << name;
-    const std::string path = ::testing::TempDir() + "/ctsplines_stages_" + name + ".step";
+    const std::string path = ctsplines_test::TempPath("stages_" + name + ".step");
     STEPControl_Writer writer;
     writer.Transfer(shape, STEPControl_AsIs);
     ASSERT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);

@@ -5,6 +5,7 @@
 #include "vtkCADFaceSampler.h"
 #include "vtkWatertightSplineStitcher.h"
 
+#include "CADTestFiles.h"
 #include "CADTestShapes.h"
 
 #include "vtkCallbackCommand.h"
@@ -86,7 +87,7 @@ namespace
 {
 std::string TempStep(const std::string& name, const TopoDS_Shape& shape)
 {
-  const std::string path = ::testing::TempDir() + "/ctsplines_" + name + ".step";
+  const std::string path = ctsplines_test::TempPath(name + ".step");
   STEPControl_Writer writer;
   writer.Transfer(shape, STEPControl_AsIs);
   EXPECT_EQ(writer.Write(path.c_str()), IFSelect_RetDone);
@@ -95,7 +96,7 @@ std::string TempStep(const std::string& name, const TopoDS_Shape& shape)
 
 std::string TempIges(const std::string& name, const TopoDS_Shape& shape)
 {
-  const std::string path = ::testing::TempDir() + "/ctsplines_" + name + ".igs";
+  const std::string path = ctsplines_test::TempPath(name + ".igs");
   IGESControl_Controller::Init();
   IGESControl_Writer writer("MM", 1); // faces as B-rep (trimmed surfaces)
   writer.AddShape(shape);

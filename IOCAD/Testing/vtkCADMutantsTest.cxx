@@ -6,6 +6,7 @@
 // named cases (skipped when the CAD.FetchModels fixture could not fetch the models).
 #include "CADBRepSampling.h"
 #include "CADMutants.h"
+#include "CADTestFiles.h"
 #include "CADTestShapes.h"
 #include "ErrorCapture.h"
 
@@ -54,7 +55,7 @@ void WriteText(const std::string& path, const std::string& text)
 
 std::string BoxWithHoleFile(const std::string& ext)
 {
-  const std::string path = ::testing::TempDir() + "/ctsplines_mutants_box_with_hole" + ext;
+  const std::string path = ctsplines_test::TempPath("mutants_box_with_hole" + ext);
   if (ext == ".step")
   {
     STEPControl_Writer writer;
@@ -152,7 +153,7 @@ void RunMutants(const std::string& original, const std::string& ext, std::uint64
     for (int i = 0; i < count; ++i)
     {
       const ctsplines_test::Mutant m = ctsplines_test::MakeMutant(text, seed, static_cast<std::uint64_t>(i));
-      const std::string path = ::testing::TempDir() + "/ctsplines_mutant_" + std::to_string(i) + ext;
+      const std::string path = ctsplines_test::TempPath("mutant_" + std::to_string(i) + ext);
       WriteText(path, m.Text);
       const Outcome o = Convert(path);
       if (o.Seconds > slowest)
@@ -206,7 +207,7 @@ Outcome ConvertChanged(const std::string& name, const std::string& match, const 
   const std::string& ext)
 {
   const std::string model = FetchedModel(name);
-  const std::string path = ::testing::TempDir() + "/ctsplines_changed_" + name + ext;
+  const std::string path = ctsplines_test::TempPath("changed_" + name + ext);
   WriteText(path, ReplaceLine(ReadText(model), match, line));
   QuietStdout quiet;
   Outcome o = Convert(path);
@@ -272,7 +273,7 @@ TEST(Mutants, GuardTurnsOCCTFailuresIntoErrors)
 TEST(Mutants, OutOfRangeNumberNamesLineAndEntity)
 {
   const std::string text = ReadText(BoxWithHoleFile(".step"));
-  const std::string path = ::testing::TempDir() + "/ctsplines_mutant_1e400.step";
+  const std::string path = ctsplines_test::TempPath("mutant_1e400.step");
   WriteText(path, ReplaceLine(text, "CARTESIAN_POINT", "#7 = CARTESIAN_POINT('',(0.,1.E400,0.));"));
   const Outcome o = Convert(path);
   EXPECT_FALSE(o.Converted);
@@ -282,12 +283,12 @@ TEST(Mutants, OutOfRangeNumberNamesLineAndEntity)
 
 TEST(Mutants, EmptyAndMissingFiles)
 {
-  const std::string path = ::testing::TempDir() + "/ctsplines_mutant_empty.stp";
+  const std::string path = ctsplines_test::TempPath("mutant_empty.stp");
   WriteText(path, "");
   Outcome o = Convert(path);
   EXPECT_FALSE(o.Converted);
   EXPECT_NE(o.Errors.find("the file is empty"), std::string::npos) << o.Errors;
-  o = Convert(::testing::TempDir() + "/ctsplines_no_such_file.igs");
+  o = Convert(ctsplines_test::TempPath("no_such_file.igs"));
   EXPECT_FALSE(o.Converted);
   EXPECT_NE(o.Errors.find("cannot read IGES file"), std::string::npos) << o.Errors;
 }

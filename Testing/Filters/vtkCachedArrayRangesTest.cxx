@@ -2,6 +2,7 @@
 // The ranges the filters store in their output arrays (CTSplinesArrayRanges.h) are the ones VTK
 // computes itself, and VTK serves them instead of computing them until an array is modified.
 #include "CTSplinesArrayRanges.h"
+#include "ErrorCapture.h"
 #include "FilterTestUtilities.h"
 #include "vtkApproximationErrorFilter.h"
 #include "vtkBezierCurvatureFilter.h"
@@ -13,6 +14,7 @@
 #include "vtkSplineParameterProbe.h"
 
 #include "vtkCellData.h"
+#include "vtkCommand.h"
 #include "vtkDoubleArray.h"
 #include "vtkFloatArray.h"
 #include "vtkIdTypeArray.h"
@@ -23,8 +25,12 @@
 #include "vtkMultiBlockDataSet.h"
 #include "vtkPointData.h"
 #include "vtkPointSet.h"
+#include "vtkPoints.h"
+#include "vtkPolyData.h"
 #include "vtkSignedCharArray.h"
 #include "vtkUnsignedLongLongArray.h"
+#include "vtkXMLPolyDataReader.h"
+#include "vtkXMLPolyDataWriter.h"
 
 #include <gtest/gtest.h>
 
@@ -320,6 +326,43 @@ TEST(CachedArrayRanges, FiniteRangesHoldUntilTheArrayIsModified)
     a->GetFiniteRange(vtkRange, c);
   }
   EXPECT_FALSE(ctsplines::FiniteRanges(a, range)) << "storage shallow-copied in";
+}
+
+// The stamp is this module's own: files written from an output must not carry it, or every
+// reader without the module warns that it cannot locate the key (ParaView without the plugin).
+TEST(CachedArrayRanges, StampIsLeftOutOfWrittenFiles)
+{
+  vtkNew<vtkPoints> points;
+  points->SetData(RandomArray<vtkDoubleArray>(1000, 3, -2.0, 5.0, 11));
+  vtkNew<vtkPolyData> poly;
+  poly->SetPoints(points);
+  auto uv = RandomArray<vtkDoubleArray>(1000, 2, 0.0, 1.0, 12);
+  uv->SetName("UV");
+  poly->GetPointData()->AddArray(uv);
+  ctsplines::CacheRanges(poly.GetPointer());
+  double range[6];
+  ASSERT_TRUE(ctsplines::FiniteRanges(points->GetData(), range));
+  ASSERT_TRUE(ctsplines::FiniteRanges(uv, range));
+
+  vtkNew<vtkXMLPolyDataWriter> writer;
+  writer->SetInputData(poly);
+  writer->SetDataModeToAscii();
+  writer->WriteToOutputStringOn();
+  ASSERT_EQ(writer->Write(), 1);
+  const std::string file = writer->GetOutputString();
+  EXPECT_EQ(file.find("FINITE_STAMP"), std::string::npos);
+  EXPECT_NE(file.find("L2_NORM_RANGE"), std::string::npos) << "VTK's own range keys are written";
+
+  vtkNew<vtkXMLPolyDataReader> reader;
+  reader->ReadFromInputStringOn();
+  reader->SetInputString(file);
+  auto warnings = vtkSmartPointer<ctsplines_test::ErrorCapture>::New();
+  reader->AddObserver(vtkCommand::WarningEvent, warnings);
+  reader->Update();
+  EXPECT_EQ(warnings->Count, 0) << warnings->Message;
+  vtkDataArray* read = reader->GetOutput()->GetPoints()->GetData();
+  ASSERT_EQ(read->GetNumberOfTuples(), 1000);
+  EXPECT_FALSE(ctsplines::FiniteRanges(read, range)) << "a stamp read back from a file";
 }
 
 // Values that are not finite make VTK's plain and finite ranges differ: nothing is stored, and

@@ -4,7 +4,9 @@
 // values) and the Bézier grid the spline filter makes of it, intact or damaged (short arrays,
 // cells of other types or point counts, fuzzed points, ids and weights), through one filter of
 // the module. Returning 0 with an error is a valid answer; a crash, a sanitizer report, a hang,
-// or success with non-finite points (for finite input) or ids out of range is a finding.
+// success with non-finite points (for finite input) or ids out of range, or a spline filter,
+// tessellator or probe that, run on other inputs of the same sizes first (so that it writes into
+// that output's arrays), answers otherwise than a new one (RunRecycled) is a finding.
 //
 // Input layout (make_seed_corpus.py writes it; values as in FuzzInput.h):
 //   filter (byte % 8: spline, tessellator, probe, curvature, continuity, reflection lines,
@@ -25,6 +27,7 @@
 //   damage operations (pairs of bytes) up to the end, in mode 1.
 #include "FuzzVTK.h"
 
+#include "CTSplinesRecycledArrays.h"
 #include "vtkApproximationErrorFilter.h"
 #include "vtkBezierCurvatureFilter.h"
 #include "vtkBezierTriangleTessellator.h"
@@ -181,46 +184,57 @@ void RequireIdsInRange(vtkDataArray* ids, double low, double high, const char* w
   }
 }
 
+/// The same cells as a vtkUnstructuredGrid (what redistribution filters output).
+vtkSmartPointer<vtkUnstructuredGrid> AsUnstructuredGrid(vtkPolyData* poly)
+{
+  auto grid = vtkSmartPointer<vtkUnstructuredGrid>::New();
+  grid->SetPoints(poly->GetPoints());
+  vtkNew<vtkIdList> ids;
+  for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c)
+  {
+    poly->GetCellPoints(c, ids);
+    grid->InsertNextCell(poly->GetCellType(c), ids);
+  }
+  grid->GetPointData()->ShallowCopy(poly->GetPointData());
+  grid->GetCellData()->ShallowCopy(poly->GetCellData());
+  return grid;
+}
+
 vtkSmartPointer<vtkUnstructuredGrid> RunSplineFilter(
   vtkPolyData* poly, const Options& opt, bool checkOutput)
 {
-  vtkNew<vtkCloughTocherSplineFilter> spline;
-  spline->SetConstruction(opt.Construction);
-  spline->SetSplitPoint(opt.SplitPoint);
-  spline->SetBoundaryMode(opt.BoundaryMode);
-  spline->SetIterations(opt.Iterations);
-  spline->SetComputeBezierExtraction(opt.Flag(0));
-  if (opt.Flag(1))
-  {
-    spline->SetBoundaryCurvePointsArrayName("BoundaryCurvePoints");
-  }
+  auto make = [&opt]() {
+    auto spline = vtkSmartPointer<vtkCloughTocherSplineFilter>::New();
+    spline->SetConstruction(opt.Construction);
+    spline->SetSplitPoint(opt.SplitPoint);
+    spline->SetBoundaryMode(opt.BoundaryMode);
+    spline->SetIterations(opt.Iterations);
+    spline->SetComputeBezierExtraction(opt.Flag(0));
+    if (opt.Flag(1))
+    {
+      spline->SetBoundaryCurvePointsArrayName("BoundaryCurvePoints");
+    }
+    return spline;
+  };
+  vtkSmartPointer<vtkDataObject> input = poly;
   if (opt.Flag(2))
   {
-    // The same cells as a vtkUnstructuredGrid (what redistribution filters output).
-    vtkNew<vtkUnstructuredGrid> grid;
-    grid->SetPoints(poly->GetPoints());
-    vtkNew<vtkIdList> ids;
-    for (vtkIdType c = 0; c < poly->GetNumberOfCells(); ++c)
-    {
-      poly->GetCellPoints(c, ids);
-      grid->InsertNextCell(poly->GetCellType(c), ids);
-    }
-    grid->GetPointData()->ShallowCopy(poly->GetPointData());
-    grid->GetCellData()->ShallowCopy(poly->GetCellData());
-    spline->SetInputData(grid);
+    input = AsUnstructuredGrid(poly);
   }
-  else
-  {
-    spline->SetInputData(poly);
-  }
-  auto* output = vtkUnstructuredGrid::SafeDownCast(
-    RunChecked(spline, checkOutput, "spline filter succeeded with a non-finite control point"));
+  const vtkSmartPointer<vtkDataObject> moved = Moved(input);
+  auto reused = make(), fresh = make();
+  fresh->SetInputDataObject(input);
+  auto* output = vtkUnstructuredGrid::SafeDownCast(RunRecycled(
+    reused, fresh, [&] { reused->SetInputDataObject(moved); },
+    [&] { reused->SetInputDataObject(input); },
+    "spline filter: an execution into the previous output's arrays differs from a new filter's"));
   if (!output)
   {
     return nullptr;
   }
   if (checkOutput)
   {
+    RequireFinitePoints(output, "spline filter succeeded with a non-finite control point");
     RequireIdsInRange(output->GetCellData()->GetArray("MacroTriangleId"), 0,
       poly->GetNumberOfCells(), "spline filter: MacroTriangleId out of range");
   }
@@ -423,26 +437,48 @@ void RunDownstream(const Options& opt, vtkDataObject* grid, vtkPolyData* poly,
   {
     case 1:
     {
-      vtkNew<vtkBezierTriangleTessellator> tessellator;
-      tessellator->SetSubdivisionLevel(opt.Level);
-      tessellator->SetSplitSharpEdges(opt.Flag(7));
-      tessellator->SetFeatureAngle(Magnitude(param[0]));
-      if (opt.Flag(5)) // adaptive
+      auto make = [&]() {
+        auto tessellator = vtkSmartPointer<vtkBezierTriangleTessellator>::New();
+        tessellator->SetSubdivisionLevel(opt.Level);
+        tessellator->SetSplitSharpEdges(opt.Flag(7));
+        tessellator->SetFeatureAngle(Magnitude(param[0]));
+        if (opt.Flag(5)) // adaptive
+        {
+          tessellator->SetChordalTolerance(Magnitude(param[1]));
+          tessellator->SetAngularTolerance(Magnitude(param[2]));
+          tessellator->SetRelativeChordalTolerance(opt.Flag(3));
+        }
+        return tessellator;
+      };
+      const vtkSmartPointer<vtkDataObject> moved = Moved(grid);
+      auto reused = make(), fresh = make();
+      fresh->SetInputData(grid);
+      vtkDataObject* output = RunRecycled(
+        reused, fresh, [&] { reused->SetInputData(moved); }, [&] { reused->SetInputData(grid); },
+        "tessellator: an execution into the previous output's arrays differs from a new one's");
+      if (output && finite)
       {
-        tessellator->SetChordalTolerance(Magnitude(param[1]));
-        tessellator->SetAngularTolerance(Magnitude(param[2]));
-        tessellator->SetRelativeChordalTolerance(opt.Flag(3));
+        RequireFinitePoints(output, "tessellator succeeded with a non-finite point");
       }
-      tessellator->SetInputData(grid);
-      RunChecked(tessellator, finite, "tessellator succeeded with a non-finite point");
       break;
     }
     case 2:
     {
-      vtkNew<vtkSplineParameterProbe> probe;
-      probe->SetInputData(ProbePoints(param));
-      probe->SetSourceData(grid);
-      Run(probe);
+      // The other queries: the same number, elsewhere (the spline and its locator are reused).
+      std::array<double, 12> elsewhere = param;
+      for (double& x : elsewhere)
+      {
+        x = 0.5 * x + 0.25;
+      }
+      const vtkSmartPointer<vtkPolyData> queries = ProbePoints(param);
+      const vtkSmartPointer<vtkPolyData> others = ProbePoints(elsewhere);
+      vtkNew<vtkSplineParameterProbe> reused, fresh;
+      reused->SetSourceData(grid);
+      fresh->SetSourceData(grid);
+      fresh->SetInputData(queries);
+      RunRecycled(reused, fresh, [&] { reused->SetInputData(others); },
+        [&] { reused->SetInputData(queries); },
+        "probe: an execution into the previous output's arrays differs from a new probe's");
       break;
     }
     case 3:
@@ -522,6 +558,9 @@ void RunDownstream(const Options& opt, vtkDataObject* grid, vtkPolyData* poly,
 static int RunOne(const std::uint8_t* bytes, std::size_t size)
 {
   SilenceVTK();
+  // Every output array is kept for the next execution, so that RunRecycled takes the recycling
+  // paths (ReuseOutputArrays) on the fuzzer's small inputs too.
+  ctsplines::RecycledArrays::SetMinimumBytes(0);
   FuzzInput in(bytes, size);
   Options opt;
   opt.Filter = in.Choice(8);
