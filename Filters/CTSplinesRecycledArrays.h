@@ -39,7 +39,8 @@ public:
   /// Arrays below this size (1 MiB unless set) are not kept: their pages are not worth it.
   static std::size_t MinimumBytes() { return MinimumBytesValue().load(std::memory_order_relaxed); }
   /// For tests and fuzzing only: with a smaller size, small outputs take the recycling paths too
-  /// (the fuzzer sets 0 and checks that a re-execution gives the first one's bits).
+  /// (the filters fuzzer sets 0, then checks that filters writing into their previous outputs'
+  /// arrays give a new filter's bits).
   static void SetMinimumBytes(std::size_t bytes)
   {
     MinimumBytesValue().store(bytes, std::memory_order_relaxed);

@@ -110,6 +110,7 @@ inline vtkDataObject* RunChecked(vtkAlgorithm* algorithm, bool check, const char
   }
   return output;
 }
+
 /// Whether two arrays hold the same values, bit for bit (NaN payloads and the sign of zero too),
 /// with the same name, type and shape; two null arrays are the same.
 inline bool SameBits(vtkDataArray* a, vtkDataArray* b)
