@@ -28,6 +28,7 @@
 #include "FuzzVTK.h"
 
 #include "CTSplinesRecycledArrays.h"
+#include "OutputBits.h"
 #include "vtkApproximationErrorFilter.h"
 #include "vtkBezierCurvatureFilter.h"
 #include "vtkBezierTriangleTessellator.h"
@@ -182,6 +183,44 @@ void RequireIdsInRange(vtkDataArray* ids, double low, double high, const char* w
       return;
     }
   }
+}
+
+/// A deep copy of a point set with every point moved by (0, 0, 1): the same sizes, other
+/// values. Other data objects: a deep copy.
+vtkSmartPointer<vtkDataObject> Moved(vtkDataObject* data)
+{
+  vtkSmartPointer<vtkDataObject> copy;
+  copy.TakeReference(data->NewInstance());
+  copy->DeepCopy(data);
+  auto* set = vtkPointSet::SafeDownCast(copy);
+  for (vtkIdType p = 0; set && set->GetPoints() && p < set->GetNumberOfPoints(); ++p)
+  {
+    double x[3];
+    set->GetPoints()->GetPoint(p, x);
+    set->GetPoints()->SetPoint(p, x[0], x[1], x[2] + 1.0);
+  }
+  return copy;
+}
+
+/// The check of ReuseOutputArrays: `reused` runs on other inputs of the same sizes (other()
+/// sets them), then on the real ones (real()), writing into the first output's arrays; `fresh`,
+/// a new algorithm with the same settings and the real inputs, must give the same answer: both
+/// fail, or both succeed with the same output, bit for bit (a value the second run forgot to
+/// write would still be the other inputs'). Returns fresh's output, or null when it failed.
+template <typename Other, typename Real>
+vtkDataObject* RunRecycled(
+  vtkAlgorithm* reused, vtkAlgorithm* fresh, Other&& other, Real&& real, const char* what)
+{
+  other();
+  Run(reused);
+  real();
+  vtkDataObject* second = Run(reused);
+  vtkDataObject* output = Run(fresh);
+  if (!second != !output || (output && !ctsplines_test::OutputDifference(second, output).empty()))
+  {
+    Finding(what, 0);
+  }
+  return output;
 }
 
 /// The same cells as a vtkUnstructuredGrid (what redistribution filters output).
