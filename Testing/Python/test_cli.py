@@ -40,10 +40,6 @@ def points(data):
 
 
 class CommandLineTest(CommandLineCase):
-    def assertNoVTKNoise(self, text):
-        for noise in ("ERROR: In", "vtkExecutive", "returned failure", "0x", "Debug: Off"):
-            self.assertNotIn(noise, text)
-
     def sample_quadratic(self, name, r=4):
         path = self.path(name)
         out = self.cli("sample", path, "--surface", "Quadratic", "--domain", "Grid",
