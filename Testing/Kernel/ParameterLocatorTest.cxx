@@ -169,6 +169,61 @@ TEST(ParameterLocator, MatchesBruteForceOnRefinedTriangles)
   }
 }
 
+// Points just outside single triangles, their smallest barycentric coordinate from 0.3 to 3 times
+// the tolerance below zero, on triangles of any scale, shape, orientation and offset: the
+// locator's rejection without divisions (below -2 tolerances, from signed areas) keeps every
+// triangle the rule accepts, with the same coordinates, bit for bit.
+TEST(ParameterLocator, PointsAtTheToleranceMatchBruteForce)
+{
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  const double tol = ParameterLocator::Tolerance;
+  int accepted = 0, rejected = 0;
+  for (int trial = 0; trial < 400; ++trial)
+  {
+    const double scale = std::pow(10.0, -6.0 + 9.0 * U(rng));
+    const Vec2 offset = std::pow(10.0, -3.0 + 6.0 * U(rng)) * Vec2(U(rng) - 0.5, U(rng) - 0.5);
+    std::vector<Vec2> corners(3);
+    do
+    {
+      for (Vec2& c : corners)
+      {
+        c = offset + scale * Vec2(U(rng), U(rng));
+      }
+    } while (std::abs(SignedArea2(corners[0], corners[1], corners[2])) < 1e-3 * scale * scale);
+    ParameterLocator locator;
+    locator.Build(1, corners.data());
+    for (int q = 0; q < 20; ++q)
+    {
+      // Barycentric (a, b, c) with c = -f tol, a point beyond edge (0, 1), or near corner 2.
+      const double f = 0.3 + 2.7 * U(rng), a = U(rng);
+      Vec3 bary(a * (1 + f * tol), (1 - a) * (1 + f * tol), -f * tol);
+      if (q % 4 == 3)
+      {
+        bary = Vec3(-f * tol, 0.5 * f * tol, 1 + 0.5 * f * tol);
+      }
+      const int k = q % 3; // which corner the coordinates start from
+      const Vec2 X = bary[0] * corners[k] + bary[1] * corners[(k + 1) % 3] +
+        bary[2] * corners[(k + 2) % 3];
+      const ParameterLocator::Hit expected = BruteForce(corners, X);
+      const ParameterLocator::Hit hit = locator.Locate(X.x(), X.y());
+      ASSERT_EQ(hit.Triangle, expected.Triangle) << "trial " << trial << " query " << q;
+      if (hit.Found())
+      {
+        ++accepted;
+        ASSERT_EQ(hit.Barycentric, expected.Barycentric) << "trial " << trial << " query " << q;
+      }
+      else
+      {
+        ++rejected;
+      }
+    }
+  }
+  // Both sides of the tolerance were reached.
+  EXPECT_GT(accepted, 400);
+  EXPECT_GT(rejected, 400);
+}
+
 TEST(ParameterLocator, BoundaryOfTheUnitSquare)
 {
   const ParameterMesh m = RegularGridMesh(7, GridDiagonal::Alternating);
