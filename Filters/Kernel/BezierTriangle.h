@@ -95,15 +95,31 @@ inline double SignedArea2(const Vec2& A0, const Vec2& A1, const Vec2& A2)
   return (A1.x() - A0.x()) * (A2.y() - A0.y()) - (A1.y() - A0.y()) * (A2.x() - A0.x());
 }
 
+/// The signed areas (twice) that Barycentric divides: the triangle's, and those of X with the
+/// edges opposite corners 1 and 2. Point location tests them before any division.
+struct BarycentricAreas
+{
+  double Area, S1, S2;
+};
+inline BarycentricAreas BarycentricAreasOf(
+  const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X)
+{
+  return { SignedArea2(A0, A1, A2), SignedArea2(A0, X, A2), SignedArea2(A0, A1, X) };
+}
+/// Barycentric coordinates from those areas.
+inline Vec3 Barycentric(const BarycentricAreas& a)
+{
+  const double t1 = a.S1 / a.Area;
+  const double t2 = a.S2 / a.Area;
+  return Vec3(1.0 - t1 - t2, t1, t2);
+}
+
 /// Barycentric coordinates of X with respect to the planar triangle (A0, A1, A2) from signed
 /// areas (coordinates may be negative outside). The triangle must be non-degenerate. Inline:
 /// point location calls it for every candidate triangle.
 inline Vec3 Barycentric(const Vec2& A0, const Vec2& A1, const Vec2& A2, const Vec2& X)
 {
-  const double area = SignedArea2(A0, A1, A2);
-  const double t1 = SignedArea2(A0, X, A2) / area;
-  const double t2 = SignedArea2(A0, A1, X) / area;
-  return Vec3(1.0 - t1 - t2, t1, t2);
+  return Barycentric(BarycentricAreasOf(A0, A1, A2, X));
 }
 
 /// Planar cross product a x b.

@@ -210,20 +210,19 @@ private:
   // The span of count triangles' corners c (only the usable ones, or all when `checked`: the
   // caller of the box build has checked them).
   GroupSpan Span(const Vec2* c, Id count, bool checked) const;
-  // Whether X lies so far outside triangle c that Barycentric would give a coordinate below
-  // -2 Tolerance: signed areas only, no division (most candidates fail; the few that pass get
-  // the same coordinates as without this). Area and coordinates share the triangle's rounding
-  // (t = s / area; the first, 1 - t1 - t2, is within 1e-15 of s0 / area where all three reach
-  // -Tolerance), so twice the tolerance never rejects a triangle Barycentric accepts. Zero-area
-  // and non-finite triangles pass on to Barycentric, which rejects them.
-  static bool ClearlyOutside(const Vec2* c, const Vec2& X)
+  // Whether a point with these areas lies so far outside its triangle that Barycentric would
+  // give a coordinate below -2 Tolerance: no division (most candidates fail; the few that pass
+  // get Barycentric(a), the same coordinates as without this). The coordinates are the areas
+  // over the triangle's, each rounded once (the first, 1 - t1 - t2, is within 1e-15 of its
+  // quotient where all three reach -Tolerance), so twice the tolerance never rejects a triangle
+  // Barycentric accepts. Zero-area and non-finite triangles pass on to Barycentric, which
+  // rejects them.
+  static bool ClearlyOutside(const BarycentricAreas& a)
   {
-    const double area = SignedArea2(c[0], c[1], c[2]);
-    const double s1 = SignedArea2(c[0], X, c[2]);
-    const double s2 = SignedArea2(c[0], c[1], X);
-    const double s0 = area - s1 - s2;
-    const double sign = area < 0.0 ? -1.0 : 1.0;
-    return std::min(std::min(s0 * sign, s1 * sign), s2 * sign) < -2.0 * Tolerance * std::abs(area);
+    const double s0 = a.Area - a.S1 - a.S2;
+    const double sign = a.Area < 0.0 ? -1.0 : 1.0;
+    return std::min(std::min(s0 * sign, a.S1 * sign), a.S2 * sign) <
+      -2.0 * Tolerance * std::abs(a.Area);
   }
   // Tests group g's triangles for X, keeping the best in hit (see Locate).
   template <typename Corners>
@@ -377,11 +376,12 @@ void TriangleBucketGrid::TestGroup(
   {
     Vec2 c[3];
     corners(t, c);
-    if (ClearlyOutside(c, X))
+    const BarycentricAreas areas = BarycentricAreasOf(c[0], c[1], c[2], X);
+    if (ClearlyOutside(areas))
     {
       continue;
     }
-    const Vec3 bary = Barycentric(c[0], c[1], c[2], X);
+    const Vec3 bary = Barycentric(areas);
     const double m = bary.minCoeff();
     // Groups come in id order, so a strict comparison keeps the lowest id among ties.
     if (m > bestMin || (m == bestMin && hit.Triangle < 0))
