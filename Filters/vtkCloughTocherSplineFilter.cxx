@@ -555,13 +555,11 @@ void WriteSplineConnectivity(const ctk::CloughTocherSpline& spline,
   CellId* connectivity, std::vector<std::atomic<unsigned char>>& used)
 {
   constexpr int n = ctk::BezierPointCount(Degree);
-  std::array<int, n> vtkOrder;
-  const std::vector<int> order = ctk::VtkBezierTriangleOrder(Degree);
-  std::copy_n(order.begin(), n, vtkOrder.begin());
+  // A constant: each entry of a cell is then copied from its net's entry, without a look-up.
+  static constexpr std::array<int, n> o = ctk::VtkBezierTriangleOrderOf<Degree>();
   ctsplines::ParallelFor(0, nT, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
-    // Locals: the entries written could alias the captured pointers and the order, which the
-    // loops would otherwise load again for every entry.
-    const std::array<int, n> o = vtkOrder;
+    // Locals: the entries written could alias the captured pointers, which the loops would
+    // otherwise load again for every entry.
     CellId* const conn = connectivity;
     CellId* const offs = offsets;
     std::atomic<unsigned char>* mark = used.empty() ? nullptr : used.data();

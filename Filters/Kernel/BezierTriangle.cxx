@@ -272,40 +272,8 @@ std::vector<std::array<int, 3>> BezierExponents(int n)
 
 std::vector<int> VtkBezierTriangleOrder(int n)
 {
-  std::vector<int> order;
-  order.reserve(BezierPointCount(n));
-  // Corners first, then edges 0->1, 1->2, 2->0, then the interior as a triangle of degree n - 3
-  // whose exponents are all offset by one, recursively.
-  int offset = 0;
-  for (int m = n; m >= 0; m -= 3)
-  {
-    auto push = [&](int i, int j, int k) {
-      assert(i + j + k == m);
-      (void)k;
-      order.push_back(BezierIndex(n, i + offset, j + offset));
-    };
-    if (m == 0)
-    {
-      push(0, 0, 0);
-      break;
-    }
-    push(m, 0, 0);
-    push(0, m, 0);
-    push(0, 0, m);
-    for (int s = 1; s < m; ++s)
-    {
-      push(m - s, s, 0);
-    }
-    for (int s = 1; s < m; ++s)
-    {
-      push(0, m - s, s);
-    }
-    for (int s = 1; s < m; ++s)
-    {
-      push(s, 0, m - s);
-    }
-    ++offset;
-  }
+  std::vector<int> order(static_cast<size_t>(BezierPointCount(n)));
+  VtkBezierTriangleOrder(n, order.data());
   return order;
 }
 

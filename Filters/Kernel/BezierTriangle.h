@@ -48,7 +48,45 @@ std::vector<std::array<int, 3>> BezierExponents(int n);
 
 /// For a degree-n VTK_BEZIER_TRIANGLE, entry p is the canonical index of VTK point p: corners,
 /// edge 0->1, 1->2, 2->0 inner points, then the interior recursively (VTK's documented order).
+/// Written into order[0, BezierPointCount(n)); constexpr, so that a writer of cells of a fixed
+/// degree (VtkBezierTriangleOrderOf) copies its nets without looking the order up.
+constexpr void VtkBezierTriangleOrder(int n, int* order)
+{
+  int p = 0;
+  // Corners first, then edges 0->1, 1->2, 2->0, then the interior as a triangle of degree n - 3
+  // whose exponents are all offset by one, recursively (k = m - i - j).
+  for (int m = n, offset = 0; m >= 0; m -= 3, ++offset)
+  {
+    if (m == 0)
+    {
+      order[p++] = BezierIndex(n, offset, offset);
+      break;
+    }
+    order[p++] = BezierIndex(n, m + offset, offset);
+    order[p++] = BezierIndex(n, offset, m + offset);
+    order[p++] = BezierIndex(n, offset, offset);
+    for (int s = 1; s < m; ++s)
+    {
+      order[p++] = BezierIndex(n, m - s + offset, s + offset);
+    }
+    for (int s = 1; s < m; ++s)
+    {
+      order[p++] = BezierIndex(n, offset, m - s + offset);
+    }
+    for (int s = 1; s < m; ++s)
+    {
+      order[p++] = BezierIndex(n, s + offset, offset);
+    }
+  }
+}
 std::vector<int> VtkBezierTriangleOrder(int n);
+template <int n>
+constexpr std::array<int, BezierPointCount(n)> VtkBezierTriangleOrderOf()
+{
+  std::array<int, BezierPointCount(n)> order{};
+  VtkBezierTriangleOrder(n, order.data());
+  return order;
+}
 
 /// Value and derivatives of a patch with respect to the barycentric coordinates t = (t0, t1, t2)
 /// taken as independent variables (homogeneous polynomial form). Chain with dt/du to get

@@ -5,34 +5,6 @@
 
 namespace ctk
 {
-MacroElementIds GetMacroElementIds(
-  const CubicSplineLayout& layout, const MeshTopology& topo, const Id* triangles, Id t)
-{
-  MacroElementIds ids;
-  const Id* p = triangles + 3 * t;
-  for (int i = 0; i < 3; ++i)
-  {
-    ids.V[i] = layout.Vertex(p[i]);
-    ids.I1[i] = layout.TrianglePoint(t, CubicSplineLayout::I1(i));
-    ids.I2[i] = layout.TrianglePoint(t, CubicSplineLayout::I2(i));
-    ids.C[i] = layout.TrianglePoint(t, CubicSplineLayout::C(i));
-    ids.T[i][i] = -1;
-  }
-  const std::array<Id, 3>& edges = topo.TriangleEdges[t];
-  for (int l = 0; l < 3; ++l)
-  {
-    const int i = l, j = (l + 1) % 3;
-    // layout.EdgePoint without reading topo.Edges (a cache miss per edge): edges are stored as
-    // (smaller, larger) vertex id.
-    const Id first = layout.NumberOfVertices + 2 * edges[l];
-    const Id nearI = p[i] < p[j] ? 0 : 1;
-    ids.T[i][j] = first + nearI;
-    ids.T[j][i] = first + (1 - nearI);
-  }
-  ids.S = layout.TrianglePoint(t, CubicSplineLayout::S);
-  return ids;
-}
-
 std::array<Vec3, 10> MacroNet(const MacroElementIds& ids, const Vec3* P, const Vec3& Q)
 {
   // Exponents 300 210 201 120 111 102 030 021 012 003.

@@ -57,9 +57,35 @@ struct MacroElementIds
   Id S;
 };
 
-/// The 19 ids of macro-triangle t (vertices triangles[3t..3t+2]).
-MacroElementIds GetMacroElementIds(
-  const CubicSplineLayout& layout, const MeshTopology& topo, const Id* triangles, Id t);
+/// The 19 ids of macro-triangle t (vertices triangles[3t..3t+2]). Inline: out of line, its
+/// callers' 16-byte loads of the returned ids waited on its 8-byte stores.
+inline MacroElementIds GetMacroElementIds(
+  const CubicSplineLayout& layout, const MeshTopology& topo, const Id* triangles, Id t)
+{
+  MacroElementIds ids;
+  const Id* p = triangles + 3 * t;
+  for (int i = 0; i < 3; ++i)
+  {
+    ids.V[i] = layout.Vertex(p[i]);
+    ids.I1[i] = layout.TrianglePoint(t, CubicSplineLayout::I1(i));
+    ids.I2[i] = layout.TrianglePoint(t, CubicSplineLayout::I2(i));
+    ids.C[i] = layout.TrianglePoint(t, CubicSplineLayout::C(i));
+    ids.T[i][i] = -1;
+  }
+  const std::array<Id, 3>& edges = topo.TriangleEdges[t];
+  for (int l = 0; l < 3; ++l)
+  {
+    const int i = l, j = (l + 1) % 3;
+    // layout.EdgePoint without reading topo.Edges (a cache miss per edge): edges are stored as
+    // (smaller, larger) vertex id.
+    const Id first = layout.NumberOfVertices + 2 * edges[l];
+    const Id nearI = p[i] < p[j] ? 0 : 1;
+    ids.T[i][j] = first + nearI;
+    ids.T[j][i] = first + (1 - nearI);
+  }
+  ids.S = layout.TrianglePoint(t, CubicSplineLayout::S);
+  return ids;
+}
 
 /// Ids of the cubic net of micro-triangle k of a macro-element, in the kernel's canonical
 /// order for the domain (U_{k+1}, U_{k+2}, Z). Inline: Step 3 reads a few entries of three nets.

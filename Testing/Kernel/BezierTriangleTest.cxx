@@ -166,6 +166,17 @@ TEST(BezierTriangle, VtkOrderIsAPermutationWithCornersAndEdgesFirst)
   }
 }
 
+// The compile-time order (the spline filter's cells of degree 3 and 4) is the run-time one; its
+// last cubic point is the centre, exponents (1, 1, 1), as VTK numbers it.
+TEST(BezierTriangle, CompileTimeVtkOrderIsTheRunTimeOne)
+{
+  static_assert(VtkBezierTriangleOrderOf<3>()[9] == BezierIndex(3, 1, 1), "cubic centre last");
+  const auto cubic = VtkBezierTriangleOrderOf<3>();
+  const auto quartic = VtkBezierTriangleOrderOf<4>();
+  EXPECT_EQ(std::vector<int>(cubic.begin(), cubic.end()), VtkBezierTriangleOrder(3));
+  EXPECT_EQ(std::vector<int>(quartic.begin(), quartic.end()), VtkBezierTriangleOrder(4));
+}
+
 TEST(BezierTriangle, BarycentricGradientIsExact)
 {
   const Vec2 A0(0.1, 0.2), A1(1.5, -0.3), A2(0.7, 1.1);
