@@ -2,6 +2,7 @@
 #include "MeshTopology.h"
 
 #include "LargeArrays.h"
+#include "LocalityOrder.h" // for PrefetchRead
 
 #include <algorithm>
 
@@ -131,6 +132,12 @@ Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratc
     others.resize(static_cast<size_t>(count));
     for (Id i = 0; i < count; ++i)
     {
+      // The triangles of later vertices' half-edges asked for ahead: reading each half-edge's
+      // triangle, the matching waited on a miss for a third of its time.
+      if (begin + i + PrefetchDistance < n)
+      {
+        PrefetchRead(triangles + bucket[begin + i + PrefetchDistance]);
+      }
       others[i] = high(h[i]);
     }
     for (Id i = 0; i < count; ++i)
@@ -283,6 +290,11 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
     const Id* end = byBlock.data() + blockStart[vb + 1];
     for (Id e = edgeStart[vb]; h < end; ++e)
     {
+      if (h + PrefetchDistance < end) // the triangle row read below, for a later edge
+      {
+        const Id ahead = h[PrefetchDistance];
+        PrefetchRead(triangles + (ahead < 0 ? ~ahead : ahead));
+      }
       const bool boundary = *h < 0;
       Id h0 = boundary ? ~*h : *h, h1 = boundary ? -1 : h[1];
       h += boundary ? 1 : 2;
