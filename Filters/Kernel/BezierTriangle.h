@@ -79,6 +79,7 @@ constexpr void VtkBezierTriangleOrder(int n, int* order)
     }
   }
 }
+/// The same order as a vector, and as a constant of a fixed degree.
 std::vector<int> VtkBezierTriangleOrder(int n);
 template <int n>
 constexpr std::array<int, BezierPointCount(n)> VtkBezierTriangleOrderOf()
