@@ -209,7 +209,7 @@ void AddBezierExtraction(vtkUnstructuredGrid* output,
   // Kernel rows are in canonical order; the cell's points are in VTK order. Output cell 3 i + k
   // is micro-triangle k of the i-th written kernel triangle (FillSplineGrid), the kernel's cell
   // 3 t + k (ghosts are not written).
-  const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
+  static constexpr std::array<int, 10> vtkOrder = ctk::VtkBezierTriangleOrderOf<3>();
   ctsplines::ParallelFor(0, nCells, ctsplines::GrainForEvaluations, [&](vtkIdType b, vtkIdType e) {
     for (vtkIdType c = b; c < e; ++c)
     {

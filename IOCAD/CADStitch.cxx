@@ -3,6 +3,7 @@
 
 #include "CubicMacroElement.h"
 
+#include <array>
 #include <map>
 #include <unordered_map>
 
@@ -135,7 +136,7 @@ void CountEdgeUses(int f, const SampledFace& face, const FaceSpline& fs,
 void AppendCells(int f, const SampledFace& face, const FaceSpline& fs,
   const std::vector<ctk::Id>& map, StitchedSurface& surface)
 {
-  static const std::vector<int> vtkOrder = ctk::VtkBezierTriangleOrder(3);
+  static constexpr std::array<int, 10> vtkOrder = ctk::VtkBezierTriangleOrderOf<3>();
   const ctk::Id nT = fs.Spline.Layout.NumberOfTriangles;
   for (ctk::Id t = 0; t < nT; ++t)
   {
