@@ -10,6 +10,7 @@
 #include "BezierExtraction.h"
 #include "CloughTocherSpline.h"
 #include "DerivativeEstimation.h"
+#include "LargeArrays.h"
 #include "MessageIds.h"
 #include "SplineInput.h"
 
@@ -103,6 +104,26 @@ void Release(Vector& v)
   Vector().swap(v);
 }
 } // namespace
+
+void vtkCloughTocherSplineFilter::SetRetainedMemoryLimit(vtkTypeUInt64 bytes)
+{
+  ctk::SetLargeBlockCacheLimit(static_cast<std::size_t>(bytes));
+}
+
+vtkTypeUInt64 vtkCloughTocherSplineFilter::GetRetainedMemoryLimit()
+{
+  return ctk::LargeBlockCacheLimit();
+}
+
+vtkTypeUInt64 vtkCloughTocherSplineFilter::GetRetainedMemory()
+{
+  return ctk::LargeBlockCacheBytes();
+}
+
+void vtkCloughTocherSplineFilter::ReleaseRetainedMemory()
+{
+  ctk::ReleaseLargeBlockCache();
+}
 
 int vtkCloughTocherSplineFilter::GetNumberOfConstructions()
 {
@@ -405,7 +426,7 @@ class AdoptedVectors
 public:
   /// A double array of `components` per element that owns v's storage (v is left empty).
   template <typename Vec>
-  static vtkSmartPointer<vtkDoubleArray> Adopt(std::vector<Vec>&& v, int components)
+  static vtkSmartPointer<vtkDoubleArray> Adopt(ctk::OverwriteVector<Vec>&& v, int components)
   {
     static_assert(sizeof(Vec) == sizeof(double) * Vec::SizeAtCompileTime, "packed vectors");
     auto array = vtkSmartPointer<vtkDoubleArray>::New();
@@ -414,7 +435,8 @@ public:
     {
       return array;
     }
-    auto kept = std::make_shared<std::vector<Vec>>(std::move(v));
+    auto kept = std::make_shared<ctk::OverwriteVector<Vec>>(std::move(v));
+    ctk::RetainWhenFreed(*kept); // for the next construction's points, when VTK frees them
     double* data = kept->data()->data();
     {
       std::lock_guard<std::mutex> lock(Registry().Mutex);
@@ -430,7 +452,7 @@ public:
   /// references (ctsplines::RecycledArrays), for the kernel to write again; v is left as it is
   /// when there is none. The array, released with it, no longer owns the storage.
   template <typename Vec>
-  static void Reclaim(ctsplines::RecycledArrays& recycled, std::vector<Vec>& v)
+  static void Reclaim(ctsplines::RecycledArrays& recycled, ctk::OverwriteVector<Vec>& v)
   {
     constexpr int components = Vec::SizeAtCompileTime;
     auto adopted = [](vtkDataArray* a) {
@@ -455,7 +477,7 @@ public:
       {
         return;
       }
-      v = std::move(*std::static_pointer_cast<std::vector<Vec>>(it->second.Vector));
+      v = std::move(*std::static_pointer_cast<ctk::OverwriteVector<Vec>>(it->second.Vector));
       Registry().Kept.erase(it);
     }
     // Release() finds nothing now: the array lets go of the storage without freeing it.
@@ -465,7 +487,7 @@ public:
 private:
   struct Entry
   {
-    std::shared_ptr<void> Vector; // a std::vector<Vec>
+    std::shared_ptr<void> Vector; // a ctk::OverwriteVector<Vec>
     int Components;               // Vec's size: the vector's type
   };
   struct Store
@@ -503,8 +525,8 @@ namespace
 // every entry: a piece's spline cost 30 % more than its share of the whole's.)
 template <typename CellId>
 void KeepUsedPoints(CellId* conn, vtkIdType nConn,
-  const std::vector<std::atomic<unsigned char>>& used, std::vector<ctk::Vec3>& points,
-  std::vector<ctk::Vec2>& uv)
+  const std::vector<std::atomic<unsigned char>>& used, ctk::OverwriteVector<ctk::Vec3>& points,
+  ctk::OverwriteVector<ctk::Vec2>& uv)
 {
   const vtkIdType n = static_cast<vtkIdType>(points.size());
   vtkIdType kept = 0;
@@ -622,9 +644,9 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   ctk::CubicSpline& cubic = spline.Cubic;
   ctk::QuarticSpline& quartic = spline.Quartic;
   Release(spline.Degree == 4 ? quartic.SplitTau : cubic.SplitTau);
-  std::vector<ctk::Vec3>& controlPoints =
+  ctk::OverwriteVector<ctk::Vec3>& controlPoints =
     spline.Degree == 4 ? quartic.ControlPoints : cubic.ControlPoints;
-  std::vector<ctk::Vec2>& domainPoints =
+  ctk::OverwriteVector<ctk::Vec2>& domainPoints =
     spline.Degree == 4 ? quartic.DomainPoints : cubic.DomainPoints;
 
   const vtkIdType perCell = ctk::BezierPointCount(spline.Degree);
@@ -1084,5 +1106,7 @@ void vtkCloughTocherSplineFilter::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "EdgeGradientsArrayName: " << this->EdgeGradientsArrayName << "\n";
   os << indent << "BoundaryCurvePointsArrayName: " << this->BoundaryCurvePointsArrayName << "\n";
   os << indent << "ReuseOutputArrays: " << this->ReuseOutputArrays << "\n";
+  os << indent << "RetainedMemory (process-wide): " << GetRetainedMemory() << " of "
+     << GetRetainedMemoryLimit() << " bytes\n";
   os << indent << "ReusedOutputBytes: " << this->GetReusedOutputBytes() << "\n";
 }

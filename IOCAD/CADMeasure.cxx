@@ -34,8 +34,8 @@ struct Side
 
 /// Unit normals of the boundary micro-triangle of macro-triangle t at its local edge l, at the
 /// edge points s = (k + 1/2) / 9, k = 0..8, from the edge's end with the lower node id.
-std::array<ctk::Vec3, 9> EdgeNormals(const ctk::MacroElementIds& ids, const std::vector<ctk::Vec3>& P,
-  int l, bool fromFirst)
+std::array<ctk::Vec3, 9> EdgeNormals(
+  const ctk::MacroElementIds& ids, const ctk::OverwriteVector<ctk::Vec3>& P, int l, bool fromFirst)
 {
   // Micro-triangle k = l + 2 spans (U_l, U_{l+1}, Z), counter-clockwise like its macro-triangle,
   // so the normal points out of the solid (the faces' parameter planes are oriented so).
@@ -59,7 +59,7 @@ std::array<ctk::Vec3, 9> EdgeNormals(const ctk::MacroElementIds& ids, const std:
 Side FaceSide(const SampledFace& face, const FaceSpline& fs, ctk::Id e)
 {
   const ctk::MeshTopology& topo = fs.Topology;
-  const std::vector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
+  const ctk::OverwriteVector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
   const ctk::Id a = topo.Edges[e][0], b = topo.Edges[e][1];
   const ctk::Id ta = fs.Spline.Layout.EdgePoint(topo, e, a);
   const ctk::Id tb = fs.Spline.Layout.EdgePoint(topo, e, b);
@@ -111,7 +111,7 @@ void CompareSides(const Side& o, const Side& side, bool tangent, InterfaceMeasur
 std::vector<bool> CuspNodes(const FaceSpline& fs)
 {
   const ctk::MeshTopology& topo = fs.Topology;
-  const std::vector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
+  const ctk::OverwriteVector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
   std::vector<std::vector<ctk::Vec3>> leaving(fs.Spline.DomainPoints.size());
   for (ctk::Id e = 0; e < static_cast<ctk::Id>(topo.Edges.size()); ++e)
   {
@@ -261,7 +261,7 @@ double GapBeforeStitching(const SampledFace& face, const FaceSpline& fs)
   {
     return 0;
   }
-  const std::vector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
+  const ctk::OverwriteVector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
   auto uvOf = [&](ctk::Id v) { return ctk::Vec2(in.UV[2 * v], in.UV[2 * v + 1]); };
   auto row = [](const std::vector<double>& a, ctk::Id v) {
     return ctk::Vec3(a[3 * v], a[3 * v + 1], a[3 * v + 2]);

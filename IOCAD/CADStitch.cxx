@@ -54,7 +54,7 @@ std::vector<ctk::Id> MergeFacePoints(const SampledFace& face, const FaceSpline& 
 {
   const ctk::CubicSpline& spline = fs.Spline;
   const ctk::MeshTopology& topo = fs.Topology;
-  const std::vector<ctk::Vec3>& cp = spline.ControlPoints;
+  const ctk::OverwriteVector<ctk::Vec3>& cp = spline.ControlPoints;
   std::vector<ctk::Id> map(cp.size(), -1);
   auto next = [&points]() { return static_cast<ctk::Id>(points.size()); };
   for (ctk::Id v = 0; v < spline.Layout.NumberOfVertices; ++v)
@@ -160,7 +160,7 @@ void AppendCells(int f, const SampledFace& face, const FaceSpline& fs,
 
 bool IsCollapsedEdge(const ctk::CubicSpline& spline, ctk::Id a, ctk::Id ta, ctk::Id tb, ctk::Id b)
 {
-  const std::vector<ctk::Vec3>& cp = spline.ControlPoints;
+  const ctk::OverwriteVector<ctk::Vec3>& cp = spline.ControlPoints;
   return cp[ta] == cp[a] && cp[tb] == cp[a] && cp[b] == cp[a];
 }
 

@@ -66,8 +66,8 @@ Vec3 MacroBarycentric(const Vec3& splitTau, int k, const Vec3& w)
 namespace
 {
 template <typename NetOf>
-ParametricJet EvaluateMacroPoint(int degree, const std::vector<Vec3>& points,
-  const std::vector<Vec2>& domain, const Vec3& splitTau, const Id* triangles, Id t,
+ParametricJet EvaluateMacroPoint(int degree, const OverwriteVector<Vec3>& points,
+  const OverwriteVector<Vec2>& domain, const Vec3& splitTau, const Id* triangles, Id t,
   const Vec3& tau, int order, const NetOf& netOf)
 {
   const MicroPoint m = LocateMicroTriangle(splitTau, tau);

@@ -15,12 +15,12 @@ struct CloughTocherSpline
   CubicSpline Cubic;     // when Degree == 3
   QuarticSpline Quartic; // when Degree == 4
 
-  const std::vector<Vec3>& ControlPoints() const
+  const OverwriteVector<Vec3>& ControlPoints() const
   {
     return this->Degree == 4 ? this->Quartic.ControlPoints : this->Cubic.ControlPoints;
   }
   /// The parameter-space domain point of every control point; the first #V are the vertices'.
-  const std::vector<Vec2>& DomainPoints() const
+  const OverwriteVector<Vec2>& DomainPoints() const
   {
     return this->Degree == 4 ? this->Quartic.DomainPoints : this->Cubic.DomainPoints;
   }

@@ -12,6 +12,7 @@
 
 #include "Constructions.h"
 #include "CubicMacroElement.h"
+#include "LargeArrays.h" // for OverwriteVector
 #include "MeshTopology.h"
 #include "ParallelFor.h"
 #include "SplitPoint.h"
@@ -99,9 +100,10 @@ bool UsesEdgeGradients(const SplineOptions& options);
 struct CubicSpline
 {
   CubicSplineLayout Layout;
-  std::vector<Vec3> ControlPoints; // Layout.NumberOfPoints()
-  std::vector<Vec2> DomainPoints;  // parameter-space domain point of every control point
-  std::vector<Vec3> SplitTau;      // #T barycentric coordinates of Z
+  // Layout.NumberOfPoints() each; the VTK filter's output adopts them (ctk::RetainWhenFreed).
+  OverwriteVector<Vec3> ControlPoints;
+  OverwriteVector<Vec2> DomainPoints; // parameter-space domain point of every control point
+  std::vector<Vec3> SplitTau;        // #T barycentric coordinates of Z
 };
 
 struct BuildStatus

@@ -3,7 +3,8 @@
 // output arrays). Their cost is dominated by first-touch page faults: one per 4 KiB page, which
 // measured several seconds per GB on a loaded 2-core VM, against ~0.2 s per GB with 2 MiB
 // transparent huge pages. Linux's common THP mode is "madvise", so such arrays are advised
-// explicitly before they are touched. Header-only; a no-op where MADV_HUGEPAGE is unavailable.
+// explicitly before they are touched (a no-op where MADV_HUGEPAGE is unavailable). The blocks
+// and the retained ones are in LargeArrays.cxx.
 #ifndef CTSplines_Kernel_LargeArrays_h
 #define CTSplines_Kernel_LargeArrays_h
 
@@ -70,44 +71,48 @@ inline void AdviseHugePages(const void* p, std::size_t bytes)
 constexpr std::size_t LargeBlockBytes = std::size_t(4) << 20;
 
 #if CTSPLINES_MAP_LARGE_ARRAYS
-/// A block of `bytes` (>= LargeBlockBytes) mapped on its own, in whole 2 MiB pages advised for
-/// huge pages. glibc's malloc serves blocks below its mmap threshold (which rises to 32 MiB once
-/// a process frees such a block, as NumPy's users do) from its heap and keeps them resident once
-/// freed: a construction's 4-32 MiB working arrays then add to the resident peak on top of the
-/// output. An unmapped block goes back to the system at once.
+/// The bytes a mapped block of `bytes` takes: whole huge pages.
 inline std::size_t LargeBlockLength(std::size_t bytes)
 {
   return (bytes + HugePageBytes - 1) & ~(HugePageBytes - 1);
 }
-inline void* MapLargeBlock(std::size_t bytes)
-{
-  constexpr std::size_t huge = HugePageBytes;
-  const std::size_t length = LargeBlockLength(bytes);
-  // Mapped with a huge page of slack, whose unaligned ends are then unmapped.
-  void* m = mmap(nullptr, length + huge, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
-    -1, 0);
-  if (m == MAP_FAILED)
-  {
-    throw std::bad_alloc();
-  }
-  const std::uintptr_t raw = reinterpret_cast<std::uintptr_t>(m);
-  const std::uintptr_t begin = (raw + huge - 1) & ~std::uintptr_t(huge - 1);
-  if (begin > raw)
-  {
-    (void)munmap(m, begin - raw);
-  }
-  if (raw + huge > begin)
-  {
-    (void)munmap(reinterpret_cast<void*>(begin + length), raw + huge - begin);
-  }
-  AdviseHugePages(reinterpret_cast<void*>(begin), length);
-  return reinterpret_cast<void*>(begin);
-}
-inline void UnmapLargeBlock(void* p, std::size_t bytes)
-{
-  (void)munmap(p, LargeBlockLength(bytes));
-}
+/// A block of `bytes` (>= LargeBlockBytes) mapped on its own, in whole 2 MiB pages advised for
+/// huge pages. glibc's malloc serves blocks below its mmap threshold (which rises to 32 MiB once
+/// a process frees such a block, as NumPy's users do) from its heap and keeps them resident once
+/// freed: a construction's 4-32 MiB working arrays then add to the resident peak on top of the
+/// output. The block is a retained one of the same length when there is one (RetainWhenFreed),
+/// else a new mapping.
+void* MapLargeBlock(std::size_t bytes);
+/// Gives back a block of MapLargeBlock(bytes): unmapped at once, or retained when it was marked
+/// by RetainWhenFreed.
+void UnmapLargeBlock(void* p, std::size_t bytes) noexcept;
 #endif
+
+/// Marks the block that starts at `p` (an OverwriteVector's data() of LargeBlockBytes or more;
+/// anything else is ignored) to be retained when it is freed, for the next MapLargeBlock of the
+/// same length: for outputs that VTK arrays adopt (the spline's points). A construction that
+/// follows another on the same mesh then writes into memory that is resident already instead of
+/// faulting in fresh pages, which the kernel zeroes first. Only such outputs are retained: they
+/// are freed after their construction ends, so their blocks do not raise its resident peak
+/// (working arrays freed and retained during a construction would).
+void RetainWhenFreed(const void* p, std::size_t bytes);
+
+/// The retained blocks' bytes in all stay within this limit, the oldest given back first. As with
+/// jemalloc's decay of dirty pages, a block retained for 10 s goes back to the system at the
+/// next call, and a retained block is advised MADV_FREE, so the kernel may take its pages back
+/// under memory pressure; until then they count in the process's resident size. The default is
+/// a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB from the environment when
+/// set; 0 retains nothing. Without mapped blocks (ASan builds) nothing is retained. For tests,
+/// CTSPLINES_POISON_RETAINED_BLOCKS=1 in the environment fills blocks with 0xff bytes (NaN as
+/// doubles, -1 as integers) as they are retained, and keeps them resident: code that reads a
+/// large array before writing it then reads garbage, not a fresh mapping's zeros.
+std::size_t LargeBlockCacheLimit();
+/// Sets LargeBlockCacheLimit; retained blocks beyond the new limit are unmapped at once.
+void SetLargeBlockCacheLimit(std::size_t bytes);
+/// The bytes retained now.
+std::size_t LargeBlockCacheBytes();
+/// Unmaps every retained block.
+void ReleaseLargeBlockCache();
 
 /// std::allocator, except that construct() without arguments default-initialises: resize() of
 /// trivial elements leaves them unwritten. For arrays filled in parallel loops after resize():
@@ -178,6 +183,13 @@ bool operator!=(const OverwriteAllocator<T>&, const OverwriteAllocator<U>&)
 /// A vector whose resize(n) leaves trivial elements unwritten (see OverwriteAllocator).
 template <typename T>
 using OverwriteVector = std::vector<T, OverwriteAllocator<T>>;
+
+/// RetainWhenFreed for v's storage (its capacity, as its allocator frees it).
+template <typename T>
+void RetainWhenFreed(const OverwriteVector<T>& v)
+{
+  RetainWhenFreed(v.data(), v.capacity() * sizeof(T));
+}
 
 /// Resizes v to n elements that the caller then overwrites: when v must grow, its old contents
 /// are dropped and the new storage is advised for huge pages before resize() touches it (which

@@ -360,7 +360,7 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
   // Fig. 11 converges on regular meshes; on irregular ones the coupling of exterior fairing and
   // C1 smoothing can amplify each round's change. A round whose change exceeds the previous
   // one's is undone and the iteration stops (reported in status.Message).
-  std::vector<Vec3> before;
+  OverwriteVector<Vec3> before;
   double previousChange = std::numeric_limits<double>::infinity();
   // Changes at round-off level (exact data: the rounds move nothing) never count as growth.
   double scale = 0.0;

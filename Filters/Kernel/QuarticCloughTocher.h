@@ -53,8 +53,8 @@ std::array<Id, 15> QuarticMicroNet(
 struct QuarticSpline
 {
   QuarticSplineLayout Layout;
-  std::vector<Vec3> ControlPoints;
-  std::vector<Vec2> DomainPoints;
+  OverwriteVector<Vec3> ControlPoints; // as CubicSpline's
+  OverwriteVector<Vec2> DomainPoints;
   std::vector<Vec3> SplitTau;
 };
 

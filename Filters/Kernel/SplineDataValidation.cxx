@@ -289,8 +289,9 @@ BuildStatus ValidateSplineData(const SplineData& data, const MeshTopology& topol
   return DomainFailure(data, topology, degenerate, folded);
 }
 
-BuildStatus CheckFiniteControlPoints(const std::vector<Vec3>& points, const MeshTopology& topology,
-  const Id* triangles, Id numberOfVertices, int pointsPerEdge, int pointsPerTriangle)
+BuildStatus CheckFiniteControlPoints(const OverwriteVector<Vec3>& points,
+  const MeshTopology& topology, const Id* triangles, Id numberOfVertices, int pointsPerEdge,
+  int pointsPerTriangle)
 {
   const auto bad = std::find_if(
     points.begin(), points.end(), [](const Vec3& p) { return !p.allFinite(); });

@@ -145,8 +145,9 @@ BuildStatus DomainFailure(const SplineData& data, const MeshTopology& topology,
 /// Checks that every control point is finite; otherwise names the lowest triangle whose
 /// macro-element holds a non-finite point. Layout: #V vertex points, pointsPerEdge per edge,
 /// then pointsPerTriangle per triangle.
-BuildStatus CheckFiniteControlPoints(const std::vector<Vec3>& points, const MeshTopology& topology,
-  const Id* triangles, Id numberOfVertices, int pointsPerEdge, int pointsPerTriangle);
+BuildStatus CheckFiniteControlPoints(const OverwriteVector<Vec3>& points,
+  const MeshTopology& topology, const Id* triangles, Id numberOfVertices, int pointsPerEdge,
+  int pointsPerTriangle);
 
 } // namespace ctk
 

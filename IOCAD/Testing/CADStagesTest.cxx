@@ -92,8 +92,8 @@ void ForEachFaceBackwardsOnFourThreads(int n, const std::function<void(int)>& bo
   }
 }
 
-template <typename V>
-bool SameBits(const std::vector<V>& a, const std::vector<V>& b)
+template <typename V, typename A>
+bool SameBits(const std::vector<V, A>& a, const std::vector<V, A>& b)
 {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(V)) == 0;
 }

@@ -478,7 +478,8 @@ double SplineRows(vtkPolyData* mesh, long long nT, Context& ctx)
     char extra[96] = "";
     if (opt.Memory)
     {
-      out = nullptr; // measured alone
+      out = nullptr; // measured alone, from fresh memory as a process's first construction
+      vtkCloughTocherSplineFilter::ReleaseRetainedMemory();
       const double peak = bench::PeakExtraBytes(
         [&] { TimeSpline(mesh, opt.OutputOrder, c, 0, 1, ok); });
       std::snprintf(extra, sizeof(extra), "  peak %.0f MB = %.2f x output %.0f MB", 1e-6 * peak,

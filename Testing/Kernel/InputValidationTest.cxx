@@ -323,7 +323,7 @@ TEST(InputValidation, NonFiniteControlPointNamesItsTriangle)
   CubicSpline spline;
   ASSERT_TRUE(BuildCubicCloughTocher(mesh.Data(), mesh.Topology, SplineOptions(), spline).Ok);
   const auto check = [&](Id point) {
-    std::vector<Vec3> points = spline.ControlPoints;
+    OverwriteVector<Vec3> points = spline.ControlPoints;
     points[point].y() = std::nan("");
     return CheckFiniteControlPoints(points, mesh.Topology, mesh.Triangles.data(), 4, 2,
       CubicSplineLayout::PointsPerTriangle);

@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // OverwriteAllocator's large blocks: usable, kept across growth, aligned to whole huge pages,
-// and given back to the system when freed whatever glibc's mmap threshold.
+// given back to the system when freed whatever glibc's mmap threshold, and, when marked
+// (RetainWhenFreed), retained for the next block of their length, within the limit.
 #include "LargeArrays.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <numeric>
 #include <sstream>
@@ -129,9 +133,26 @@ TEST(LargeArrays, MappedBlocksAreAdvisedForHugePages)
 #endif
 }
 
+// Restores the retained blocks' limit at the end of a test, and starts with none retained.
+struct RetainedLimit
+{
+  std::size_t Saved = ctk::LargeBlockCacheLimit();
+  explicit RetainedLimit(std::size_t bytes)
+  {
+    ctk::ReleaseLargeBlockCache();
+    ctk::SetLargeBlockCacheLimit(bytes);
+  }
+  ~RetainedLimit()
+  {
+    ctk::ReleaseLargeBlockCache();
+    ctk::SetLargeBlockCacheLimit(this->Saved);
+  }
+};
+
 TEST(LargeArrays, FreedBlocksLeaveTheProcess)
 {
 #if CTSPLINES_MAP_LARGE_ARRAYS && defined(__GLIBC__) && defined(M_MMAP_THRESHOLD)
+  const RetainedLimit limit(std::size_t(256) << 20); // unmarked blocks are not retained
   // As after NumPy frees a 32 MiB array: glibc then serves blocks up to 32 MiB from its heap.
   ASSERT_EQ(mallopt(M_MMAP_THRESHOLD, 32 << 20), 1);
   ASSERT_EQ(mallopt(M_TRIM_THRESHOLD, 64 << 20), 1);
@@ -153,4 +174,117 @@ TEST(LargeArrays, FreedBlocksLeaveTheProcess)
   GTEST_SKIP() << "large blocks come from the heap in this build";
 #endif
 }
+
+#if CTSPLINES_MAP_LARGE_ARRAYS
+// A marked block freed and asked for again with its length comes back at the same address,
+// without a new mapping; one of another length does not take it.
+TEST(LargeArrays, RetainedBlocksServeTheirLength)
+{
+  const RetainedLimit limit(std::size_t(64) << 20);
+  const std::size_t n = (std::size_t(8) << 20) / sizeof(double);
+  const double* first = nullptr;
+  {
+    ctk::OverwriteVector<double> v;
+    ctk::ResizeForOverwrite(v, n);
+    v.back() = 1.0;
+    first = v.data();
+    ctk::RetainWhenFreed(v);
+  }
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20);
+  {
+    ctk::OverwriteVector<double> other;
+    ctk::ResizeForOverwrite(other, 2 * n); // another length: a new mapping
+    EXPECT_NE(other.data(), first);
+    EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20);
+    ctk::OverwriteVector<double> again;
+    ctk::ResizeForOverwrite(again, n - 5); // the same number of huge pages
+    EXPECT_EQ(again.data(), first);
+    EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+    again.back() = 2.0; // usable to its end
+    EXPECT_EQ(again.back(), 2.0);
+    ctk::RetainWhenFreed(again);
+  }
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20); // not `other`: not marked
+  ctk::ReleaseLargeBlockCache();
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+}
+
+// The limit holds: the oldest blocks go first, and a lower limit gives back at once.
+TEST(LargeArrays, RetainedBlocksStayWithinTheLimit)
+{
+  const RetainedLimit limit(std::size_t(20) << 20);
+  const std::size_t n = (std::size_t(8) << 20) / sizeof(double);
+  const double* oldest = nullptr;
+  {
+    ctk::OverwriteVector<double> a, b, c;
+    for (ctk::OverwriteVector<double>* v : { &a, &b, &c })
+    {
+      ctk::ResizeForOverwrite(*v, n);
+      ctk::RetainWhenFreed(*v);
+    }
+    oldest = a.data();
+    ctk::OverwriteVector<double>().swap(a);
+    ctk::OverwriteVector<double>().swap(b);
+    ctk::OverwriteVector<double>().swap(c);
+    EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(16) << 20); // a went back
+  }
+  ctk::OverwriteVector<double> v1, v2; // b and c
+  ctk::ResizeForOverwrite(v1, n);
+  ctk::ResizeForOverwrite(v2, n);
+  EXPECT_NE(v1.data(), oldest);
+  EXPECT_NE(v2.data(), oldest);
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+  ctk::RetainWhenFreed(v1);
+  ctk::RetainWhenFreed(v2);
+  ctk::OverwriteVector<double>().swap(v1);
+  ctk::OverwriteVector<double>().swap(v2);
+  ctk::SetLargeBlockCacheLimit(std::size_t(10) << 20);
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20);
+  ctk::SetLargeBlockCacheLimit(std::size_t(4) << 20); // below one block: nothing kept
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+  {
+    ctk::OverwriteVector<double> v;
+    ctk::ResizeForOverwrite(v, n);
+    ctk::RetainWhenFreed(v);
+  }
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+}
+
+// Released blocks leave the process's resident memory.
+TEST(LargeArrays, ReleasedBlocksLeaveTheProcess)
+{
+  const RetainedLimit limit(std::size_t(256) << 20);
+  const std::size_t bytes = std::size_t(64) << 20;
+  {
+    ctk::OverwriteVector<char> v;
+    ctk::ResizeForOverwrite(v, bytes);
+    std::memset(v.data(), 1, bytes);
+    ctk::RetainWhenFreed(v);
+  }
+  const long long retained = ResidentBytes();
+  ASSERT_GT(retained, 0);
+  ctk::ReleaseLargeBlockCache();
+  const long long released = ResidentBytes();
+  EXPECT_LT(released, retained - static_cast<long long>(bytes) + (4ll << 20))
+    << "resident " << retained << " -> " << released << " bytes";
+}
+
+// CTSPLINES_POISON_RETAINED_BLOCKS=1: a retained block comes back filled with 0xff bytes.
+TEST(LargeArrays, PoisonedBlocksComeBackAsOnes)
+{
+  const RetainedLimit limit(std::size_t(64) << 20);
+  ASSERT_EQ(setenv("CTSPLINES_POISON_RETAINED_BLOCKS", "1", 1), 0);
+  const std::size_t n = (std::size_t(6) << 20) / sizeof(std::int64_t);
+  {
+    ctk::OverwriteVector<std::int64_t> v;
+    ctk::ResizeForOverwrite(v, n);
+    std::fill(v.begin(), v.end(), 0);
+    ctk::RetainWhenFreed(v);
+  }
+  unsetenv("CTSPLINES_POISON_RETAINED_BLOCKS");
+  ctk::OverwriteVector<std::int64_t> v;
+  ctk::ResizeForOverwrite(v, n);
+  EXPECT_EQ(std::count(v.begin(), v.end(), std::int64_t(-1)), static_cast<std::ptrdiff_t>(n));
+}
+#endif
 } // namespace
