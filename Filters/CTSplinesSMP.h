@@ -261,8 +261,21 @@ inline void SMPCopyFor(ctk::Id n, const std::function<void(ctk::Id, ctk::Id)>& b
 
 /// SetNumberOfTuples for an output array (contiguous storage) that is then written in parallel
 /// loops: its storage is advised for huge pages before the first touch (see LargeArrays.h).
+/// Storage of ctk::LargeBlockBytes or more is a retained block (ctk::MapRetainedBlock): freed
+/// with the output, it serves the next output of its length without fresh pages.
 inline void AllocateTuples(vtkDataArray* array, vtkIdType tuples)
 {
+#if CTSPLINES_MAP_LARGE_ARRAYS
+  const vtkIdType values = tuples * array->GetNumberOfComponents();
+  const std::size_t bytes = static_cast<std::size_t>(values) * array->GetDataTypeSize();
+  if (tuples > 0 && bytes >= ctk::LargeBlockBytes && array->HasStandardMemoryLayout())
+  {
+    array->SetVoidArray(ctk::MapRetainedBlock(bytes), values, 0,
+      vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
+    array->SetArrayFreeFunction(&ctk::FreeRetainedBlock);
+    return;
+  }
+#endif
   array->SetNumberOfTuples(tuples);
   if (tuples > 0)
   {

@@ -246,16 +246,17 @@ public:
   vtkTypeUInt64 GetReusedOutputBytes() const;
 
   ///@{
-  /// Process-wide, for every filter of the module: the working arrays and spline points of 4
-  /// MiB and more that an execution frees are retained, up to RetainedMemoryLimit bytes in all,
-  /// for the next execution that asks for the same length (a new filter on the same mesh, a
-  /// tessellation or probe of the same spline), which then writes into resident memory instead
-  /// of fresh pages that the kernel zeroes first (a sixth of CTi's process time at 1e6
-  /// triangles on the machine measured). A block unused for 10 s goes back to the system at the
-  /// next execution; retained pages are advised MADV_FREE, so the kernel may take them back
-  /// under memory pressure, but they count in the resident size until then. The default limit
-  /// is a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB (MiB) from the
-  /// environment; 0 retains nothing. GetRetainedMemory: the bytes retained now;
+  /// Process-wide, for every filter of the module: the output arrays of 4 MiB and more (the
+  /// spline's points, cells and cell data, a tessellation's or probe's arrays) are retained when
+  /// VTK frees them, up to RetainedMemoryLimit bytes in all, for the next output array of the
+  /// same length (a new filter on the same mesh, the same level or number of queries), which
+  /// then is written in resident memory instead of fresh pages that the kernel zeroes first (a
+  /// sixth of CTi's process time at 1e6 triangles on the machine measured). Working arrays are
+  /// not retained: an execution's peak does not grow. A block unused for 10 s goes back to the
+  /// system at the next large allocation; retained pages are advised MADV_FREE, so the kernel
+  /// may take them back under memory pressure, but they count in the resident size until then.
+  /// The default limit is a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB
+  /// (MiB) from the environment; 0 retains nothing. GetRetainedMemory: the bytes retained now;
   /// ReleaseRetainedMemory gives them all back (before measuring a process's memory, say).
   /// Nothing is retained in builds with AddressSanitizer (ctk::LargeBlockCacheLimit).
   static void SetRetainedMemoryLimit(vtkTypeUInt64 bytes);

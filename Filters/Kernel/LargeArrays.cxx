@@ -29,7 +29,7 @@ struct LargeBlockCache
   };
   std::mutex Mutex;
   std::vector<Block> Blocks;
-  std::vector<const void*> Marked; // RetainWhenFreed: blocks in use, retained once freed
+  std::vector<Block> Marked; // RetainWhenFreed: blocks in use, retained once freed
   std::size_t Bytes = 0;
   std::size_t Limit = DefaultLimit();
   // As jemalloc's decay of dirty pages: a block unused this long is not part of a series of
@@ -127,6 +127,44 @@ void* MapFresh(std::size_t length)
   AdviseHugePages(reinterpret_cast<void*>(begin), length);
   return reinterpret_cast<void*>(begin);
 }
+
+// Retains the block [p, p + length), giving back the oldest or expired ones beyond the limit.
+void Retain(void* p, std::size_t length) noexcept
+{
+  LargeBlockCache& cache = Cache();
+  const char* poison = std::getenv("CTSPLINES_POISON_RETAINED_BLOCKS"); // read each time: tests
+  if (poison && std::strcmp(poison, "1") == 0)
+  {
+    std::memset(p, 0xff, length);
+  }
+#if defined(MADV_FREE)
+  else
+  {
+    // The kernel may reclaim the pages under pressure (they then read as zeros), else they stay.
+    (void)madvise(p, length, MADV_FREE);
+  }
+#endif
+  std::vector<LargeBlockCache::Block> evicted;
+  try
+  {
+    const auto now = std::chrono::steady_clock::now();
+    std::lock_guard<std::mutex> lock(cache.Mutex);
+    cache.Blocks.push_back({ p, length, now });
+    cache.Bytes += length;
+    evicted = cache.TakeExpired(now);
+    if (cache.Bytes > cache.Limit)
+    {
+      std::vector<LargeBlockCache::Block> oldest = cache.TakeOldest(cache.Bytes - cache.Limit);
+      evicted.insert(evicted.end(), oldest.begin(), oldest.end());
+    }
+  }
+  catch (...) // no memory for the list: the block goes back to the system
+  {
+    (void)munmap(p, length);
+    return;
+  }
+  Unmap(evicted);
+}
 #endif
 } // namespace
 
@@ -164,7 +202,8 @@ void UnmapLargeBlock(void* p, std::size_t bytes) noexcept
   bool keep = false;
   {
     std::lock_guard<std::mutex> lock(cache.Mutex);
-    const auto marked = std::find(cache.Marked.begin(), cache.Marked.end(), p);
+    const auto marked = std::find_if(cache.Marked.begin(), cache.Marked.end(),
+      [p](const LargeBlockCache::Block& b) { return b.Begin == p; });
     if (marked != cache.Marked.end())
     {
       cache.Marked.erase(marked);
@@ -176,38 +215,39 @@ void UnmapLargeBlock(void* p, std::size_t bytes) noexcept
     (void)munmap(p, length);
     return;
   }
-  const char* poison = std::getenv("CTSPLINES_POISON_RETAINED_BLOCKS"); // read each time: tests
-  if (poison && std::strcmp(poison, "1") == 0)
-  {
-    std::memset(p, 0xff, length);
-  }
-#if defined(MADV_FREE)
-  else
-  {
-    // The kernel may reclaim the pages under pressure (they then read as zeros), else they stay.
-    (void)madvise(p, length, MADV_FREE);
-  }
-#endif
-  std::vector<LargeBlockCache::Block> evicted;
+  Retain(p, length);
+}
+
+void* MapRetainedBlock(std::size_t bytes)
+{
+  void* p = MapLargeBlock(bytes);
   try
   {
-    const auto now = std::chrono::steady_clock::now();
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    cache.Blocks.push_back({ p, length, now });
-    cache.Bytes += length;
-    evicted = cache.TakeExpired(now);
-    if (cache.Bytes > cache.Limit)
-    {
-      std::vector<LargeBlockCache::Block> oldest = cache.TakeOldest(cache.Bytes - cache.Limit);
-      evicted.insert(evicted.end(), oldest.begin(), oldest.end());
-    }
+    RetainWhenFreed(p, bytes);
   }
-  catch (...) // no memory for the list: the block goes back to the system
+  catch (...)
   {
-    (void)munmap(p, length);
-    return;
+    UnmapLargeBlock(p, bytes);
+    throw;
   }
-  Unmap(evicted);
+  return p;
+}
+
+void FreeRetainedBlock(void* p)
+{
+  std::size_t length = 0;
+  {
+    LargeBlockCache& cache = Cache();
+    std::lock_guard<std::mutex> lock(cache.Mutex);
+    const auto marked = std::find_if(cache.Marked.begin(), cache.Marked.end(),
+      [p](const LargeBlockCache::Block& b) { return b.Begin == p; });
+    if (marked == cache.Marked.end())
+    {
+      return; // not a block of MapRetainedBlock: its length is unknown
+    }
+    length = marked->Length;
+  }
+  UnmapLargeBlock(p, length);
 }
 #endif
 
@@ -218,9 +258,11 @@ void RetainWhenFreed(const void* p, std::size_t bytes)
   {
     LargeBlockCache& cache = Cache();
     std::lock_guard<std::mutex> lock(cache.Mutex);
-    if (std::find(cache.Marked.begin(), cache.Marked.end(), p) == cache.Marked.end())
+    const std::size_t length = LargeBlockLength(bytes);
+    if (std::none_of(cache.Marked.begin(), cache.Marked.end(),
+          [p](const LargeBlockCache::Block& b) { return b.Begin == p; }))
     {
-      cache.Marked.push_back(p);
+      cache.Marked.push_back({ const_cast<void*>(p), length, {} });
     }
   }
 #else

@@ -86,11 +86,17 @@ void* MapLargeBlock(std::size_t bytes);
 /// Gives back a block of MapLargeBlock(bytes): unmapped at once, or retained when it was marked
 /// by RetainWhenFreed.
 void UnmapLargeBlock(void* p, std::size_t bytes) noexcept;
+/// MapLargeBlock(bytes) marked by RetainWhenFreed, for the storage of a VTK array (SetVoidArray
+/// with a user-defined free function: FreeRetainedBlock).
+void* MapRetainedBlock(std::size_t bytes);
+/// Frees a block of MapRetainedBlock (its length recorded there); anything else is left alone.
+void FreeRetainedBlock(void* p);
 #endif
 
 /// Marks the block that starts at `p` (an OverwriteVector's data() of LargeBlockBytes or more;
 /// anything else is ignored) to be retained when it is freed, for the next MapLargeBlock of the
-/// same length: for outputs that VTK arrays adopt (the spline's points). A construction that
+/// same length: for outputs that VTK arrays adopt (the spline's points) or that are VTK arrays
+/// (MapRetainedBlock, ctsplines::AllocateTuples). A construction that
 /// follows another on the same mesh then writes into memory that is resident already instead of
 /// faulting in fresh pages, which the kernel zeroes first. Only such outputs are retained: they
 /// are freed after their construction ends, so their blocks do not raise its resident peak

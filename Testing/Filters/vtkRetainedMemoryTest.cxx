@@ -11,6 +11,8 @@
 #include "vtkSplineParameterProbe.h"
 
 #include "vtkDataObject.h"
+#include "vtkDoubleArray.h"
+#include "vtkPointData.h"
 #include "vtkNew.h"
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
@@ -127,5 +129,52 @@ TEST(RetainedMemory, PoisonedBlocksGiveTheBitsOfFreshOnes)
     }
     vtkCloughTocherSplineFilter::ReleaseRetainedMemory();
   }
+}
+
+// The tessellator's output arrays (ctsplines::AllocateTuples) are retained blocks: freed with the
+// output, they are retained; one that a caller keeps and grows goes through VTK's reallocation,
+// which frees the old block through the module's free function, and keeps its values.
+TEST(RetainedMemory, OutputArraysAreRetainedWhenFreedOrGrown)
+{
+  const Limit restore;
+  vtkCloughTocherSplineFilter::ReleaseRetainedMemory();
+  vtkCloughTocherSplineFilter::SetRetainedMemoryLimit(vtkTypeUInt64(4) << 30);
+  vtkSmartPointer<vtkDoubleArray> normals;
+  vtkTypeUInt64 pointBytes = 0;
+  {
+    vtkNew<vtkCloughTocherSplineFilter> spline;
+    spline->SetInputData(Mesh(vtkSampledSurfaceSource::Franke));
+    vtkNew<vtkBezierTriangleTessellator> tessellator;
+    tessellator->SetInputConnection(spline->GetOutputPort());
+    tessellator->SetSubdivisionLevel(3);
+    tessellator->Update();
+    vtkPolyData* out = tessellator->GetOutput();
+    normals = vtkDoubleArray::SafeDownCast(out->GetPointData()->GetArray("Normals"));
+    ASSERT_NE(normals, nullptr);
+    pointBytes = 8 * out->GetPoints()->GetData()->GetNumberOfValues();
+    ASSERT_GT(pointBytes, vtkTypeUInt64(8) << 20);
+  }
+#if !defined(__SANITIZE_ADDRESS__)
+  // The spline's and the tessellation's arrays but the normals: at least the points.
+  const vtkTypeUInt64 retained = vtkCloughTocherSplineFilter::GetRetainedMemory();
+  EXPECT_GE(retained, pointBytes);
+#endif
+  const vtkIdType n = normals->GetNumberOfTuples();
+  double first[3], last[3];
+  normals->GetTypedTuple(0, first);
+  normals->GetTypedTuple(n - 1, last);
+  normals->InsertNextTuple3(1.0, 2.0, 3.0); // VTK reallocates and frees the old block
+  ASSERT_EQ(normals->GetNumberOfTuples(), n + 1);
+  double again[3];
+  normals->GetTypedTuple(0, again);
+  EXPECT_EQ(first[0], again[0]);
+  EXPECT_EQ(first[2], again[2]);
+  normals->GetTypedTuple(n - 1, again);
+  EXPECT_EQ(last[1], again[1]);
+  EXPECT_EQ(normals->GetComponent(n, 2), 3.0);
+#if !defined(__SANITIZE_ADDRESS__)
+  EXPECT_GE(vtkCloughTocherSplineFilter::GetRetainedMemory(), retained + 24 * n - (2 << 20));
+#endif
+  normals = nullptr;
 }
 } // namespace
