@@ -246,9 +246,9 @@ public:
   vtkTypeUInt64 GetReusedOutputBytes() const;
 
   ///@{
-  /// Process-wide, for every filter of the module: the output arrays of 4 MiB and more (the
-  /// spline's points, cells and cell data, a tessellation's or probe's arrays) are retained when
-  /// VTK frees them, up to RetainedMemoryLimit bytes in all, for the next output array of the
+  /// Process-wide, for every filter of the module: the large output arrays (the spline's points,
+  /// and any other of 32 MiB or more: its connectivity, a tessellation's arrays) are retained
+  /// when VTK frees them, up to RetainedMemoryLimit bytes in all, for the next output array of the
   /// same length (a new filter on the same mesh, the same level or number of queries), which
   /// then is written in resident memory instead of fresh pages that the kernel zeroes first (a
   /// sixth of CTi's process time at 1e6 triangles on the machine measured). Working arrays are
