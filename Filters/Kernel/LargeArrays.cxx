@@ -57,23 +57,19 @@ struct LargeBlockCache
     return std::size_t(1) << 30;
   }
 
-  // Takes out the blocks retained longer than RetainSeconds; the caller unmaps them outside the
+  // Takes out the blocks retained longer than RetainFor; the caller unmaps them outside the
   // lock.
   std::vector<Block> TakeExpired(std::chrono::steady_clock::time_point now)
   {
-    std::size_t n = 0, taken = 0;
+    std::size_t n = 0;
     while (n < this->Blocks.size() && now - this->Blocks[n].Retained > RetainFor)
     {
-      taken += this->Blocks[n++].Length;
+      ++n;
     }
-    std::vector<Block> out(this->Blocks.begin(), this->Blocks.begin() + n);
-    this->Blocks.erase(this->Blocks.begin(), this->Blocks.begin() + n);
-    this->Bytes -= taken;
-    return out;
+    return this->TakeFirst(n);
   }
 
-  // Takes out the oldest blocks until at least `bytes` are taken or none is left; the caller
-  // unmaps them outside the lock.
+  // Takes out the oldest blocks until at least `bytes` are taken or none is left.
   std::vector<Block> TakeOldest(std::size_t bytes)
   {
     std::size_t taken = 0, n = 0;
@@ -81,9 +77,17 @@ struct LargeBlockCache
     {
       taken += this->Blocks[n++].Length;
     }
+    return this->TakeFirst(n);
+  }
+
+  std::vector<Block> TakeFirst(std::size_t n)
+  {
     std::vector<Block> out(this->Blocks.begin(), this->Blocks.begin() + n);
     this->Blocks.erase(this->Blocks.begin(), this->Blocks.begin() + n);
-    this->Bytes -= taken;
+    for (const Block& b : out)
+    {
+      this->Bytes -= b.Length;
+    }
     return out;
   }
 };

@@ -160,7 +160,7 @@ ctk::ParallelFor ChunkedFor(int chunk)
 }
 
 /// Bit for bit (NaN equals NaN: a NaN is reported by CheckSpline, not as a split dependence).
-bool SameBits(const std::vector<Vec3>& a, const std::vector<Vec3>& b)
+bool SameBits(const ctk::OverwriteVector<Vec3>& a, const ctk::OverwriteVector<Vec3>& b)
 {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Vec3)) == 0;
 }
