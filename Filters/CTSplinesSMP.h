@@ -261,22 +261,22 @@ inline void SMPCopyFor(ctk::Id n, const std::function<void(ctk::Id, ctk::Id)>& b
 
 /// SetNumberOfTuples for an output array (contiguous storage) that is then written in parallel
 /// loops: its storage is advised for huge pages before the first touch (see LargeArrays.h).
-/// Storage of RetainedArrayBytes or more is a retained block (ctk::MapRetainedBlock): freed with
-/// the output, it serves the next output of its length without fresh pages.
+/// Storage of MappedArrayBytes or more is a block of the module's own (ctk::MapArrayBlock):
+/// retained when VTK frees it, its pages serve the next large arrays without fresh pages.
 inline void AllocateTuples(vtkDataArray* array, vtkIdType tuples)
 {
 #if CTSPLINES_MAP_LARGE_ARRAYS
   // glibc maps blocks beyond its largest mmap threshold, 32 MiB, on their own and unmaps them
   // when they are freed; smaller ones may come from its heap's resident free memory, which a
   // fresh mapping of ours would not (the probe's first call at 1e6 queries: 0.40 -> 0.44 s).
-  constexpr std::size_t RetainedArrayBytes = std::size_t(32) << 20;
+  constexpr std::size_t MappedArrayBytes = std::size_t(32) << 20;
   const vtkIdType values = tuples * array->GetNumberOfComponents();
   const std::size_t bytes = static_cast<std::size_t>(values) * array->GetDataTypeSize();
-  if (tuples > 0 && bytes >= RetainedArrayBytes && array->HasStandardMemoryLayout())
+  if (tuples > 0 && bytes >= MappedArrayBytes && array->HasStandardMemoryLayout())
   {
-    array->SetVoidArray(ctk::MapRetainedBlock(bytes), values, 0,
+    array->SetVoidArray(ctk::MapArrayBlock(bytes), values, 0,
       vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);
-    array->SetArrayFreeFunction(&ctk::FreeRetainedBlock);
+    array->SetArrayFreeFunction(&ctk::FreeArrayBlock);
     return;
   }
 #endif

@@ -436,7 +436,6 @@ public:
       return array;
     }
     auto kept = std::make_shared<ctk::OverwriteVector<Vec>>(std::move(v));
-    ctk::RetainWhenFreed(*kept); // for the next construction's points, when VTK frees them
     double* data = kept->data()->data();
     {
       std::lock_guard<std::mutex> lock(Registry().Mutex);

@@ -100,7 +100,7 @@ bool UsesEdgeGradients(const SplineOptions& options);
 struct CubicSpline
 {
   CubicSplineLayout Layout;
-  // Layout.NumberOfPoints() each; the VTK filter's output adopts them (ctk::RetainWhenFreed).
+  // Layout.NumberOfPoints() each; the VTK filter's output adopts them.
   OverwriteVector<Vec3> ControlPoints;
   OverwriteVector<Vec2> DomainPoints; // parameter-space domain point of every control point
   std::vector<Vec3> SplitTau;        // #T barycentric coordinates of Z

@@ -18,23 +18,29 @@ namespace ctk
 {
 namespace
 {
-// The retained blocks, oldest first: each a whole number of huge pages, aligned to one.
+using Clock = std::chrono::steady_clock;
+
+// A retained block: a whole number of huge pages, aligned to one.
+struct Block
+{
+  char* Begin;
+  std::size_t Length;
+  Clock::time_point Retained;
+};
+
+// The retained blocks, oldest first, and the lengths of the blocks VTK arrays hold.
 struct LargeBlockCache
 {
-  struct Block
-  {
-    void* Begin;
-    std::size_t Length;
-    std::chrono::steady_clock::time_point Retained;
-  };
   std::mutex Mutex;
   std::vector<Block> Blocks;
-  std::vector<Block> Marked; // RetainWhenFreed: blocks in use, retained once freed
+  std::vector<std::pair<void*, std::size_t>> Handed; // MapArrayBlock: freed by pointer alone
   std::size_t Bytes = 0;
   std::size_t Limit = DefaultLimit();
   // As jemalloc's decay of dirty pages: a block unused this long is not part of a series of
   // constructions any more.
   static constexpr std::chrono::seconds RetainFor{ 10 };
+  // A block assembled of more pieces would cost more mappings than its fresh pages' faults save.
+  static constexpr std::size_t MaxPieces = 64;
 
   static std::size_t DefaultLimit()
   {
@@ -59,7 +65,7 @@ struct LargeBlockCache
 
   // Takes out the blocks retained longer than RetainFor; the caller unmaps them outside the
   // lock.
-  std::vector<Block> TakeExpired(std::chrono::steady_clock::time_point now)
+  std::vector<Block> TakeExpired(Clock::time_point now)
   {
     std::size_t n = 0;
     while (n < this->Blocks.size() && now - this->Blocks[n].Retained > RetainFor)
@@ -90,6 +96,57 @@ struct LargeBlockCache
     }
     return out;
   }
+
+  // Takes the first `length` bytes of Blocks[i] (all of it when it is no longer).
+  Block TakePrefix(std::size_t i, std::size_t length)
+  {
+    Block& b = this->Blocks[i];
+    const Block piece{ b.Begin, std::min(length, b.Length), b.Retained };
+    b.Begin += piece.Length;
+    b.Length -= piece.Length;
+    this->Bytes -= piece.Length;
+    if (b.Length == 0)
+    {
+      this->Blocks.erase(this->Blocks.begin() + static_cast<std::ptrdiff_t>(i));
+    }
+    return piece;
+  }
+
+  // Retained pages for a block of `length` bytes, in the order they are to lie in it: the
+  // newest block of that length (a construction that follows another on the same mesh asks
+  // for the same lengths), else the start of the shortest longer one, else the longest ones
+  // while they fall short. Empty when nothing is retained.
+  std::vector<Block> TakeFor(std::size_t length)
+  {
+    std::size_t best = this->Blocks.size();
+    for (std::size_t i = this->Blocks.size(); i-- > 0;)
+    {
+      const std::size_t l = this->Blocks[i].Length;
+      if (l == length)
+      {
+        return { this->TakePrefix(i, length) };
+      }
+      if (l > length && (best == this->Blocks.size() || l < this->Blocks[best].Length))
+      {
+        best = i;
+      }
+    }
+    if (best < this->Blocks.size())
+    {
+      return { this->TakePrefix(best, length) };
+    }
+    std::vector<Block> pieces;
+    std::size_t taken = 0;
+    while (taken < length && !this->Blocks.empty() && pieces.size() < MaxPieces)
+    {
+      const auto longest = std::max_element(this->Blocks.begin(), this->Blocks.end(),
+        [](const Block& a, const Block& b) { return a.Length < b.Length; });
+      pieces.push_back(this->TakePrefix(
+        static_cast<std::size_t>(longest - this->Blocks.begin()), length - taken));
+      taken += pieces.back().Length;
+    }
+    return pieces;
+  }
 };
 
 LargeBlockCache& Cache()
@@ -99,9 +156,9 @@ LargeBlockCache& Cache()
 }
 
 #if CTSPLINES_MAP_LARGE_ARRAYS
-void Unmap(const std::vector<LargeBlockCache::Block>& blocks)
+void Unmap(const std::vector<Block>& blocks)
 {
-  for (const LargeBlockCache::Block& b : blocks)
+  for (const Block& b : blocks)
   {
     (void)munmap(b.Begin, b.Length);
   }
@@ -132,6 +189,61 @@ void* MapFresh(std::size_t length)
   return reinterpret_cast<void*>(begin);
 }
 
+// Moves the pages of [from, from + length) to [to, to + length), a range of this module's
+// mapping, with the page tables (no copy, no zeroing); a huge page that cannot move leaves fresh
+// memory at `to` and is given back. False when not even fresh memory could be mapped there.
+bool MovePages(char* from, char* to, std::size_t length) noexcept
+{
+  if (mremap(from, length, length, MREMAP_MAYMOVE | MREMAP_FIXED, to) != MAP_FAILED)
+  {
+    return true;
+  }
+  if (length > HugePageBytes) // a block assembled earlier spans several mappings
+  {
+    for (std::size_t at = 0; at < length; at += HugePageBytes)
+    {
+      if (!MovePages(from + at, to + at, HugePageBytes))
+      {
+        (void)munmap(from + at + HugePageBytes, length - at - HugePageBytes);
+        return false;
+      }
+    }
+    return true;
+  }
+  (void)munmap(from, length);
+  // mremap may have unmapped the target before it failed.
+  return mmap(to, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1,
+           0) != MAP_FAILED;
+}
+
+// A block of `length` bytes from these retained pieces (in that order) and fresh pages after
+// them.
+void* Assemble(const std::vector<Block>& pieces, std::size_t length)
+{
+  void* block = nullptr;
+  try
+  {
+    block = MapFresh(length);
+  }
+  catch (...)
+  {
+    Unmap(pieces);
+    throw;
+  }
+  char* to = static_cast<char*>(block);
+  for (std::size_t i = 0; i < pieces.size(); ++i)
+  {
+    if (!MovePages(pieces[i].Begin, to, pieces[i].Length))
+    {
+      Unmap(std::vector<Block>(pieces.begin() + static_cast<std::ptrdiff_t>(i) + 1, pieces.end()));
+      (void)munmap(block, length);
+      throw std::bad_alloc();
+    }
+    to += pieces[i].Length;
+  }
+  return block;
+}
+
 // Retains the block [p, p + length), giving back the oldest or expired ones beyond the limit.
 void Retain(void* p, std::size_t length) noexcept
 {
@@ -148,17 +260,17 @@ void Retain(void* p, std::size_t length) noexcept
     (void)madvise(p, length, MADV_FREE);
   }
 #endif
-  std::vector<LargeBlockCache::Block> evicted;
+  std::vector<Block> evicted;
   try
   {
-    const auto now = std::chrono::steady_clock::now();
+    const auto now = Clock::now();
     std::lock_guard<std::mutex> lock(cache.Mutex);
-    cache.Blocks.push_back({ p, length, now });
+    cache.Blocks.push_back({ static_cast<char*>(p), length, now });
     cache.Bytes += length;
     evicted = cache.TakeExpired(now);
     if (cache.Bytes > cache.Limit)
     {
-      std::vector<LargeBlockCache::Block> oldest = cache.TakeOldest(cache.Bytes - cache.Limit);
+      std::vector<Block> oldest = cache.TakeOldest(cache.Bytes - cache.Limit);
       evicted.insert(evicted.end(), oldest.begin(), oldest.end());
     }
   }
@@ -169,6 +281,26 @@ void Retain(void* p, std::size_t length) noexcept
   }
   Unmap(evicted);
 }
+
+// Retains a freed block of `length` bytes, or unmaps it when it exceeds the limit (which would
+// only evict it again, after the madvise).
+void Release(void* p, std::size_t length) noexcept
+{
+  bool keep = false;
+  {
+    LargeBlockCache& cache = Cache();
+    std::lock_guard<std::mutex> lock(cache.Mutex);
+    keep = length <= cache.Limit;
+  }
+  if (keep)
+  {
+    Retain(p, length);
+  }
+  else
+  {
+    (void)munmap(p, length);
+  }
+}
 #endif
 } // namespace
 
@@ -177,57 +309,33 @@ void* MapLargeBlock(std::size_t bytes)
 {
   const std::size_t length = LargeBlockLength(bytes);
   LargeBlockCache& cache = Cache();
-  std::vector<LargeBlockCache::Block> dropped;
+  std::vector<Block> pieces, expired;
   {
     std::lock_guard<std::mutex> lock(cache.Mutex);
-    // The newest retained block of exactly `length`: a construction that follows another on
-    // the same mesh asks for the same lengths. A larger block is not cut down: a smaller array
-    // would take the block that the next construction's larger one needs.
-    for (auto it = cache.Blocks.rbegin(); it != cache.Blocks.rend(); ++it)
-    {
-      if (it->Length == length)
-      {
-        void* p = it->Begin;
-        cache.Blocks.erase(std::next(it).base());
-        cache.Bytes -= length;
-        return p;
-      }
-    }
-    dropped = cache.TakeExpired(std::chrono::steady_clock::now());
+    pieces = cache.TakeFor(length);
+    expired = cache.TakeExpired(Clock::now());
   }
-  Unmap(dropped);
-  return MapFresh(length);
+  Unmap(expired);
+  if (pieces.size() == 1 && pieces[0].Length == length)
+  {
+    return pieces[0].Begin;
+  }
+  return Assemble(pieces, length);
 }
 
 void UnmapLargeBlock(void* p, std::size_t bytes) noexcept
 {
-  const std::size_t length = LargeBlockLength(bytes);
-  LargeBlockCache& cache = Cache();
-  bool keep = false;
-  {
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    const auto marked = std::find_if(cache.Marked.begin(), cache.Marked.end(),
-      [p](const LargeBlockCache::Block& b) { return b.Begin == p; });
-    if (marked != cache.Marked.end())
-    {
-      cache.Marked.erase(marked);
-      keep = length <= cache.Limit;
-    }
-  }
-  if (!keep)
-  {
-    (void)munmap(p, length);
-    return;
-  }
-  Retain(p, length);
+  Release(p, LargeBlockLength(bytes));
 }
 
-void* MapRetainedBlock(std::size_t bytes)
+void* MapArrayBlock(std::size_t bytes)
 {
   void* p = MapLargeBlock(bytes);
   try
   {
-    RetainWhenFreed(p, bytes);
+    LargeBlockCache& cache = Cache();
+    std::lock_guard<std::mutex> lock(cache.Mutex);
+    cache.Handed.emplace_back(p, LargeBlockLength(bytes));
   }
   catch (...)
   {
@@ -237,43 +345,24 @@ void* MapRetainedBlock(std::size_t bytes)
   return p;
 }
 
-void FreeRetainedBlock(void* p)
+void FreeArrayBlock(void* p)
 {
   std::size_t length = 0;
   {
     LargeBlockCache& cache = Cache();
     std::lock_guard<std::mutex> lock(cache.Mutex);
-    const auto marked = std::find_if(cache.Marked.begin(), cache.Marked.end(),
-      [p](const LargeBlockCache::Block& b) { return b.Begin == p; });
-    if (marked == cache.Marked.end())
+    const auto handed = std::find_if(cache.Handed.begin(), cache.Handed.end(),
+      [p](const std::pair<void*, std::size_t>& h) { return h.first == p; });
+    if (handed == cache.Handed.end())
     {
-      return; // not a block of MapRetainedBlock: its length is unknown
+      return; // not a block of MapArrayBlock: its length is unknown
     }
-    length = marked->Length;
+    length = handed->second;
+    cache.Handed.erase(handed);
   }
-  UnmapLargeBlock(p, length);
+  Release(p, length);
 }
 #endif
-
-void RetainWhenFreed(const void* p, std::size_t bytes)
-{
-#if CTSPLINES_MAP_LARGE_ARRAYS
-  if (p && bytes >= LargeBlockBytes)
-  {
-    LargeBlockCache& cache = Cache();
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    const std::size_t length = LargeBlockLength(bytes);
-    if (std::none_of(cache.Marked.begin(), cache.Marked.end(),
-          [p](const LargeBlockCache::Block& b) { return b.Begin == p; }))
-    {
-      cache.Marked.push_back({ const_cast<void*>(p), length, {} });
-    }
-  }
-#else
-  (void)p;
-  (void)bytes;
-#endif
-}
 
 std::size_t LargeBlockCacheLimit()
 {
@@ -285,7 +374,7 @@ std::size_t LargeBlockCacheLimit()
 void SetLargeBlockCacheLimit(std::size_t bytes)
 {
   LargeBlockCache& cache = Cache();
-  std::vector<LargeBlockCache::Block> evicted;
+  std::vector<Block> evicted;
   {
     std::lock_guard<std::mutex> lock(cache.Mutex);
     cache.Limit = bytes;
@@ -309,7 +398,7 @@ std::size_t LargeBlockCacheBytes()
 void ReleaseLargeBlockCache()
 {
   LargeBlockCache& cache = Cache();
-  std::vector<LargeBlockCache::Block> all;
+  std::vector<Block> all;
   {
     std::lock_guard<std::mutex> lock(cache.Mutex);
     all.swap(cache.Blocks);

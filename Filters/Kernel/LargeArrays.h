@@ -80,28 +80,24 @@ inline std::size_t LargeBlockLength(std::size_t bytes)
 /// huge pages. glibc's malloc serves blocks below its mmap threshold (which rises to 32 MiB once
 /// a process frees such a block, as NumPy's users do) from its heap and keeps them resident once
 /// freed: a construction's 4-32 MiB working arrays then add to the resident peak on top of the
-/// output. The block is a retained one of the same length when there is one (RetainWhenFreed),
-/// else a new mapping.
+/// output. The block is made of retained pages (freed blocks, see UnmapLargeBlock) as far as
+/// there are any: a retained block of the same length, else the start of a longer one, else
+/// retained blocks moved together with their page tables (mremap) before fresh pages. A
+/// construction that follows another on the same mesh, which asks for the same lengths, then
+/// writes into resident memory instead of faulting in fresh pages, which the kernel zeroes
+/// first; and as retained pages are used before any fresh one, retaining them does not raise the
+/// process's resident peak beyond the largest size its live blocks reached.
 void* MapLargeBlock(std::size_t bytes);
-/// Gives back a block of MapLargeBlock(bytes): unmapped at once, or retained when it was marked
-/// by RetainWhenFreed.
+/// Gives back a block of MapLargeBlock(bytes): retained for the next MapLargeBlock (within
+/// LargeBlockCacheLimit), else unmapped.
 void UnmapLargeBlock(void* p, std::size_t bytes) noexcept;
-/// MapLargeBlock(bytes) marked by RetainWhenFreed, for the storage of a VTK array (SetVoidArray
-/// with a user-defined free function: FreeRetainedBlock).
-void* MapRetainedBlock(std::size_t bytes);
-/// Frees a block of MapRetainedBlock (its length recorded there); anything else is left alone.
-void FreeRetainedBlock(void* p);
+/// MapLargeBlock(bytes) for the storage of a VTK array, which frees it by its pointer alone
+/// (SetVoidArray with a user-defined free function: FreeArrayBlock).
+void* MapArrayBlock(std::size_t bytes);
+/// UnmapLargeBlock of a block of MapArrayBlock (its length recorded there); anything else is left
+/// alone.
+void FreeArrayBlock(void* p);
 #endif
-
-/// Marks the block that starts at `p` (an OverwriteVector's data() of LargeBlockBytes or more;
-/// anything else is ignored) to be retained when it is freed, for the next MapLargeBlock of the
-/// same length: for outputs that VTK arrays adopt (the spline's points) or that are VTK arrays
-/// (MapRetainedBlock, ctsplines::AllocateTuples). A construction that
-/// follows another on the same mesh then writes into memory that is resident already instead of
-/// faulting in fresh pages, which the kernel zeroes first. Only such outputs are retained: they
-/// are freed after their construction ends, so their blocks do not raise its resident peak
-/// (working arrays freed and retained during a construction would).
-void RetainWhenFreed(const void* p, std::size_t bytes);
 
 /// The retained blocks' bytes in all stay within this limit, the oldest given back first. As with
 /// jemalloc's decay of dirty pages, a block retained for 10 s goes back to the system at the
@@ -189,13 +185,6 @@ bool operator!=(const OverwriteAllocator<T>&, const OverwriteAllocator<U>&)
 /// A vector whose resize(n) leaves trivial elements unwritten (see OverwriteAllocator).
 template <typename T>
 using OverwriteVector = std::vector<T, OverwriteAllocator<T>>;
-
-/// RetainWhenFreed for v's storage (its capacity, as its allocator frees it).
-template <typename T>
-void RetainWhenFreed(const OverwriteVector<T>& v)
-{
-  RetainWhenFreed(v.data(), v.capacity() * sizeof(T));
-}
 
 /// Resizes v to n elements that the caller then overwrites: when v must grow, its old contents
 /// are dropped and the new storage is advised for huge pages before resize() touches it (which

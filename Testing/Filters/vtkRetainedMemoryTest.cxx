@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The retained large blocks (vtkCloughTocherSplineFilter::SetRetainedMemoryLimit,
-// ctk::RetainWhenFreed): the spline's points, freed with its output, are retained, and every
+// ctk::MapLargeBlock): the spline's arrays, freed with its output, are retained, and every
 // construction, and the tessellator and probe after it, give the same bits when those blocks
 // come back filled with 0xff bytes (CTSPLINES_POISON_RETAINED_BLOCKS) as when every array is a
 // fresh mapping of zeros: no code reads a large array before writing it.

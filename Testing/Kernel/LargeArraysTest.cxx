@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // OverwriteAllocator's large blocks: usable, kept across growth, aligned to whole huge pages,
-// given back to the system when freed whatever glibc's mmap threshold, and, when marked
-// (RetainWhenFreed), retained for the next block of their length, within the limit.
+// given back to the system when freed whatever glibc's mmap threshold when nothing is retained,
+// else retained within the limit and made into the next blocks before any fresh page.
 #include "LargeArrays.h"
 
 #include <gtest/gtest.h>
@@ -152,7 +152,7 @@ struct RetainedLimit
 TEST(LargeArrays, FreedBlocksLeaveTheProcess)
 {
 #if CTSPLINES_MAP_LARGE_ARRAYS && defined(__GLIBC__) && defined(M_MMAP_THRESHOLD)
-  const RetainedLimit limit(std::size_t(256) << 20); // unmarked blocks are not retained
+  const RetainedLimit limit(0); // nothing retained
   // As after NumPy frees a 32 MiB array: glibc then serves blocks up to 32 MiB from its heap.
   ASSERT_EQ(mallopt(M_MMAP_THRESHOLD, 32 << 20), 1);
   ASSERT_EQ(mallopt(M_TRIM_THRESHOLD, 64 << 20), 1);
@@ -176,37 +176,83 @@ TEST(LargeArrays, FreedBlocksLeaveTheProcess)
 }
 
 #if CTSPLINES_MAP_LARGE_ARRAYS
-// A marked block freed and asked for again with its length comes back at the same address,
-// without a new mapping; one of another length does not take it.
-TEST(LargeArrays, RetainedBlocksServeTheirLength)
+// A block freed and asked for again with its length comes back at the same address, without a
+// new mapping; a shorter one takes the start of the shortest longer block, whose rest stays.
+TEST(LargeArrays, RetainedBlocksServeTheirLengthOrShorter)
 {
   const RetainedLimit limit(std::size_t(64) << 20);
   const std::size_t n = (std::size_t(8) << 20) / sizeof(double);
   const double* first = nullptr;
+  const double* longer = nullptr;
   {
-    ctk::OverwriteVector<double> v;
+    ctk::OverwriteVector<double> v, w;
     ctk::ResizeForOverwrite(v, n);
+    ctk::ResizeForOverwrite(w, 2 * n);
     v.back() = 1.0;
     first = v.data();
-    ctk::RetainWhenFreed(v);
+    longer = w.data();
   }
-  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20);
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(24) << 20);
   {
-    ctk::OverwriteVector<double> other;
-    ctk::ResizeForOverwrite(other, 2 * n); // another length: a new mapping
-    EXPECT_NE(other.data(), first);
-    EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20);
     ctk::OverwriteVector<double> again;
     ctk::ResizeForOverwrite(again, n - 5); // the same number of huge pages
     EXPECT_EQ(again.data(), first);
-    EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+    EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(16) << 20);
     again.back() = 2.0; // usable to its end
     EXPECT_EQ(again.back(), 2.0);
-    ctk::RetainWhenFreed(again);
+    ctk::OverwriteVector<double> shorter;
+    ctk::ResizeForOverwrite(shorter, n / 2); // 4 MiB: the start of the 16 MiB block
+    EXPECT_EQ(shorter.data(), longer);
+    EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(12) << 20);
+    shorter.back() = 3.0;
+    EXPECT_EQ(shorter.back(), 3.0);
   }
-  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20); // not `other`: not marked
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(24) << 20);
   ctk::ReleaseLargeBlockCache();
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+}
+
+// A block longer than every retained one is made of them, longest first, moved with their page
+// tables, and fresh pages after them: the process's resident size grows by the fresh part only.
+TEST(LargeArrays, LongerBlocksAreMadeOfRetainedOnes)
+{
+  const RetainedLimit limit(std::size_t(64) << 20);
+  ASSERT_EQ(setenv("CTSPLINES_POISON_RETAINED_BLOCKS", "1", 1), 0); // resident, full of 0xff
+  constexpr std::size_t MiB = std::size_t(1) << 20;
+  {
+    ctk::OverwriteVector<char> a, b, c;
+    ctk::ResizeForOverwrite(a, 4 * MiB);
+    ctk::ResizeForOverwrite(b, 8 * MiB);
+    ctk::ResizeForOverwrite(c, 6 * MiB);
+  }
+  unsetenv("CTSPLINES_POISON_RETAINED_BLOCKS");
+  ASSERT_EQ(ctk::LargeBlockCacheBytes(), 18 * MiB);
+  const long long before = ResidentBytes();
+  ASSERT_GT(before, 0);
+  ctk::OverwriteVector<unsigned char> v;
+  ctk::ResizeForOverwrite(v, 22 * MiB);
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(v.data()) % (std::uintptr_t(1) << 21), 0u);
+  const auto ones = std::count(v.begin(), v.begin() + 18 * MiB, (unsigned char)0xff);
+  const auto zeros = std::count(v.begin() + 18 * MiB, v.end(), (unsigned char)0);
+  EXPECT_EQ(ones, static_cast<std::ptrdiff_t>(18 * MiB)); // the retained pages, moved
+  EXPECT_EQ(zeros, static_cast<std::ptrdiff_t>(4 * MiB)); // fresh ones
+  std::fill(v.begin(), v.end(), (unsigned char)7);
+  const long long after = ResidentBytes();
+  EXPECT_LT(after, before + static_cast<long long>(6 * MiB))
+    << "resident " << before << " -> " << after << " bytes for 4 MiB of fresh pages";
+  EXPECT_EQ(std::count(v.begin(), v.end(), (unsigned char)7), static_cast<std::ptrdiff_t>(22 * MiB));
+#if defined(MADV_NOHUGEPAGE)
+  // Other flags on a huge page inside: the block spans three mappings, which move one by one.
+  ASSERT_EQ(madvise(v.data() + 10 * MiB, 2 * MiB, MADV_NOHUGEPAGE), 0);
+#endif
+  ctk::OverwriteVector<unsigned char>().swap(v);
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 22 * MiB); // retained whole
+  ctk::OverwriteVector<char> w;
+  ctk::ResizeForOverwrite(w, 30 * MiB);
+  EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+  std::fill(w.begin(), w.end(), 'x');
+  EXPECT_EQ(std::count(w.begin(), w.end(), 'x'), static_cast<std::ptrdiff_t>(30 * MiB));
 }
 
 // The limit holds: the oldest blocks go first, and a lower limit gives back at once.
@@ -220,7 +266,6 @@ TEST(LargeArrays, RetainedBlocksStayWithinTheLimit)
     for (ctk::OverwriteVector<double>* v : { &a, &b, &c })
     {
       ctk::ResizeForOverwrite(*v, n);
-      ctk::RetainWhenFreed(*v);
     }
     oldest = a.data();
     ctk::OverwriteVector<double>().swap(a);
@@ -234,8 +279,6 @@ TEST(LargeArrays, RetainedBlocksStayWithinTheLimit)
   EXPECT_NE(v1.data(), oldest);
   EXPECT_NE(v2.data(), oldest);
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
-  ctk::RetainWhenFreed(v1);
-  ctk::RetainWhenFreed(v2);
   ctk::OverwriteVector<double>().swap(v1);
   ctk::OverwriteVector<double>().swap(v2);
   ctk::SetLargeBlockCacheLimit(std::size_t(10) << 20);
@@ -245,7 +288,6 @@ TEST(LargeArrays, RetainedBlocksStayWithinTheLimit)
   {
     ctk::OverwriteVector<double> v;
     ctk::ResizeForOverwrite(v, n);
-    ctk::RetainWhenFreed(v);
   }
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
 }
@@ -259,7 +301,6 @@ TEST(LargeArrays, ReleasedBlocksLeaveTheProcess)
     ctk::OverwriteVector<char> v;
     ctk::ResizeForOverwrite(v, bytes);
     std::memset(v.data(), 1, bytes);
-    ctk::RetainWhenFreed(v);
   }
   const long long retained = ResidentBytes();
   ASSERT_GT(retained, 0);
@@ -279,7 +320,6 @@ TEST(LargeArrays, PoisonedBlocksComeBackAsOnes)
     ctk::OverwriteVector<std::int64_t> v;
     ctk::ResizeForOverwrite(v, n);
     std::fill(v.begin(), v.end(), 0);
-    ctk::RetainWhenFreed(v);
   }
   unsetenv("CTSPLINES_POISON_RETAINED_BLOCKS");
   ctk::OverwriteVector<std::int64_t> v;
