@@ -19,7 +19,8 @@
 // bandwidth, and the time of one cubic Bézier jet with normal. "of bound" is the fraction
 // reached: output bytes / time over the first-touch bandwidth (source, spline, tessellate), or
 // queries x jet time over the time (probe). --memory adds each spline row's peak resident memory
-// over its output's size (one extra run).
+// over its output's size (one extra run). With several --sizes, each spline row's growth
+// exponent k (time ~ n^k, from the first size to the last) is printed after the table.
 // The last two are built only when those filters are part of the module. Every figure is the best
 // of --repeat runs (the minimum is the least noisy estimate on a shared machine).
 #include "BenchmarkSupport.h"
@@ -54,9 +55,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <map>
 #include <random>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace
@@ -426,6 +429,8 @@ struct Context
   const Options& Opt;
   bench::MachineBounds Bounds;
   bool AllOk = true;
+  /// (triangles, seconds) of each spline row, by construction, in the order of --sizes.
+  std::map<std::string, std::vector<std::pair<double, double>>> SplineTimes;
   /// Fraction of the first-touch bound of writing `bytes` in `seconds`.
   double WriteBound(double bytes, double seconds) const
   {
@@ -485,10 +490,36 @@ double SplineRows(vtkPolyData* mesh, long long nT, Context& ctx)
       std::snprintf(extra, sizeof(extra), "  peak %.0f MB = %.2f x output %.0f MB", 1e-6 * peak,
         peak / outBytes, 1e-6 * outBytes);
     }
+    ctx.SplineTimes[name].emplace_back(double(nT), t);
     Row(nT, "spline " + name, t, nT, "tri/s", true, tCTo > 0.0 ? t / tCTo : 0.0,
       ctx.WriteBound(outBytes, t), extra);
   }
   return tCTo;
+}
+
+/// With several sizes: each construction's growth exponent, log(t_last / t_first) over
+/// log(n_last / n_first) (issue #12 asks at most 1.05 from 1e5 to 4e6 triangles).
+void PrintGrowth(const Context& ctx)
+{
+  bool header = false;
+  for (const auto& named : ctx.SplineTimes)
+  {
+    const auto& runs = named.second;
+    if (runs.size() < 2 || !(runs.back().first > runs.front().first) ||
+      !(runs.front().second > 0.0))
+    {
+      continue;
+    }
+    if (!header)
+    {
+      std::printf("\ngrowth exponent of the spline rows, first to last size (time ~ n^k):\n");
+      header = true;
+    }
+    const double k = std::log(runs.back().second / runs.front().second) /
+      std::log(runs.back().first / runs.front().first);
+    std::printf("  spline %-8s k = %.3f from %.0f to %.0f triangles\n", named.first.c_str(), k,
+      runs.front().first, runs.back().first);
+  }
 }
 
 /// The time of one IM step: CTi with --im-steps iterations against none.
@@ -632,6 +663,7 @@ int main(int argc, char** argv)
     }
 #endif
   }
+  PrintGrowth(ctx);
 #ifndef CTSPLINES_HAVE_TESSELLATOR
   std::printf("\n(vtkBezierTriangleTessellator is not part of this build: no tessellation figures)\n");
 #endif
