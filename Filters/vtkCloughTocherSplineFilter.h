@@ -246,16 +246,16 @@ public:
   vtkTypeUInt64 GetReusedOutputBytes() const;
 
   ///@{
-  /// Process-wide, for every filter of the module: the large arrays (working arrays of 4 MiB or
-  /// more, the spline's points and any other output array of 32 MiB or more: its connectivity,
+  /// Process-wide, for every filter of the module: the large arrays (working arrays, the
+  /// spline's points and other output arrays of 4 MiB or more: its connectivity and cell data,
   /// a tessellation's arrays) are retained when they are freed, up to RetainedMemoryLimit bytes
   /// in all, and the next large arrays are made of their pages before any fresh one (a block of
   /// the same length, a longer one's start, or several moved together with their page tables).
   /// A new filter on the same mesh (the same level or number of queries) then writes in
   /// resident memory instead of fresh pages that the kernel zeroes first (a sixth of CTi's
   /// process time at 1e6 triangles on the machine measured), and since retained pages are used
-  /// first, an execution's resident peak does not grow. A block unused for 10 s goes back to the
-  /// system at the next large allocation; retained pages are advised MADV_FREE, so the kernel
+  /// first, an execution's resident peak does not grow (ctk::MapLargeBlock). A block unused for
+  /// 10 s goes back to the system at the next large allocation or free; retained pages are advised MADV_FREE, so the kernel
   /// may take them back under memory pressure, but they count in the resident size until then.
   /// The default limit is a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB
   /// (MiB) from the environment; 0 retains nothing. GetRetainedMemory: the bytes retained now;

@@ -6,8 +6,8 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
-#include <iterator>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 #if defined(__linux__)
@@ -28,7 +28,20 @@ struct Block
   Clock::time_point Retained;
 };
 
-// The retained blocks, oldest first, and the lengths of the blocks VTK arrays hold.
+// Gives [p, p + length) back to the system.
+void UnmapRange(void* p, std::size_t length) noexcept
+{
+#if CTSPLINES_MAP_LARGE_ARRAYS
+  (void)munmap(p, length);
+#else
+  (void)p;
+  (void)length;
+#endif
+}
+
+// The retained blocks, oldest first, and the lengths of the blocks VTK arrays hold. Nothing
+// allocates once a block is off the list or on it: every change under the lock either cannot
+// throw or throws before it changes anything.
 struct LargeBlockCache
 {
   std::mutex Mutex;
@@ -63,42 +76,31 @@ struct LargeBlockCache
     return std::size_t(1) << 30;
   }
 
-  // Takes out the blocks retained longer than RetainFor; the caller unmaps them outside the
-  // lock.
-  std::vector<Block> TakeExpired(Clock::time_point now)
+  // Unmaps and removes the n oldest blocks.
+  void DropOldest(std::size_t n) noexcept
   {
-    std::size_t n = 0;
-    while (n < this->Blocks.size() && now - this->Blocks[n].Retained > RetainFor)
+    for (std::size_t i = 0; i < n; ++i)
     {
-      ++n;
+      this->Bytes -= this->Blocks[i].Length;
+      UnmapRange(this->Blocks[i].Begin, this->Blocks[i].Length);
     }
-    return this->TakeFirst(n);
+    this->Blocks.erase(this->Blocks.begin(), this->Blocks.begin() + static_cast<std::ptrdiff_t>(n));
   }
 
-  // Takes out the oldest blocks until at least `bytes` are taken or none is left.
-  std::vector<Block> TakeOldest(std::size_t bytes)
+  // Unmaps the blocks retained longer than RetainFor, then the oldest beyond the limit.
+  void Drop(Clock::time_point now) noexcept
   {
-    std::size_t taken = 0, n = 0;
-    while (n < this->Blocks.size() && taken < bytes)
+    std::size_t n = 0, dropped = 0;
+    while (n < this->Blocks.size() &&
+      (now - this->Blocks[n].Retained > RetainFor || this->Bytes - dropped > this->Limit))
     {
-      taken += this->Blocks[n++].Length;
+      dropped += this->Blocks[n++].Length;
     }
-    return this->TakeFirst(n);
-  }
-
-  std::vector<Block> TakeFirst(std::size_t n)
-  {
-    std::vector<Block> out(this->Blocks.begin(), this->Blocks.begin() + n);
-    this->Blocks.erase(this->Blocks.begin(), this->Blocks.begin() + n);
-    for (const Block& b : out)
-    {
-      this->Bytes -= b.Length;
-    }
-    return out;
+    this->DropOldest(n);
   }
 
   // Takes the first `length` bytes of Blocks[i] (all of it when it is no longer).
-  Block TakePrefix(std::size_t i, std::size_t length)
+  Block TakePrefix(std::size_t i, std::size_t length) noexcept
   {
     Block& b = this->Blocks[i];
     const Block piece{ b.Begin, std::min(length, b.Length), b.Retained };
@@ -112,19 +114,25 @@ struct LargeBlockCache
     return piece;
   }
 
-  // Retained pages for a block of `length` bytes, in the order they are to lie in it: the
-  // newest block of that length (a construction that follows another on the same mesh asks
-  // for the same lengths), else the start of the shortest longer one, else the longest ones
-  // while they fall short. Empty when nothing is retained.
-  std::vector<Block> TakeFor(std::size_t length)
+  // Retained pages for a block of `length` bytes, appended to `pieces` (capacity MaxPieces
+  // reserved) in the order they are to lie in it: the newest block of that length (a
+  // construction that follows another on the same mesh asks for the same lengths), else the
+  // start of the shortest longer one, else the longest ones while they fall short.
+  void TakeFor(std::size_t length, std::vector<Block>& pieces) noexcept
   {
+    const std::size_t maxPieces = std::min(MaxPieces, pieces.capacity()); // push_back: no throw
+    if (maxPieces == pieces.size())
+    {
+      return;
+    }
     std::size_t best = this->Blocks.size();
     for (std::size_t i = this->Blocks.size(); i-- > 0;)
     {
       const std::size_t l = this->Blocks[i].Length;
       if (l == length)
       {
-        return { this->TakePrefix(i, length) };
+        pieces.push_back(this->TakePrefix(i, length));
+        return;
       }
       if (l > length && (best == this->Blocks.size() || l < this->Blocks[best].Length))
       {
@@ -133,11 +141,11 @@ struct LargeBlockCache
     }
     if (best < this->Blocks.size())
     {
-      return { this->TakePrefix(best, length) };
+      pieces.push_back(this->TakePrefix(best, length));
+      return;
     }
-    std::vector<Block> pieces;
     std::size_t taken = 0;
-    while (taken < length && !this->Blocks.empty() && pieces.size() < MaxPieces)
+    while (taken < length && !this->Blocks.empty() && pieces.size() < maxPieces)
     {
       const auto longest = std::max_element(this->Blocks.begin(), this->Blocks.end(),
         [](const Block& a, const Block& b) { return a.Length < b.Length; });
@@ -145,7 +153,34 @@ struct LargeBlockCache
         static_cast<std::size_t>(longest - this->Blocks.begin()), length - taken));
       taken += pieces.back().Length;
     }
-    return pieces;
+  }
+
+  // Adds [p, p + length) as the newest block, joined with the retained blocks right before and
+  // after it (the rest of a block whose start it was, say). False when the list cannot grow.
+  bool Add(char* p, std::size_t length, Clock::time_point now) noexcept
+  {
+    Block joined{ p, length, now };
+    for (std::size_t i = this->Blocks.size(); i-- > 0;)
+    {
+      const Block& b = this->Blocks[i];
+      if (b.Begin == joined.Begin + joined.Length || b.Begin + b.Length == joined.Begin)
+      {
+        joined.Begin = std::min(joined.Begin, b.Begin);
+        joined.Length += b.Length;
+        this->Bytes -= b.Length;
+        this->Blocks.erase(this->Blocks.begin() + static_cast<std::ptrdiff_t>(i));
+      }
+    }
+    try
+    {
+      this->Blocks.push_back(joined); // never allocates after an erase
+    }
+    catch (...)
+    {
+      return false;
+    }
+    this->Bytes += joined.Length;
+    return true;
   }
 };
 
@@ -156,14 +191,6 @@ LargeBlockCache& Cache()
 }
 
 #if CTSPLINES_MAP_LARGE_ARRAYS
-void Unmap(const std::vector<Block>& blocks)
-{
-  for (const Block& b : blocks)
-  {
-    (void)munmap(b.Begin, b.Length);
-  }
-}
-
 // A fresh mapping of `length` bytes (a multiple of HugePageBytes) aligned to a huge page.
 void* MapFresh(std::size_t length)
 {
@@ -189,57 +216,56 @@ void* MapFresh(std::size_t length)
   return reinterpret_cast<void*>(begin);
 }
 
-// Moves the pages of [from, from + length) to [to, to + length), a range of this module's
-// mapping, with the page tables (no copy, no zeroing); a huge page that cannot move leaves fresh
-// memory at `to` and is given back. False when not even fresh memory could be mapped there.
-bool MovePages(char* from, char* to, std::size_t length) noexcept
+// Moves the pages of [from, from + length) over [to, to + length), a range of a mapping of
+// ours, with their page tables (no copy, no zeroing), one huge page at a time: a retained block
+// may span several mappings, which one mremap call cannot move before Linux 6.17, and a failed
+// MREMAP_FIXED may unmap its target first. Returns the bytes moved; on a failure the huge page
+// at `to` + the result is not ours any more and the source's rest is still mapped.
+std::size_t MovePages(char* from, char* to, std::size_t length) noexcept
 {
-  if (mremap(from, length, length, MREMAP_MAYMOVE | MREMAP_FIXED, to) != MAP_FAILED)
+  std::size_t at = 0;
+  while (at < length && mremap(from + at, HugePageBytes, HugePageBytes,
+                          MREMAP_MAYMOVE | MREMAP_FIXED, to + at) != MAP_FAILED)
   {
-    return true;
+    at += HugePageBytes;
   }
-  if (length > HugePageBytes) // a block assembled earlier spans several mappings
-  {
-    for (std::size_t at = 0; at < length; at += HugePageBytes)
-    {
-      if (!MovePages(from + at, to + at, HugePageBytes))
-      {
-        (void)munmap(from + at + HugePageBytes, length - at - HugePageBytes);
-        return false;
-      }
-    }
-    return true;
-  }
-  (void)munmap(from, length);
-  // mremap may have unmapped the target before it failed.
-  return mmap(to, length, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1,
-           0) != MAP_FAILED;
+  return at;
 }
 
 // A block of `length` bytes from these retained pieces (in that order) and fresh pages after
-// them.
+// them; a fresh block when a piece could not move (every range of ours given back).
 void* Assemble(const std::vector<Block>& pieces, std::size_t length)
 {
-  void* block = nullptr;
+  char* block = nullptr;
   try
   {
-    block = MapFresh(length);
+    block = static_cast<char*>(MapFresh(length));
   }
   catch (...)
   {
-    Unmap(pieces);
+    for (const Block& piece : pieces)
+    {
+      UnmapRange(piece.Begin, piece.Length);
+    }
     throw;
   }
-  char* to = static_cast<char*>(block);
+  char* to = block;
   for (std::size_t i = 0; i < pieces.size(); ++i)
   {
-    if (!MovePages(pieces[i].Begin, to, pieces[i].Length))
+    const std::size_t moved = MovePages(pieces[i].Begin, to, pieces[i].Length);
+    if (moved < pieces[i].Length)
     {
-      Unmap(std::vector<Block>(pieces.begin() + static_cast<std::ptrdiff_t>(i) + 1, pieces.end()));
-      (void)munmap(block, length);
-      throw std::bad_alloc();
+      UnmapRange(block, static_cast<std::size_t>(to - block) + moved);
+      UnmapRange(to + moved + HugePageBytes, length - static_cast<std::size_t>(to - block) -
+          moved - HugePageBytes);
+      UnmapRange(pieces[i].Begin + moved, pieces[i].Length - moved);
+      for (std::size_t j = i + 1; j < pieces.size(); ++j)
+      {
+        UnmapRange(pieces[j].Begin, pieces[j].Length);
+      }
+      return MapFresh(length);
     }
-    to += pieces[i].Length;
+    to += moved;
   }
   return block;
 }
@@ -260,46 +286,13 @@ void Retain(void* p, std::size_t length) noexcept
     (void)madvise(p, length, MADV_FREE);
   }
 #endif
-  std::vector<Block> evicted;
-  try
+  const auto now = Clock::now();
+  std::lock_guard<std::mutex> lock(cache.Mutex);
+  if (length > cache.Limit || !cache.Add(static_cast<char*>(p), length, now))
   {
-    const auto now = Clock::now();
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    cache.Blocks.push_back({ static_cast<char*>(p), length, now });
-    cache.Bytes += length;
-    evicted = cache.TakeExpired(now);
-    if (cache.Bytes > cache.Limit)
-    {
-      std::vector<Block> oldest = cache.TakeOldest(cache.Bytes - cache.Limit);
-      evicted.insert(evicted.end(), oldest.begin(), oldest.end());
-    }
+    (void)munmap(p, length); // beyond the limit alone, or no memory for the list
   }
-  catch (...) // no memory for the list: the block goes back to the system
-  {
-    (void)munmap(p, length);
-    return;
-  }
-  Unmap(evicted);
-}
-
-// Retains a freed block of `length` bytes, or unmaps it when it exceeds the limit (which would
-// only evict it again, after the madvise).
-void Release(void* p, std::size_t length) noexcept
-{
-  bool keep = false;
-  {
-    LargeBlockCache& cache = Cache();
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    keep = length <= cache.Limit;
-  }
-  if (keep)
-  {
-    Retain(p, length);
-  }
-  else
-  {
-    (void)munmap(p, length);
-  }
+  cache.Drop(now);
 }
 #endif
 } // namespace
@@ -309,13 +302,13 @@ void* MapLargeBlock(std::size_t bytes)
 {
   const std::size_t length = LargeBlockLength(bytes);
   LargeBlockCache& cache = Cache();
-  std::vector<Block> pieces, expired;
+  std::vector<Block> pieces;
+  pieces.reserve(LargeBlockCache::MaxPieces); // before the cache changes: the only allocation
   {
     std::lock_guard<std::mutex> lock(cache.Mutex);
-    pieces = cache.TakeFor(length);
-    expired = cache.TakeExpired(Clock::now());
+    cache.TakeFor(length, pieces);
+    cache.Drop(Clock::now());
   }
-  Unmap(expired);
   if (pieces.size() == 1 && pieces[0].Length == length)
   {
     return pieces[0].Begin;
@@ -325,7 +318,7 @@ void* MapLargeBlock(std::size_t bytes)
 
 void UnmapLargeBlock(void* p, std::size_t bytes) noexcept
 {
-  Release(p, LargeBlockLength(bytes));
+  Retain(p, LargeBlockLength(bytes));
 }
 
 void* MapArrayBlock(std::size_t bytes)
@@ -360,7 +353,7 @@ void FreeArrayBlock(void* p)
     length = handed->second;
     cache.Handed.erase(handed);
   }
-  Release(p, length);
+  Retain(p, length);
 }
 #endif
 
@@ -374,18 +367,9 @@ std::size_t LargeBlockCacheLimit()
 void SetLargeBlockCacheLimit(std::size_t bytes)
 {
   LargeBlockCache& cache = Cache();
-  std::vector<Block> evicted;
-  {
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    cache.Limit = bytes;
-    if (cache.Bytes > cache.Limit)
-    {
-      evicted = cache.TakeOldest(cache.Bytes - cache.Limit);
-    }
-  }
-#if CTSPLINES_MAP_LARGE_ARRAYS
-  Unmap(evicted);
-#endif
+  std::lock_guard<std::mutex> lock(cache.Mutex);
+  cache.Limit = bytes;
+  cache.Drop(Clock::now());
 }
 
 std::size_t LargeBlockCacheBytes()
@@ -398,15 +382,8 @@ std::size_t LargeBlockCacheBytes()
 void ReleaseLargeBlockCache()
 {
   LargeBlockCache& cache = Cache();
-  std::vector<Block> all;
-  {
-    std::lock_guard<std::mutex> lock(cache.Mutex);
-    all.swap(cache.Blocks);
-    cache.Bytes = 0;
-  }
-#if CTSPLINES_MAP_LARGE_ARRAYS
-  Unmap(all);
-#endif
+  std::lock_guard<std::mutex> lock(cache.Mutex);
+  cache.DropOldest(cache.Blocks.size());
 }
 
 } // namespace ctk

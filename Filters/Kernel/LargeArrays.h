@@ -81,12 +81,14 @@ inline std::size_t LargeBlockLength(std::size_t bytes)
 /// a process frees such a block, as NumPy's users do) from its heap and keeps them resident once
 /// freed: a construction's 4-32 MiB working arrays then add to the resident peak on top of the
 /// output. The block is made of retained pages (freed blocks, see UnmapLargeBlock) as far as
-/// there are any: a retained block of the same length, else the start of a longer one, else
-/// retained blocks moved together with their page tables (mremap) before fresh pages. A
-/// construction that follows another on the same mesh, which asks for the same lengths, then
-/// writes into resident memory instead of faulting in fresh pages, which the kernel zeroes
-/// first; and as retained pages are used before any fresh one, retaining them does not raise the
-/// process's resident peak beyond the largest size its live blocks reached.
+/// there are any: a retained block of the same length, else the start of a longer one, else up
+/// to 64 retained blocks moved together with their page tables (mremap) before fresh pages (a
+/// fresh block if a page cannot move). A construction that follows another on the same mesh,
+/// which asks for the same lengths, then writes into resident memory instead of faulting in
+/// fresh pages, which the kernel zeroes first; and as retained pages are used before any fresh
+/// one, retaining them does not raise the process's resident peak beyond the largest size its
+/// live blocks reached (unless more than 64 retained blocks wait, or arrays from glibc take
+/// fresh pages meanwhile).
 void* MapLargeBlock(std::size_t bytes);
 /// Gives back a block of MapLargeBlock(bytes): retained for the next MapLargeBlock (within
 /// LargeBlockCacheLimit), else unmapped.
@@ -100,8 +102,10 @@ void FreeArrayBlock(void* p);
 #endif
 
 /// The retained blocks' bytes in all stay within this limit, the oldest given back first. As with
-/// jemalloc's decay of dirty pages, a block retained for 10 s goes back to the system at the
-/// next call, and a retained block is advised MADV_FREE, so the kernel may take its pages back
+/// jemalloc's decay of dirty pages, a block retained for more than 10 s goes back to the system
+/// at the next MapLargeBlock or retained block (unless that call takes it), and a retained block
+/// is joined with retained neighbours (the rest of a block whose start it was) and advised
+/// MADV_FREE, so the kernel may take its pages back
 /// under memory pressure; until then they count in the process's resident size. The default is
 /// a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB from the environment when
 /// set; 0 retains nothing. Without mapped blocks (ASan builds) nothing is retained. For tests,

@@ -14,6 +14,7 @@
 #include <numeric>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -176,6 +177,15 @@ TEST(LargeArrays, FreedBlocksLeaveTheProcess)
 }
 
 #if CTSPLINES_MAP_LARGE_ARRAYS
+// A live block to map between blocks mapped one after the other: once freed, they are then not
+// neighbours, which the cache would join into one.
+ctk::OverwriteVector<char> Spacer()
+{
+  ctk::OverwriteVector<char> s;
+  ctk::ResizeForOverwrite(s, ctk::LargeBlockBytes);
+  return s;
+}
+
 // A block freed and asked for again with its length comes back at the same address, without a
 // new mapping; a shorter one takes the start of the shortest longer block, whose rest stays.
 TEST(LargeArrays, RetainedBlocksServeTheirLengthOrShorter)
@@ -184,9 +194,11 @@ TEST(LargeArrays, RetainedBlocksServeTheirLengthOrShorter)
   const std::size_t n = (std::size_t(8) << 20) / sizeof(double);
   const double* first = nullptr;
   const double* longer = nullptr;
+  ctk::OverwriteVector<char> spacer;
   {
     ctk::OverwriteVector<double> v, w;
     ctk::ResizeForOverwrite(v, n);
+    spacer = Spacer();
     ctk::ResizeForOverwrite(w, 2 * n);
     v.back() = 1.0;
     first = v.data();
@@ -208,6 +220,13 @@ TEST(LargeArrays, RetainedBlocksServeTheirLengthOrShorter)
     EXPECT_EQ(shorter.back(), 3.0);
   }
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(24) << 20);
+  {
+    // The start taken from the 16 MiB block was joined again with its rest.
+    ctk::OverwriteVector<double> whole;
+    ctk::ResizeForOverwrite(whole, 2 * n);
+    EXPECT_EQ(whole.data(), longer);
+    EXPECT_EQ(ctk::LargeBlockCacheBytes(), std::size_t(8) << 20);
+  }
   ctk::ReleaseLargeBlockCache();
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
 }
@@ -243,14 +262,17 @@ TEST(LargeArrays, LongerBlocksAreMadeOfRetainedOnes)
     << "resident " << before << " -> " << after << " bytes for 4 MiB of fresh pages";
   EXPECT_EQ(std::count(v.begin(), v.end(), (unsigned char)7), static_cast<std::ptrdiff_t>(22 * MiB));
 #if defined(MADV_NOHUGEPAGE)
-  // Other flags on a huge page inside: the block spans three mappings, which move one by one.
+  // Other flags on a huge page inside: two more mappings (the moved pieces are not joined).
   ASSERT_EQ(madvise(v.data() + 10 * MiB, 2 * MiB, MADV_NOHUGEPAGE), 0);
 #endif
   ctk::OverwriteVector<unsigned char>().swap(v);
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), 22 * MiB); // retained whole
-  ctk::OverwriteVector<char> w;
+  ctk::OverwriteVector<char> w; // the block of several mappings moves again, its values with it
   ctk::ResizeForOverwrite(w, 30 * MiB);
   EXPECT_EQ(ctk::LargeBlockCacheBytes(), 0u);
+  EXPECT_EQ(std::count(w.begin(), w.begin() + 22 * MiB, char(7)),
+    static_cast<std::ptrdiff_t>(22 * MiB));
+  EXPECT_EQ(std::count(w.begin() + 22 * MiB, w.end(), char(0)), static_cast<std::ptrdiff_t>(8 * MiB));
   std::fill(w.begin(), w.end(), 'x');
   EXPECT_EQ(std::count(w.begin(), w.end(), 'x'), static_cast<std::ptrdiff_t>(30 * MiB));
 }
@@ -261,11 +283,13 @@ TEST(LargeArrays, RetainedBlocksStayWithinTheLimit)
   const RetainedLimit limit(std::size_t(20) << 20);
   const std::size_t n = (std::size_t(8) << 20) / sizeof(double);
   const double* oldest = nullptr;
+  std::vector<ctk::OverwriteVector<char>> spacers;
   {
     ctk::OverwriteVector<double> a, b, c;
     for (ctk::OverwriteVector<double>* v : { &a, &b, &c })
     {
       ctk::ResizeForOverwrite(*v, n);
+      spacers.push_back(Spacer());
     }
     oldest = a.data();
     ctk::OverwriteVector<double>().swap(a);
