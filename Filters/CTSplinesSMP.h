@@ -261,18 +261,17 @@ inline void SMPCopyFor(ctk::Id n, const std::function<void(ctk::Id, ctk::Id)>& b
 
 /// SetNumberOfTuples for an output array (contiguous storage) that is then written in parallel
 /// loops: its storage is advised for huge pages before the first touch (see LargeArrays.h).
-/// Storage of MappedArrayBytes or more is a block of the module's own (ctk::MapArrayBlock):
+/// Storage of ctk::LargeBlockBytes or more is a block of the module's own (ctk::MapArrayBlock):
 /// retained when VTK frees it, its pages serve the next large arrays without fresh pages.
 inline void AllocateTuples(vtkDataArray* array, vtkIdType tuples)
 {
 #if CTSPLINES_MAP_LARGE_ARRAYS
-  // From the kernel's threshold, as its working arrays: glibc's heap pages that an output array
+  // The kernel's threshold, as for its working arrays: glibc's heap pages that an output array
   // took fresh while the module's retained pages waited raised a construction's peak (1.05x
-  // the output at 1e6 triangles with 32 MiB, 1.03x with 4 MiB).
-  constexpr std::size_t MappedArrayBytes = ctk::LargeBlockBytes;
+  // the output at 1e6 triangles from 32 MiB, 1.03x from 4 MiB).
   const vtkIdType values = tuples * array->GetNumberOfComponents();
   const std::size_t bytes = static_cast<std::size_t>(values) * array->GetDataTypeSize();
-  if (tuples > 0 && bytes >= MappedArrayBytes && array->HasStandardMemoryLayout())
+  if (tuples > 0 && bytes >= ctk::LargeBlockBytes && array->HasStandardMemoryLayout())
   {
     array->SetVoidArray(ctk::MapArrayBlock(bytes), values, 0,
       vtkAbstractArray::VTK_DATA_ARRAY_USER_DEFINED);

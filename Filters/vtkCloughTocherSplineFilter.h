@@ -255,8 +255,9 @@ public:
   /// resident memory instead of fresh pages that the kernel zeroes first (a sixth of CTi's
   /// process time at 1e6 triangles on the machine measured), and since retained pages are used
   /// first, an execution's resident peak does not grow (ctk::MapLargeBlock). A block unused for
-  /// 10 s goes back to the system at the next large allocation or free; retained pages are advised MADV_FREE, so the kernel
-  /// may take them back under memory pressure, but they count in the resident size until then.
+  /// 10 s goes back to the system at the next large allocation or free; retained pages are
+  /// advised MADV_FREE, so the kernel may take them back under memory pressure, but they count
+  /// in the resident size until then.
   /// The default limit is a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB
   /// (MiB) from the environment; 0 retains nothing. GetRetainedMemory: the bytes retained now;
   /// ReleaseRetainedMemory gives them all back (before measuring a process's memory, say).

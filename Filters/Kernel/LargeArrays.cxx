@@ -232,6 +232,15 @@ std::size_t MovePages(char* from, char* to, std::size_t length) noexcept
   return at;
 }
 
+// Unmaps pieces[first..].
+void UnmapPieces(const std::vector<Block>& pieces, std::size_t first) noexcept
+{
+  for (std::size_t i = first; i < pieces.size(); ++i)
+  {
+    UnmapRange(pieces[i].Begin, pieces[i].Length);
+  }
+}
+
 // A block of `length` bytes from these retained pieces (in that order) and fresh pages after
 // them; a fresh block when a piece could not move (every range of ours given back).
 void* Assemble(const std::vector<Block>& pieces, std::size_t length)
@@ -243,10 +252,7 @@ void* Assemble(const std::vector<Block>& pieces, std::size_t length)
   }
   catch (...)
   {
-    for (const Block& piece : pieces)
-    {
-      UnmapRange(piece.Begin, piece.Length);
-    }
+    UnmapPieces(pieces, 0);
     throw;
   }
   char* to = block;
@@ -259,10 +265,7 @@ void* Assemble(const std::vector<Block>& pieces, std::size_t length)
       UnmapRange(to + moved + HugePageBytes, length - static_cast<std::size_t>(to - block) -
           moved - HugePageBytes);
       UnmapRange(pieces[i].Begin + moved, pieces[i].Length - moved);
-      for (std::size_t j = i + 1; j < pieces.size(); ++j)
-      {
-        UnmapRange(pieces[j].Begin, pieces[j].Length);
-      }
+      UnmapPieces(pieces, i + 1);
       return MapFresh(length);
     }
     to += moved;

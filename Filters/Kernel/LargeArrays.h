@@ -105,13 +105,13 @@ void FreeArrayBlock(void* p);
 /// jemalloc's decay of dirty pages, a block retained for more than 10 s goes back to the system
 /// at the next MapLargeBlock or retained block (unless that call takes it), and a retained block
 /// is joined with retained neighbours (the rest of a block whose start it was) and advised
-/// MADV_FREE, so the kernel may take its pages back
-/// under memory pressure; until then they count in the process's resident size. The default is
-/// a quarter of the physical memory, or CTSPLINES_LARGE_BLOCK_CACHE_MB from the environment when
-/// set; 0 retains nothing. Without mapped blocks (ASan builds) nothing is retained. For tests,
-/// CTSPLINES_POISON_RETAINED_BLOCKS=1 in the environment fills blocks with 0xff bytes (NaN as
-/// doubles, -1 as integers) as they are retained, and keeps them resident: code that reads a
-/// large array before writing it then reads garbage, not a fresh mapping's zeros.
+/// MADV_FREE, so the kernel may take its pages back under memory pressure; until then they count
+/// in the process's resident size. The default is a quarter of the physical memory, or
+/// CTSPLINES_LARGE_BLOCK_CACHE_MB from the environment when set; 0 retains nothing. Without
+/// mapped blocks (ASan builds) nothing is retained. For tests, CTSPLINES_POISON_RETAINED_BLOCKS=1
+/// in the environment fills blocks with 0xff bytes (NaN as doubles, -1 as integers) as they are
+/// retained, and keeps them resident: code that reads a large array before writing it then
+/// reads garbage, not a fresh mapping's zeros.
 std::size_t LargeBlockCacheLimit();
 /// Sets LargeBlockCacheLimit; retained blocks beyond the new limit are unmapped at once.
 void SetLargeBlockCacheLimit(std::size_t bytes);
