@@ -2,7 +2,7 @@
 #include "CTSplinesArrayRanges.h"
 
 #include "CTSplinesSMP.h" // for ParallelFor
-#include "LocalityOrder.h" // for PrefetchAhead
+#include "PointRanges.h"
 
 #include "vtkCellData.h"
 #include "vtkCompositeDataIterator.h"
@@ -28,10 +28,6 @@
 #include <limits>
 #include <mutex>
 #include <type_traits>
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace
 {
@@ -144,108 +140,17 @@ void ScanTuples(const T* v, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges
   r.NaN = r.NaN || nan;
 }
 
-#if defined(__SSE2__)
-// The extremes of a pair of tuples (lane l of register k holds value 2 k + l of the pair:
-// components (x, y) (z, x) (y, z) for three, (x, y) twice for two) and of their squared norms,
-// which add the same squares in the same order as ScanTuples. A NaN shows in its tuple's squared
-// norm (squares are never -inf, so inf + -inf cannot make one).
-template <int NC>
-struct PairRanges
+// A kernel scan's ranges (2 or 3 components) as the ranges of a part.
+Ranges FromPointRanges(const ctk::PointRanges& p)
 {
-  __m128d Lo[3], Hi[3], NormLo, NormHi, NaN;
-
-  PairRanges()
-  {
-    const __m128d inf = _mm_set1_pd(std::numeric_limits<double>::infinity());
-    const __m128d minusInf = _mm_set1_pd(-std::numeric_limits<double>::infinity());
-    for (int k = 0; k < 3; ++k)
-    {
-      this->Lo[k] = inf;
-      this->Hi[k] = minusInf;
-    }
-    this->NormLo = inf;
-    this->NormHi = minusInf;
-    this->NaN = _mm_setzero_pd();
-  }
-  void Add(const double* p)
-  {
-    __m128d a[3];
-    for (int k = 0; k < NC; ++k)
-    {
-      a[k] = _mm_loadu_pd(p + 2 * k);
-      this->Lo[k] = _mm_min_pd(this->Lo[k], a[k]);
-      this->Hi[k] = _mm_max_pd(this->Hi[k], a[k]);
-    }
-    __m128d s;
-    if (NC == 3)
-    {
-      const __m128d q0 = _mm_mul_pd(a[0], a[0]), q1 = _mm_mul_pd(a[1], a[1]),
-                    q2 = _mm_mul_pd(a[2], a[2]);
-      s = _mm_add_pd(_mm_add_pd(_mm_shuffle_pd(q0, q1, 2), _mm_shuffle_pd(q0, q2, 1)),
-        _mm_shuffle_pd(q1, q2, 2));
-    }
-    else
-    {
-      const __m128d q0 = _mm_mul_pd(a[0], a[0]), q1 = _mm_mul_pd(a[1], a[1]);
-      s = _mm_add_pd(_mm_unpacklo_pd(q0, q1), _mm_unpackhi_pd(q0, q1));
-    }
-    this->NormLo = _mm_min_pd(this->NormLo, s);
-    this->NormHi = _mm_max_pd(this->NormHi, s);
-    this->NaN = _mm_or_pd(this->NaN, _mm_cmpunord_pd(s, s)); // a NaN component, and only then
-  }
-  void MergeInto(Ranges& r) const
-  {
-    double l[6], h[6], n[4];
-    for (int k = 0; k < NC; ++k)
-    {
-      _mm_storeu_pd(l + 2 * k, this->Lo[k]);
-      _mm_storeu_pd(h + 2 * k, this->Hi[k]);
-    }
-    _mm_storeu_pd(n, this->NormLo);
-    _mm_storeu_pd(n + 2, this->NormHi);
-    for (int j = 0; j < 2 * NC; ++j)
-    {
-      r.Lo[j % NC] = std::min(r.Lo[j % NC], l[j]);
-      r.Hi[j % NC] = std::max(r.Hi[j % NC], h[j]);
-    }
-    r.SquaredNormLo = std::min({ r.SquaredNormLo, n[0], n[1] });
-    r.SquaredNormHi = std::max({ r.SquaredNormHi, n[2], n[3] });
-    r.NaN = r.NaN || _mm_movemask_pd(this->NaN) != 0;
-  }
-};
-
-// ScanTuples for doubles: two pairs of tuples at a time, into two sets of extremes, the data
-// asked for StreamPrefetchBytes ahead. Speeds on one thread, data from memory:
-// - the scalar loop: 7.5 GB/s;
-// - one set of pairs, no prefetch: 7.7 GB/s (a sixth of the spline filter at 1e6 triangles,
-//   whose 570 MB of points and (u, v) it reads);
-// - this loop: 12.7 GB/s;
-// - the same in ForStreamChunks' chunks: 9-10.6 GB/s (its merges and bursts of prefetches).
-template <int NC>
-void ScanDoublePairs(const double* v, vtkIdType b, vtkIdType e, Ranges& r)
-{
-  static_assert(NC == 2 || NC == 3, "two or three components");
-  PairRanges<NC> even, odd;
-  vtkIdType i = b;
-  for (; i + 4 <= e; i += 4)
-  {
-    const double* p = v + NC * i;
-    // One prefetch per 4 tuples (96 bytes of three components, 64 of two): the lines it skips
-    // come with their neighbours (the adjacent-line prefetcher).
-    ctk::PrefetchAhead(p, ctk::StreamPrefetchBytes);
-    even.Add(p);
-    odd.Add(p + 2 * NC);
-  }
-  if (i + 2 <= e)
-  {
-    even.Add(v + NC * i);
-    i += 2;
-  }
-  even.MergeInto(r);
-  odd.MergeInto(r);
-  ScanTuples<NC>(v, NC, i, e, true, r); // an odd last tuple
+  Ranges r;
+  std::copy_n(p.Lo, p.Components, r.Lo);
+  std::copy_n(p.Hi, p.Components, r.Hi);
+  r.SquaredNormLo = p.SquaredNormLo;
+  r.SquaredNormHi = p.SquaredNormHi;
+  r.NaN = p.NaN;
+  return r;
 }
-#endif
 
 // Values [b, e) of a one-component array, compared in their own type (converting every value to
 // double cost 4 ns a value).
@@ -273,16 +178,14 @@ void ScanValues(const T* v, vtkIdType b, vtkIdType e, Ranges& r)
 template <typename T>
 void ScanPart(const T* values, int nc, vtkIdType b, vtkIdType e, bool norms, Ranges& part)
 {
-#if defined(__SSE2__)
   if constexpr (std::is_same<T, double>::value)
   {
-    if (norms && (nc == 2 || nc == 3))
+    if (norms && (nc == 2 || nc == 3)) // points and (u, v): the kernel's scan (AVX2)
     {
-      nc == 2 ? ScanDoublePairs<2>(values, b, e, part) : ScanDoublePairs<3>(values, b, e, part);
+      part.Merge(FromPointRanges(ctk::ScanPointRanges(values + nc * b, nc, e - b)), nc);
       return;
     }
   }
-#endif
   switch (nc)
   {
     case 1:
@@ -370,7 +273,7 @@ bool RangesCached(vtkDataArray* array, bool norms)
 // The finite L2 range is not stored: vtkDataArray::CopyInformation keeps that key (and drops the
 // others), so arrays that VTK's filters derive from this one (thresholds, extractions) would
 // report it for their own, fewer values. VTK computes it when asked.
-void StoreRanges(vtkDataArray* array, const Ranges& r, bool norms)
+void StoreRangeKeys(vtkDataArray* array, const Ranges& r, bool norms)
 {
   const int nc = array->GetNumberOfComponents();
   vtkInformation* info = array->GetInformation();
@@ -390,6 +293,24 @@ void StoreRanges(vtkDataArray* array, const Ranges& r, bool norms)
   {
     const double range[2] = { std::sqrt(r.SquaredNormLo), std::sqrt(r.SquaredNormHi) };
     info->Set(vtkDataArray::L2_NORM_RANGE(), range, 2);
+  }
+}
+
+// Stores the ranges of a whole array that passed ComponentsLikeVTK, and its stamp.
+void StoreScanned(vtkDataArray* array, Ranges r, bool norms)
+{
+  // Which zero min and max keep depends on the order they see them in, so on the chunks.
+  for (int c = 0; c < array->GetNumberOfComponents(); ++c)
+  {
+    r.Lo[c] = r.Lo[c] == 0.0 ? 0.0 : r.Lo[c];
+    r.Hi[c] = r.Hi[c] == 0.0 ? 0.0 : r.Hi[c];
+  }
+  StoreRangeKeys(array, r, norms && NormsLikeVTK(r));
+  vtkNew<vtkDoubleArray> stamp;
+  stamp->SetNumberOfValues(3);
+  if (CurrentStamp(array, stamp->GetPointer(0)))
+  {
+    array->GetInformation()->Set(FiniteStamp(), stamp);
   }
 }
 
@@ -434,19 +355,23 @@ bool CacheRanges(vtkDataArray* array)
   {
     return false;
   }
-  // Which zero min and max keep depends on the order they see them in, so on the chunks.
-  for (int c = 0; c < nc; ++c)
+  StoreScanned(array, r, norms);
+  return true;
+}
+
+bool StoreRanges(vtkDataArray* array, const ctk::PointRanges& ranges)
+{
+  if (!array || array->GetDataType() != VTK_DOUBLE || array->GetNumberOfTuples() <= 0 ||
+    array->GetNumberOfComponents() != ranges.Components || !array->HasStandardMemoryLayout())
   {
-    r.Lo[c] = r.Lo[c] == 0.0 ? 0.0 : r.Lo[c];
-    r.Hi[c] = r.Hi[c] == 0.0 ? 0.0 : r.Hi[c];
+    return false;
   }
-  StoreRanges(array, r, norms && NormsLikeVTK(r));
-  vtkNew<vtkDoubleArray> stamp;
-  stamp->SetNumberOfValues(3);
-  if (CurrentStamp(array, stamp->GetPointer(0)))
+  const Ranges r = FromPointRanges(ranges);
+  if (!ComponentsLikeVTK<double>(r, ranges.Components))
   {
-    array->GetInformation()->Set(FiniteStamp(), stamp);
+    return false;
   }
+  StoreScanned(array, r, true);
   return true;
 }
 

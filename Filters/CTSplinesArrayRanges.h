@@ -11,6 +11,10 @@
 #ifndef CTSplinesArrayRanges_h
 #define CTSplinesArrayRanges_h
 
+namespace ctk
+{
+struct PointRanges;
+}
 class vtkCompositeDataSet;
 class vtkDataArray;
 class vtkDataSet;
@@ -30,6 +34,12 @@ namespace ctsplines
 /// input has its information written, as GetRange would. Returns whether the ranges are cached
 /// on return.
 bool CacheRanges(vtkDataArray* array);
+
+/// Stores `ranges`, the kernel's scan of every value of `array` as it is now (a double array of
+/// ranges.Components components, e.g. the control points a construction wrote), as CacheRanges
+/// would store its own scan: under the same conditions, with the same stamp. Returns whether
+/// they are stored.
+bool StoreRanges(vtkDataArray* array, const ctk::PointRanges& ranges);
 
 /// The range of every component of `array` (range[2 c], range[2 c + 1]: range holds 2 values per
 /// component), when CacheRanges stored them and the array has not changed since: its MTime,

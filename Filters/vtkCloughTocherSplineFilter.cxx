@@ -710,6 +710,12 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   output->GetPointData()->AddArray(uvOut);
   output->GetCellData()->AddArray(macroIds);
   output->GetCellData()->AddArray(microIds);
+  if (spline.Degree == 3 && !keptTriangles) // every point as written and scanned by the kernel
+  {
+    // After SetData, which names the points' array (and so modifies it).
+    ctsplines::StoreRanges(coords, cubic.ControlPointRanges);
+    ctsplines::StoreRanges(uvOut, cubic.DomainPointRanges);
+  }
 }
 } // namespace ctsplines
 

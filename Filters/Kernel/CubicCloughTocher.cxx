@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 namespace ctk
 {
@@ -209,6 +210,13 @@ private:
   {
     ForTrianglesInOrder(this->For, this->Data.NumberOfTriangles, this->Order, body);
   }
+  // ForTriangles in the triangles' own order, each block of RangeScanBlock triangles' points
+  // scanned into the spline's ranges right after body ran on it (the pass that writes their last
+  // values), while they are in the cache.
+  template <typename Body>
+  void ForTrianglesScanningRanges(Body&& body);
+  // The ranges of the vertices' and edges' points, merged into those of the triangles' points.
+  void ScanVertexAndEdgeRanges();
   // Per interior edge: body(e, t0, l0, t1, l1), in parallel, in the locality order.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
@@ -230,13 +238,66 @@ private:
   // place in the input's numbering, so the result does not depend on it.
   const std::vector<Id>& Order;
   const double Diag2; // the (u, v) domain's squared diagonal
+  std::mutex RangesMerge;
   LowestId Degenerate, Folded, BadGradients;
   AreaSigns Signs;
   std::vector<Vec2> SplitPoints;
 };
 
+static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Vec2) == 2 * sizeof(double),
+  "points packed as the VTK arrays that adopt them");
+
+// 64 triangles: their 640 control and domain points (25 KB) are still in the first-level cache.
+constexpr Id RangeScanBlock = 64;
+
+template <typename Body>
+void Builder::ForTrianglesScanningRanges(Body&& body)
+{
+  const double* P = reinterpret_cast<const double*>(this->Spline.ControlPoints.data());
+  const double* D = reinterpret_cast<const double*>(this->Spline.DomainPoints.data());
+  const CubicSplineLayout& layout = this->Spline.Layout;
+  constexpr Id perTriangle = CubicSplineLayout::PointsPerTriangle;
+  this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
+    PointRangeScan points(3), domain(2);
+    for (Id b = begin; b < end; b += RangeScanBlock)
+    {
+      const Id e = std::min(end, b + RangeScanBlock);
+      for (Id t = b; t < e; ++t)
+      {
+        body(t);
+      }
+      const Id first = layout.TrianglePoint(b, 0);
+      points.Add(P + 3 * first, perTriangle * (e - b));
+      domain.Add(D + 2 * first, perTriangle * (e - b));
+    }
+    std::lock_guard<std::mutex> lock(this->RangesMerge);
+    this->Spline.ControlPointRanges.Merge(points.Result());
+    this->Spline.DomainPointRanges.Merge(domain.Result());
+  });
+}
+
+void Builder::ScanVertexAndEdgeRanges()
+{
+  const Id n = this->Spline.Layout.TrianglePoint(0, 0); // the vertices' and edges' points
+  const double* P = reinterpret_cast<const double*>(this->Spline.ControlPoints.data());
+  const double* D = reinterpret_cast<const double*>(this->Spline.DomainPoints.data());
+  this->For(n, [&](Id begin, Id end) {
+    PointRangeScan points(3), domain(2);
+    points.Add(P + 3 * begin, end - begin);
+    domain.Add(D + 2 * begin, end - begin);
+    std::lock_guard<std::mutex> lock(this->RangesMerge);
+    this->Spline.ControlPointRanges.Merge(points.Result());
+    this->Spline.DomainPointRanges.Merge(domain.Result());
+  });
+  // Set also where no chunk ran: the ranges of no points, which the VTK layer does not store.
+  this->Spline.ControlPointRanges.Components = 3;
+  this->Spline.DomainPointRanges.Components = 2;
+}
+
 BuildStatus Builder::Run()
 {
+  this->Spline.ControlPointRanges = PointRanges();
+  this->Spline.DomainPointRanges = PointRanges();
   this->SplitPointsAndStep1();
   const BuildStatus domain = DomainFailure(this->Data, this->Topo, this->Degenerate, this->Folded);
   if (!domain.Ok)
@@ -261,7 +322,11 @@ BuildStatus Builder::Run()
     }
   };
   const bool prefetchGradients = this->GradientRowsAreScattered();
-  this->ForTriangles([&](Id t) {
+  // The output's ranges are scanned in the pass of Step 3 when nothing writes the points after
+  // it (no IM steps, no fairing) and the triangles' points are written in their order.
+  const bool scanRanges = this->Options.Iterations == 0 &&
+    this->Options.Method != Construction::Kashyap && this->Order.empty();
+  const auto mainPass = [&](Id t) {
     if (prefetchGradients)
     {
       this->PrefetchEdgeGradients(t + PrefetchDistance);
@@ -273,7 +338,18 @@ BuildStatus Builder::Run()
     {
       step3(t, ids);
     }
-  });
+  };
+  const auto pass = [&](bool last, const auto& body) { // last: it writes Step 3's points
+    if (last && scanRanges)
+    {
+      this->ForTrianglesScanningRanges(body);
+    }
+    else
+    {
+      this->ForTriangles(body);
+    }
+  };
+  pass(!edgeBased, mainPass);
   if (this->BadGradients.Get() >= 0) // read in Step 2 only
   {
     this->Spline = CubicSpline();
@@ -281,7 +357,11 @@ BuildStatus Builder::Run()
   }
   if (edgeBased)
   {
-    this->ForTriangles([&](Id t) { step3(t, this->Ids(t)); });
+    pass(true, [&](Id t) { step3(t, this->Ids(t)); });
+  }
+  if (scanRanges)
+  {
+    this->ScanVertexAndEdgeRanges();
   }
   if (this->Options.Method == Construction::Kashyap)
   {

@@ -15,6 +15,7 @@
 #include "LargeArrays.h" // for OverwriteVector
 #include "MeshTopology.h"
 #include "ParallelFor.h"
+#include "PointRanges.h"
 #include "SplitPoint.h"
 
 #include <atomic>
@@ -104,6 +105,10 @@ struct CubicSpline
   OverwriteVector<Vec3> ControlPoints;
   OverwriteVector<Vec2> DomainPoints; // parameter-space domain point of every control point
   std::vector<Vec3> SplitTau;        // #T barycentric coordinates of Z
+  // The ranges of ControlPoints and DomainPoints as built, scanned block by block in the pass
+  // that writes each triangle's last points (Components 0: not scanned, as after IM steps,
+  // Kashyap's fairing or a locality order of the kernel's own). Stale once the points change.
+  PointRanges ControlPointRanges, DomainPointRanges;
 };
 
 struct BuildStatus

@@ -201,11 +201,23 @@ void ForTrianglesInOrder(
 }
 
 /// Runs body(e) for every edge e of topology once, from its first triangle
-/// (EdgeTriangles[e][0]) in the given triangle order.
+/// (EdgeTriangles[e][0]) in the given triangle order; with no order, in the edges' own order
+/// (by their smaller vertex): the same locality on a mesh numbered by first use, without
+/// the indirection through the triangles, and an edge's points written in sequence.
 template <typename ParallelForT, typename Body>
 void ForEdgesInOrder(const ParallelForT& parallelFor, const MeshTopology& topology,
   const std::vector<Id>& order, Body&& body)
 {
+  if (order.empty())
+  {
+    parallelFor(static_cast<Id>(topology.Edges.size()), [&](Id begin, Id end) {
+      for (Id e = begin; e < end; ++e)
+      {
+        body(e);
+      }
+    });
+    return;
+  }
   const Id nT = static_cast<Id>(topology.TriangleEdges.size());
   ForTrianglesInOrder(parallelFor, nT, order, [&](Id t) {
     for (int l = 0; l < 3; ++l)

@@ -28,6 +28,8 @@
 #include "vtkPoints.h"
 #include "vtkPolyData.h"
 #include "vtkSignedCharArray.h"
+#include "vtkUnsignedCharArray.h"
+#include "vtkUnstructuredGrid.h"
 #include "vtkUnsignedLongLongArray.h"
 #include "vtkXMLPolyDataReader.h"
 #include "vtkXMLPolyDataWriter.h"
@@ -523,5 +525,54 @@ TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
     f.second->Update();
     ExpectCachedVTKRanges(
       vtkDataSet::SafeDownCast(f.second->GetOutputDataObject(0)), f.first, f.first == "source");
+  }
+}
+
+// The spline filter stores the ranges its kernel scanned while writing the points (CTo, CTi and
+// the edge-based rules in their last pass), or scans them as every filter does (IM steps,
+// Kashyap, Quartic, the input's order, ghost cells whose unused points it drops): VTK's ranges in
+// every case, over a spline large enough for several chunks on two threads.
+TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
+{
+  vtkNew<vtkSampledSurfaceSource> source;
+  source->SetDomainToRandomDelaunay();
+  source->SetResolution(3000);
+  source->Update();
+  vtkNew<vtkPolyData> withGhosts;
+  withGhosts->DeepCopy(source->GetOutput());
+  vtkNew<vtkUnsignedCharArray> ghosts;
+  ghosts->SetName(vtkDataSetAttributes::GhostArrayName());
+  for (vtkIdType t = 0; t < withGhosts->GetNumberOfCells(); ++t)
+  {
+    ghosts->InsertNextValue(t % 7 == 3 ? vtkDataSetAttributes::DUPLICATECELL : 0);
+  }
+  withGhosts->GetCellData()->AddArray(ghosts);
+  using F = vtkCloughTocherSplineFilter;
+  struct Route
+  {
+    std::string Name;
+    int Construction, Iterations, Order;
+    bool Ghosts;
+  };
+  const std::vector<Route> routes = { { "CTi", F::CTi, 0, F::LocalityOrder, false },
+    { "CTo", F::CTo, 0, F::LocalityOrder, false }, { "Fa", F::Fa, 0, F::LocalityOrder, false },
+    { "MGo", F::MGo, 0, F::LocalityOrder, false }, { "CTi, IM", F::CTi, 2, F::LocalityOrder, false },
+    { "Kashyap", F::Kashyap, 1, F::LocalityOrder, false },
+    { "Quartic", F::Quartic, 0, F::LocalityOrder, false },
+    { "CTi, input order", F::CTi, 0, F::InputOrder, false },
+    { "CTi, ghosts", F::CTi, 0, F::LocalityOrder, true } };
+  for (const Route& route : routes)
+  {
+    vtkNew<F> spline;
+    spline->SetInputData(route.Ghosts ? withGhosts.GetPointer() : source->GetOutput());
+    spline->SetConstruction(route.Construction);
+    spline->SetIterations(route.Iterations);
+    spline->SetOutputOrder(route.Order);
+    spline->Update();
+    vtkUnstructuredGrid* out = spline->GetOutput();
+    ASSERT_GT(out->GetNumberOfCells(), 0) << route.Name;
+    ExpectCachedVTKRanges(out, route.Name);
+    double range[6];
+    EXPECT_TRUE(ctsplines::FiniteRanges(out->GetPoints()->GetData(), range)) << route.Name;
   }
 }

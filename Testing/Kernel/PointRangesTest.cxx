@@ -1,0 +1,178 @@
+// SPDX-License-Identifier: GPL-3.0-or-later
+#include "CubicCloughTocher.h"
+#include "LocalityOrder.h"
+#include "PointRanges.h"
+#include "SplineMeasures.h"
+#include "TestMeshes.h"
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace ctk;
+using namespace ctk_test;
+
+namespace
+{
+// The ranges by their definition, one point after the other. The products go through volatile
+// doubles, so that no compiler fuses them with the sums (VTK's sums are of rounded squares).
+PointRanges Reference(const double* p, int nc, Id n)
+{
+  PointRanges r(nc);
+  for (Id i = 0; i < n; ++i)
+  {
+    double s = 0.0;
+    for (int c = 0; c < nc; ++c)
+    {
+      const double x = p[nc * i + c];
+      r.Lo[c] = std::min(r.Lo[c], x);
+      r.Hi[c] = std::max(r.Hi[c], x);
+      volatile double square = x * x;
+      s += square;
+    }
+    r.SquaredNormLo = std::min(r.SquaredNormLo, s);
+    r.SquaredNormHi = std::max(r.SquaredNormHi, s);
+  }
+  return r;
+}
+
+// Values of every magnitude and sign, zeros of both signs among them.
+std::vector<double> RandomValues(size_t n, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-40, 40), kind(0, 19);
+  std::vector<double> v(n);
+  for (double& x : v)
+  {
+    const int k = kind(rng);
+    x = k == 0 ? 0.0 : k == 1 ? -0.0 : std::ldexp(mantissa(rng), exponent(rng));
+  }
+  return v;
+}
+
+void ExpectSame(const PointRanges& a, const PointRanges& b, const std::string& what)
+{
+  ASSERT_EQ(a.Components, b.Components) << what;
+  for (int c = 0; c < a.Components; ++c)
+  {
+    EXPECT_EQ(a.Lo[c], b.Lo[c]) << what << " component " << c; // -0 == +0: the sign may differ
+    EXPECT_EQ(a.Hi[c], b.Hi[c]) << what << " component " << c;
+  }
+  EXPECT_EQ(a.SquaredNormLo, b.SquaredNormLo) << what;
+  EXPECT_EQ(a.SquaredNormHi, b.SquaredNormHi) << what;
+  EXPECT_EQ(a.NaN, b.NaN) << what;
+}
+} // namespace
+
+// Every count (the vector loop takes four points at a time, the rest goes one by one) and every
+// position of the extremes: the bits of the definition.
+TEST(PointRanges, ScanGivesTheDefinitionsBits)
+{
+  for (int nc : { 2, 3 })
+  {
+    for (Id n = 0; n <= 41; ++n)
+    {
+      for (unsigned seed = 0; seed < 8; ++seed)
+      {
+        const std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 97 * seed + n);
+        ExpectSame(ScanPointRanges(v.data(), nc, n), Reference(v.data(), nc, n),
+          std::to_string(nc) + " components, " + std::to_string(n) + " points");
+      }
+    }
+  }
+}
+
+// Blocks added to one scan, or scanned apart and merged in another order, give one scan's ranges.
+TEST(PointRanges, BlocksAndMergesGiveOneScansRanges)
+{
+  std::mt19937 rng(7u);
+  for (int nc : { 2, 3 })
+  {
+    const Id n = 5000;
+    const std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 11u + nc);
+    PointRangeScan blocks(nc);
+    PointRanges merged(nc);
+    std::uniform_int_distribution<Id> length(0, 70);
+    std::vector<std::pair<Id, Id>> pieces;
+    for (Id b = 0; b < n;)
+    {
+      const Id e = std::min(n, b + length(rng));
+      blocks.Add(v.data() + nc * b, e - b);
+      pieces.emplace_back(b, e);
+      b = e;
+    }
+    std::shuffle(pieces.begin(), pieces.end(), rng);
+    for (const auto& piece : pieces)
+    {
+      merged.Merge(ScanPointRanges(v.data() + nc * piece.first, nc, piece.second - piece.first));
+    }
+    const PointRanges whole = Reference(v.data(), nc, n);
+    ExpectSame(blocks.Result(), whole, "blocks of " + std::to_string(nc));
+    ExpectSame(merged, whole, "merged pieces of " + std::to_string(nc));
+  }
+}
+
+// A NaN anywhere is reported; inf shows in the extremes and the norms.
+TEST(PointRanges, NaNIsReportedAndInfShows)
+{
+  for (int nc : { 2, 3 })
+  {
+    const Id n = 23;
+    for (Id at = 0; at < nc * n; ++at)
+    {
+      std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 3u);
+      v[at] = std::numeric_limits<double>::quiet_NaN();
+      EXPECT_TRUE(ScanPointRanges(v.data(), nc, n).NaN) << nc << " components, value " << at;
+      v[at] = -std::numeric_limits<double>::infinity();
+      const PointRanges r = ScanPointRanges(v.data(), nc, n);
+      EXPECT_FALSE(r.NaN) << at;
+      EXPECT_EQ(r.Lo[at % nc], -std::numeric_limits<double>::infinity()) << at;
+      EXPECT_EQ(r.SquaredNormHi, std::numeric_limits<double>::infinity()) << at;
+    }
+  }
+}
+
+// The construction's ranges are those of the points it returns, for the rules scanned in their
+// main pass and in a second one (edge-based), split into chunks in any order; none after IM steps,
+// Kashyap's fairing or with the kernel's own locality order, which write or visit the points
+// otherwise.
+TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
+{
+  const SampledMesh mesh =
+    Sample("jittered", JitteredGrid(128, 0.3, 5u), AnalyticSurface::Franke);
+  const bool reordered = !TriangleLocalityOrder(mesh.NumberOfVertices(), mesh.NumberOfTriangles(),
+    mesh.Triangles.data(), mesh.UV.data()).empty();
+  for (const Construction c : { Construction::CTo, Construction::CTi, Construction::MGo,
+         Construction::Fa, Construction::FO, Construction::KaG, Construction::Kashyap })
+  {
+    for (int iterations : { 0, 1 })
+    {
+      for (bool local : { false, true })
+      {
+        SplineOptions o{ c, SplitPointRule::Inc3, BoundaryMode::Midpoint, iterations };
+        o.LocalityOrder = local;
+        CubicSpline spline;
+        ASSERT_TRUE(
+          BuildCubicCloughTocher(mesh.Data(), mesh.Topology, o, spline, ThreadedFor(2, 37)).Ok);
+        const std::string what = std::string(ToString(c)) + ", " + std::to_string(iterations) +
+          " iterations" + (local ? ", locality order" : "");
+        const Id n = static_cast<Id>(spline.ControlPoints.size());
+        if (iterations > 0 || c == Construction::Kashyap || (local && reordered))
+        {
+          EXPECT_EQ(spline.ControlPointRanges.Components, 0) << what;
+          EXPECT_EQ(spline.DomainPointRanges.Components, 0) << what;
+          continue;
+        }
+        ExpectSame(spline.ControlPointRanges,
+          Reference(spline.ControlPoints.data()->data(), 3, n), what + ", control points");
+        ExpectSame(spline.DomainPointRanges,
+          Reference(spline.DomainPoints.data()->data(), 2, n), what + ", domain points");
+      }
+    }
+  }
+}
