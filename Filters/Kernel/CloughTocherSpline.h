@@ -25,7 +25,7 @@ struct CloughTocherSpline
     return this->Degree == 4 ? this->Quartic.DomainPoints : this->Cubic.DomainPoints;
   }
   /// #T barycentric coordinates of the split points Z.
-  const std::vector<Vec3>& SplitTau() const
+  const OverwriteVector<Vec3>& SplitTau() const
   {
     return this->Degree == 4 ? this->Quartic.SplitTau : this->Cubic.SplitTau;
   }

@@ -241,7 +241,7 @@ private:
   std::mutex RangesMerge;
   LowestId Degenerate, Folded, BadGradients;
   AreaSigns Signs;
-  std::vector<Vec2> SplitPoints;
+  OverwriteVector<Vec2> SplitPoints;
 };
 
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Vec2) == 2 * sizeof(double),

@@ -104,7 +104,7 @@ struct CubicSpline
   // Layout.NumberOfPoints() each; the VTK filter's output adopts them.
   OverwriteVector<Vec3> ControlPoints;
   OverwriteVector<Vec2> DomainPoints; // parameter-space domain point of every control point
-  std::vector<Vec3> SplitTau;        // #T barycentric coordinates of Z
+  OverwriteVector<Vec3> SplitTau;    // #T barycentric coordinates of Z
   // The ranges of ControlPoints and DomainPoints as built, scanned block by block in the pass
   // that writes each triangle's last points (Components 0: not scanned, as after IM steps,
   // Kashyap's fairing or a locality order of the kernel's own). Stale once the points change.

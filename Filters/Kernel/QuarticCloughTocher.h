@@ -55,7 +55,7 @@ struct QuarticSpline
   QuarticSplineLayout Layout;
   OverwriteVector<Vec3> ControlPoints; // as CubicSpline's
   OverwriteVector<Vec2> DomainPoints;
-  std::vector<Vec3> SplitTau;
+  OverwriteVector<Vec3> SplitTau;
 };
 
 /// Stages reported to an observer: after degree raising, and in each round after the boundary
