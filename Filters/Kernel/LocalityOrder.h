@@ -39,7 +39,7 @@ constexpr Id PrefetchDistance = 16;
 /// How far ahead a loop reading a large array in sequence asks for its cache lines. The
 /// hardware prefetchers stop at each 4 KiB page. A core's read of the same memory: 11.6 GB/s
 /// plain, 13.2 with this; the ranges scan of a 1e6-triangle spline's points and (u, v): 7.7 ->
-/// 12.7 GB/s (with two sets of accumulators, CTSplinesArrayRanges.cxx).
+/// 12.7 GB/s (with two sets of SSE2 accumulators; now PointRanges.cxx's AVX2 loop).
 constexpr std::size_t StreamPrefetchBytes = 4096;
 /// The chunks of ForStreamChunks: its prefetches come in bursts of a chunk's lines, and more
 /// than 8 at once waited for the core's line fill buffers (1 KiB: 10.0 GB/s, 4 KiB: 8.9, 512
