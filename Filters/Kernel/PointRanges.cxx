@@ -8,6 +8,10 @@
 #include <algorithm>
 #include <limits>
 
+#if defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
+#error "PointRanges.cxx reports NaN and inf: build it without -ffinite-math-only (-ffast-math)"
+#endif
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define CTK_POINT_RANGES_AVX2 1
@@ -91,8 +95,10 @@ __attribute__((target("avx2"))) bool ScanAVX2(
     for (int k = 0; k < NC; ++k)
     {
       v[k] = _mm256_loadu_pd(p + 4 * k);
-      l[k] = _mm256_min_pd(l[k], v[k]);
-      h[k] = _mm256_max_pd(h[k], v[k]);
+      // The new value first: on a NaN or a tie (zeros of both signs) the lane keeps what it
+      // had, as the scalar loop does.
+      l[k] = _mm256_min_pd(v[k], l[k]);
+      h[k] = _mm256_max_pd(v[k], h[k]);
     }
     __m256d s;
     if constexpr (NC == 3)
@@ -103,8 +109,8 @@ __attribute__((target("avx2"))) bool ScanAVX2(
     {
       s = SquaredNorms2(v[0], v[1]);
     }
-    nl = _mm256_min_pd(nl, s);
-    nh = _mm256_max_pd(nh, s);
+    nl = _mm256_min_pd(s, nl);
+    nh = _mm256_max_pd(s, nh);
     // A NaN component makes its norm NaN; squares are never -inf, so inf + -inf cannot.
     nan = _mm256_or_pd(nan, _mm256_cmp_pd(s, s, _CMP_UNORD_Q));
   }
@@ -119,6 +125,11 @@ __attribute__((target("avx2"))) bool ScanAVX2(
 }
 #endif
 } // namespace
+
+PointRanges::PointRanges()
+  : PointRanges(0)
+{
+}
 
 PointRanges::PointRanges(int components)
   : Components(components)

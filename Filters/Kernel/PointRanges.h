@@ -23,7 +23,8 @@ struct PointRanges
   double SquaredNormLo, SquaredNormHi;
   bool NaN = false;
 
-  explicit PointRanges(int components = 0);
+  PointRanges(); // nothing scanned
+  explicit PointRanges(int components);
   void Merge(const PointRanges& other);
 };
 

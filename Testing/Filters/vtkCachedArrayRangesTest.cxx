@@ -528,10 +528,10 @@ TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
   }
 }
 
-// The spline filter stores the ranges its kernel scanned while writing the points (CTo, CTi and
-// the edge-based rules in their last pass), or scans them as every filter does (IM steps,
-// Kashyap, Quartic, the input's order, ghost cells whose unused points it drops): VTK's ranges in
-// every case, over a spline large enough for several chunks on two threads.
+// The spline filter stores the ranges its kernel scanned while writing the points (CTo, CTi,
+// MGo and the edge-based rules in their last pass; in either output order), or scans them as
+// every filter does (IM steps, Kashyap, Quartic, ghost cells whose unused points it drops):
+// VTK's ranges in every case.
 TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
 {
   vtkNew<vtkSampledSurfaceSource> source;

@@ -147,6 +147,7 @@ TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
     Sample("jittered", JitteredGrid(128, 0.3, 5u), AnalyticSurface::Franke);
   const bool reordered = !TriangleLocalityOrder(mesh.NumberOfVertices(), mesh.NumberOfTriangles(),
     mesh.Triangles.data(), mesh.UV.data()).empty();
+  ASSERT_TRUE(reordered) << "the locality order's route needs a mesh it renumbers";
   for (const Construction c : { Construction::CTo, Construction::CTi, Construction::MGo,
          Construction::Fa, Construction::FO, Construction::KaG, Construction::Kashyap })
   {
@@ -162,7 +163,7 @@ TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
         const std::string what = std::string(ToString(c)) + ", " + std::to_string(iterations) +
           " iterations" + (local ? ", locality order" : "");
         const Id n = static_cast<Id>(spline.ControlPoints.size());
-        if (iterations > 0 || c == Construction::Kashyap || (local && reordered))
+        if (iterations > 0 || c == Construction::Kashyap || local)
         {
           EXPECT_EQ(spline.ControlPointRanges.Components, 0) << what;
           EXPECT_EQ(spline.DomainPointRanges.Components, 0) << what;
