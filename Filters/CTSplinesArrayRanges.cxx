@@ -375,6 +375,22 @@ bool StoreRanges(vtkDataArray* array, const ctk::PointRanges& ranges)
   return true;
 }
 
+bool StoreRange(vtkDataArray* array, double lo, double hi)
+{
+  if (!array || array->GetNumberOfTuples() <= 0 || array->GetNumberOfComponents() != 1 ||
+    array->GetDataType() == VTK_FLOAT || array->GetDataType() == VTK_DOUBLE ||
+    array->GetDataType() == VTK_BIT ||
+    !array->HasStandardMemoryLayout() || !(lo <= hi))
+  {
+    return false;
+  }
+  Ranges r;
+  r.Lo[0] = lo;
+  r.Hi[0] = hi;
+  StoreScanned(array, r, false);
+  return true;
+}
+
 bool FiniteRanges(vtkDataArray* array, double* range)
 {
   vtkInformation* info = array && array->HasInformation() ? array->GetInformation() : nullptr;

@@ -41,6 +41,11 @@ bool CacheRanges(vtkDataArray* array);
 /// they are stored.
 bool StoreRanges(vtkDataArray* array, const ctk::PointRanges& ranges);
 
+/// Stores [lo, hi], the range of every value of `array` as it is now (one component of an
+/// integer type, e.g. the ids a filter wrote and knows the extremes of), as CacheRanges would
+/// store its own scan. Returns whether it is stored.
+bool StoreRange(vtkDataArray* array, double lo, double hi);
+
 /// The range of every component of `array` (range[2 c], range[2 c + 1]: range holds 2 values per
 /// component), when CacheRanges stored them and the array has not changed since: its MTime,
 /// data pointer and number of values are the ones CacheRanges saw (Modified() after a change of

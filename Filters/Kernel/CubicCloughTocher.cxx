@@ -122,6 +122,8 @@ public:
     , For(parallelFor)
     , Order(order)
     , Diag2(diag2)
+    , ScanRanges(options.ScanRanges && options.Iterations == 0 &&
+        options.Method != Construction::Kashyap && order.empty())
   {
   }
 
@@ -210,13 +212,12 @@ private:
   {
     ForTrianglesInOrder(this->For, this->Data.NumberOfTriangles, this->Order, body);
   }
-  // ForTriangles in the triangles' own order, each block of RangeScanBlock triangles' points
-  // scanned into the spline's ranges right after body ran on it (the pass that writes their last
-  // values), while they are in the cache.
+  // body(i) for items i in [0, n) (vertices, edges or triangles) in parallel, in their order;
+  // with ScanRanges, each block's points (pointsPerItem per item, from point first +
+  // pointsPerItem * i) scanned into the spline's ranges right after body ran on it (the pass that
+  // writes their last values), while they are in the cache.
   template <typename Body>
-  void ForTrianglesScanningRanges(Body&& body);
-  // The ranges of the vertices' and edges' points, merged into those of the triangles' points.
-  void ScanVertexAndEdgeRanges();
+  void ForItemsScanningRanges(Id n, Id first, Id pointsPerItem, Body&& body);
   // Per interior edge: body(e, t0, l0, t1, l1), in parallel, in the locality order.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
@@ -238,6 +239,9 @@ private:
   // place in the input's numbering, so the result does not depend on it.
   const std::vector<Id>& Order;
   const double Diag2; // the (u, v) domain's squared diagonal
+  // SplineOptions::ScanRanges, where nothing writes the points after the pass that scans them
+  // (no IM steps, no fairing) and every item's points are written in their order.
+  const bool ScanRanges;
   std::mutex RangesMerge;
   LowestId Degenerate, Folded, BadGradients;
   AreaSigns Signs;
@@ -247,28 +251,36 @@ private:
 static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Vec2) == 2 * sizeof(double),
   "points packed as the VTK arrays that adopt them");
 
-// 64 triangles: their 640 control and domain points (25 KB) are still in the first-level cache.
-constexpr Id RangeScanBlock = 64;
+// 640 points: their control and domain points (25 KB) are still in the first-level cache.
+constexpr Id RangeScanPoints = 640;
 
 template <typename Body>
-void Builder::ForTrianglesScanningRanges(Body&& body)
+void Builder::ForItemsScanningRanges(Id n, Id first, Id pointsPerItem, Body&& body)
 {
-  const double* P = reinterpret_cast<const double*>(this->Spline.ControlPoints.data());
-  const double* D = reinterpret_cast<const double*>(this->Spline.DomainPoints.data());
-  const CubicSplineLayout& layout = this->Spline.Layout;
-  constexpr Id perTriangle = CubicSplineLayout::PointsPerTriangle;
-  this->For(this->Data.NumberOfTriangles, [&](Id begin, Id end) {
-    PointRangeScan points(3), domain(2);
-    for (Id b = begin; b < end; b += RangeScanBlock)
-    {
-      const Id e = std::min(end, b + RangeScanBlock);
-      for (Id t = b; t < e; ++t)
+  if (!this->ScanRanges)
+  {
+    this->For(n, [&](Id begin, Id end) {
+      for (Id i = begin; i < end; ++i)
       {
-        body(t);
+        body(i);
       }
-      const Id first = layout.TrianglePoint(b, 0);
-      points.Add(P + 3 * first, perTriangle * (e - b));
-      domain.Add(D + 2 * first, perTriangle * (e - b));
+    });
+    return;
+  }
+  const double* P = reinterpret_cast<const double*>(this->Spline.ControlPoints.data()) + 3 * first;
+  const double* D = reinterpret_cast<const double*>(this->Spline.DomainPoints.data()) + 2 * first;
+  const Id block = RangeScanPoints / pointsPerItem;
+  this->For(n, [&](Id begin, Id end) {
+    PointRangeScan points(3), domain(2);
+    for (Id b = begin; b < end; b += block)
+    {
+      const Id e = std::min(end, b + block);
+      for (Id i = b; i < e; ++i)
+      {
+        body(i);
+      }
+      points.Add(P + 3 * pointsPerItem * b, pointsPerItem * (e - b));
+      domain.Add(D + 2 * pointsPerItem * b, pointsPerItem * (e - b));
     }
     std::lock_guard<std::mutex> lock(this->RangesMerge);
     this->Spline.ControlPointRanges.Merge(points.Result());
@@ -276,28 +288,11 @@ void Builder::ForTrianglesScanningRanges(Body&& body)
   });
 }
 
-void Builder::ScanVertexAndEdgeRanges()
-{
-  const Id n = this->Spline.Layout.TrianglePoint(0, 0); // the vertices' and edges' points
-  const double* P = reinterpret_cast<const double*>(this->Spline.ControlPoints.data());
-  const double* D = reinterpret_cast<const double*>(this->Spline.DomainPoints.data());
-  this->For(n, [&](Id begin, Id end) {
-    PointRangeScan points(3), domain(2);
-    points.Add(P + 3 * begin, end - begin);
-    domain.Add(D + 2 * begin, end - begin);
-    std::lock_guard<std::mutex> lock(this->RangesMerge);
-    this->Spline.ControlPointRanges.Merge(points.Result());
-    this->Spline.DomainPointRanges.Merge(domain.Result());
-  });
-  // Set also where no chunk ran: the ranges of no points, which the VTK layer does not store.
-  this->Spline.ControlPointRanges.Components = 3;
-  this->Spline.DomainPointRanges.Components = 2;
-}
-
 BuildStatus Builder::Run()
 {
-  this->Spline.ControlPointRanges = PointRanges();
-  this->Spline.DomainPointRanges = PointRanges();
+  // Set also where no block is scanned: the ranges of no points, which the VTK layer does not store.
+  this->Spline.ControlPointRanges = PointRanges(this->ScanRanges ? 3 : 0);
+  this->Spline.DomainPointRanges = PointRanges(this->ScanRanges ? 2 : 0);
   this->SplitPointsAndStep1();
   const BuildStatus domain = DomainFailure(this->Data, this->Topo, this->Degenerate, this->Folded);
   if (!domain.Ok)
@@ -322,10 +317,6 @@ BuildStatus Builder::Run()
     }
   };
   const bool prefetchGradients = this->GradientRowsAreScattered();
-  // The output's ranges are scanned in the pass of Step 3 when nothing writes the points after
-  // it (no IM steps, no fairing) and the triangles' points are written in their order.
-  const bool scanRanges = this->Options.Iterations == 0 &&
-    this->Options.Method != Construction::Kashyap && this->Order.empty();
   const auto mainPass = [&](Id t) {
     if (prefetchGradients)
     {
@@ -340,9 +331,11 @@ BuildStatus Builder::Run()
     }
   };
   const auto pass = [&](bool last, const auto& body) { // last: it writes Step 3's points
-    if (last && scanRanges)
+    if (last && this->ScanRanges)
     {
-      this->ForTrianglesScanningRanges(body);
+      this->ForItemsScanningRanges(
+        this->Data.NumberOfTriangles, this->Spline.Layout.TrianglePoint(0, 0),
+        CubicSplineLayout::PointsPerTriangle, body);
     }
     else
     {
@@ -358,10 +351,6 @@ BuildStatus Builder::Run()
   if (edgeBased)
   {
     pass(true, [&](Id t) { step3(t, this->Ids(t)); });
-  }
-  if (scanRanges)
-  {
-    this->ScanVertexAndEdgeRanges();
   }
   if (this->Options.Method == Construction::Kashyap)
   {
@@ -423,16 +412,14 @@ void Builder::SplitPointsAndStep1()
     this->SplitPoints[t] = tau[0] * this->U(t, 0) + tau[1] * this->U(t, 1) + tau[2] * this->U(t, 2);
   });
 
-  // Eq. (11): vertices and macro-edge points, each edge once.
-  this->For(nV, [&](Id begin, Id end) {
-    for (Id v = begin; v < end; ++v)
-    {
-      P[layout.Vertex(v)] = Row3(d.F, v);
-      D[layout.Vertex(v)] = UVOf(d, v);
-    }
+  // Eq. (11): vertices and macro-edge points, each edge once (their ranges scanned on the way).
+  static_assert(CubicSplineLayout().Vertex(1) == 1, "vertex v's point is point v");
+  this->ForItemsScanningRanges(nV, 0, 1, [&](Id v) {
+    P[layout.Vertex(v)] = Row3(d.F, v);
+    D[layout.Vertex(v)] = UVOf(d, v);
   });
   const bool checkFolds = this->Signs.FoldsPossible(this->Topo);
-  ForEdgesInOrder(this->For, this->Topo, this->Order, [&](Id e) {
+  const auto edgePoints = [&](Id e) {
     if (checkFolds && IsFoldedEdge(d, this->Topo, e))
     {
       this->Folded.Report(e);
@@ -460,7 +447,15 @@ void Builder::SplitPointsAndStep1()
         }
       }
     }
-  });
+  };
+  if (this->ScanRanges) // edge e's points are points nV + 2e and nV + 2e + 1
+  {
+    this->ForItemsScanningRanges(nE, nV, 2, edgePoints);
+  }
+  else
+  {
+    ForEdgesInOrder(this->For, this->Topo, this->Order, edgePoints);
+  }
 }
 
 void Builder::MidEdgeGradient(Id e, Vec3& gu, Vec3& gv)

@@ -90,6 +90,12 @@ struct SplineOptions
   /// being then reached at random. vtkCloughTocherSplineFilter renumbers the mesh instead
   /// (SplineInput::RenumberToLocalityOrder, BuildMeshTopology by rank; issue #12).
   bool LocalityOrder = false;
+  /// Also give the ranges of the points built (CubicSpline::ControlPointRanges and
+  /// DomainPointRanges), scanned block by block in the passes that write them, while they are in
+  /// the cache: for a caller that stores them, as vtkCloughTocherSplineFilter does in its output
+  /// arrays. Off, no build pays for the scan (the quartic's first cubic, IOCAD's faces, Bézier
+  /// extraction).
+  bool ScanRanges = false;
 };
 
 /// The boundary rule in force: KaG and MGi turn a non-gradient mode into GradientToSplitPoint.
@@ -105,9 +111,10 @@ struct CubicSpline
   OverwriteVector<Vec3> ControlPoints;
   OverwriteVector<Vec2> DomainPoints; // parameter-space domain point of every control point
   OverwriteVector<Vec3> SplitTau;    // #T barycentric coordinates of Z
-  // The ranges of ControlPoints and DomainPoints as built, scanned block by block in the pass
-  // that writes each triangle's last points (Components 0: not scanned, as after IM steps,
-  // Kashyap's fairing or a locality order of the kernel's own). Stale once the points change.
+  // The ranges of ControlPoints and DomainPoints as built, with SplineOptions::ScanRanges: each
+  // block of points scanned in the pass that writes its last values (Components 0: not scanned,
+  // as without the option, after IM steps, Kashyap's fairing or with a locality order of the
+  // kernel's own). Stale once the points change.
   PointRanges ControlPointRanges, DomainPointRanges;
 };
 

@@ -36,7 +36,7 @@ struct CubicSplineLayout
   {
     return NumberOfVertices + 2 * NumberOfEdges + PointsPerTriangle * NumberOfTriangles;
   }
-  Id Vertex(Id v) const { return v; }
+  constexpr Id Vertex(Id v) const { return v; }
   /// T point of edge e near its vertex `near` (one of the edge's two vertices).
   Id EdgePoint(const MeshTopology& topo, Id e, Id near) const
   {

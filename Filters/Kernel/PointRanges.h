@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: GPL-3.0-or-later
 // The value ranges of arrays of points of 2 or 3 doubles, as vtkDataArray computes them, for the
 // VTK layer to store in its output arrays (CTSplinesArrayRanges.h) without scanning them again.
-// The cubic constructions scan each block of control and domain points right after writing it,
-// while it is in the cache (CubicCloughTocher.cxx): read back from memory, the spline's 540 MB
-// at 1e6 triangles took a tenth of the construction.
+// The cubic constructions asked for them (SplineOptions::ScanRanges) scan each block of control
+// and domain points right after writing it, while it is in the cache (CubicCloughTocher.cxx):
+// read back from memory, the spline's 540 MB at 1e6 triangles took a tenth of the construction.
 #ifndef ctk_PointRanges_h
 #define ctk_PointRanges_h
 

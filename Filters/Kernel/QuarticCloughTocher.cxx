@@ -342,6 +342,7 @@ BuildStatus BuildQuarticCloughTocher(const SplineData& data, const MeshTopology&
   SplineOptions start = options;
   start.Method = Info(Construction::Quartic).StartsFrom; // FO
   start.Iterations = 0;
+  start.ScanRanges = false; // the cubic's points are not the quartic's
   CubicSpline cubic;
   BuildStatus status = BuildCubicCloughTocher(data, topo, start, cubic, parallelFor);
   if (!status.Ok)

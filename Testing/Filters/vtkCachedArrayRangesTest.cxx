@@ -528,10 +528,11 @@ TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
   }
 }
 
-// The spline filter stores the ranges its kernel scanned while writing the points (CTo, CTi,
-// MGo and the edge-based rules in their last pass; in either output order), or scans them as
-// every filter does (IM steps, Kashyap, Quartic, ghost cells whose unused points it drops):
-// VTK's ranges in every case.
+// The spline filter stores the ranges its kernel scanned while writing the points (the
+// one-sided rules in their main pass, the edge-based ones in their last; in either output
+// order), and those of the cell ids it wrote, or scans them as every filter does (IM steps,
+// Kashyap, Quartic, ghost cells whose unused points it drops): VTK's ranges in every case, also
+// when it runs again into its previous output's arrays (ReuseOutputArrays).
 TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
 {
   vtkNew<vtkSampledSurfaceSource> source;
@@ -556,7 +557,9 @@ TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
   };
   const std::vector<Route> routes = { { "CTi", F::CTi, 0, F::LocalityOrder, false },
     { "CTo", F::CTo, 0, F::LocalityOrder, false }, { "Fa", F::Fa, 0, F::LocalityOrder, false },
-    { "MGo", F::MGo, 0, F::LocalityOrder, false }, { "CTi, IM", F::CTi, 2, F::LocalityOrder, false },
+    { "MGo", F::MGo, 0, F::LocalityOrder, false }, { "MGi", F::MGi, 0, F::LocalityOrder, false },
+    { "FO", F::FO, 0, F::LocalityOrder, false }, { "Ka", F::Ka, 0, F::LocalityOrder, false },
+    { "KaG", F::KaG, 0, F::LocalityOrder, false }, { "CTi, IM", F::CTi, 2, F::LocalityOrder, false },
     { "Kashyap", F::Kashyap, 1, F::LocalityOrder, false },
     { "Quartic", F::Quartic, 0, F::LocalityOrder, false },
     { "CTi, input order", F::CTi, 0, F::InputOrder, false },
@@ -568,11 +571,20 @@ TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
     spline->SetConstruction(route.Construction);
     spline->SetIterations(route.Iterations);
     spline->SetOutputOrder(route.Order);
-    spline->Update();
-    vtkUnstructuredGrid* out = spline->GetOutput();
-    ASSERT_GT(out->GetNumberOfCells(), 0) << route.Name;
-    ExpectCachedVTKRanges(out, route.Name);
-    double range[6];
-    EXPECT_TRUE(ctsplines::FiniteRanges(out->GetPoints()->GetData(), range)) << route.Name;
+    for (int run = 0; run < 2; ++run)
+    {
+      spline->Modified();
+      spline->Update();
+      const std::string what = route.Name + (run ? ", run again" : "");
+      vtkUnstructuredGrid* out = spline->GetOutput();
+      ASSERT_GT(out->GetNumberOfCells(), 0) << what;
+      ExpectCachedVTKRanges(out, what);
+      double range[6];
+      EXPECT_TRUE(ctsplines::FiniteRanges(out->GetPoints()->GetData(), range)) << what;
+      // The cubic constructions write their previous points again; the quartic's builds a
+      // cubic spline first.
+      EXPECT_EQ(spline->GetReusedOutputBytes() > 0, run == 1 && route.Construction != F::Quartic)
+        << what;
+    }
   }
 }

@@ -138,9 +138,9 @@ TEST(PointRanges, NaNIsReportedAndInfShows)
 }
 
 // The construction's ranges are those of the points it returns, for the rules scanned in their
-// main pass and in a second one (edge-based), split into chunks in any order; none after IM steps,
-// Kashyap's fairing or with the kernel's own locality order, which write or visit the points
-// otherwise.
+// main pass and in a second one (edge-based), with and without boundary curve points, split into
+// chunks in any order; none without ScanRanges, after IM steps, Kashyap's fairing or with the
+// kernel's own locality order, which write or visit the points otherwise.
 TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
 {
   const SampledMesh mesh =
@@ -148,31 +148,63 @@ TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
   const bool reordered = !TriangleLocalityOrder(mesh.NumberOfVertices(), mesh.NumberOfTriangles(),
     mesh.Triangles.data(), mesh.UV.data()).empty();
   ASSERT_TRUE(reordered) << "the locality order's route needs a mesh it renumbers";
-  for (const Construction c : { Construction::CTo, Construction::CTi, Construction::MGo,
-         Construction::Fa, Construction::FO, Construction::KaG, Construction::Kashyap })
+  // Boundary curve points beyond the surface's box on every boundary edge: the control points'
+  // extremes, which a route that scanned the edge points before they were written would miss.
+  SampledMesh curved = mesh;
+  const Id nT = mesh.NumberOfTriangles();
+  curved.BoundaryCurvePoints.assign(
+    static_cast<size_t>(18 * nT), std::numeric_limits<double>::quiet_NaN());
+  Id boundaryEdges = 0;
+  for (Id e = 0; e < static_cast<Id>(mesh.Topology.Edges.size()); ++e)
   {
-    for (int iterations : { 0, 1 })
+    if (mesh.Topology.IsBoundaryEdge(e))
     {
-      for (bool local : { false, true })
+      const Id t = mesh.Topology.EdgeTriangles[e][0];
+      double* c = curved.BoundaryCurvePoints.data() + 18 * t + 6 * mesh.Topology.EdgeLocalIndex[e][0];
+      for (int k = 0; k < 6; ++k)
       {
-        SplineOptions o{ c, SplitPointRule::Inc3, BoundaryMode::Midpoint, iterations };
-        o.LocalityOrder = local;
-        CubicSpline spline;
-        ASSERT_TRUE(
-          BuildCubicCloughTocher(mesh.Data(), mesh.Topology, o, spline, ThreadedFor(2, 37)).Ok);
-        const std::string what = std::string(ToString(c)) + ", " + std::to_string(iterations) +
-          " iterations" + (local ? ", locality order" : "");
-        const Id n = static_cast<Id>(spline.ControlPoints.size());
-        if (iterations > 0 || c == Construction::Kashyap || local)
+        c[k] = (k % 2 ? -20.0 : 20.0) + 1e-3 * double(e);
+      }
+      ++boundaryEdges;
+    }
+  }
+  ASSERT_GT(boundaryEdges, 0);
+  for (const SampledMesh* input : { &mesh, static_cast<const SampledMesh*>(&curved) })
+  {
+    for (const Construction c : { Construction::CTo, Construction::CTi, Construction::MGo,
+           Construction::MGi, Construction::Fa, Construction::FO, Construction::Ka,
+           Construction::KaG, Construction::Kashyap })
+    {
+      for (int iterations : { 0, 1 })
+      {
+        for (int route = 0; route < 3; ++route) // scanned, not asked, locality order
         {
-          EXPECT_EQ(spline.ControlPointRanges.Components, 0) << what;
-          EXPECT_EQ(spline.DomainPointRanges.Components, 0) << what;
-          continue;
+          SplineOptions o{ c, SplitPointRule::Inc3, BoundaryMode::Midpoint, iterations };
+          o.ScanRanges = route != 1;
+          o.LocalityOrder = route == 2;
+          CubicSpline spline;
+          ASSERT_TRUE(
+            BuildCubicCloughTocher(input->Data(), input->Topology, o, spline, ThreadedFor(2, 37))
+              .Ok);
+          const std::string what = std::string(ToString(c)) + ", " +
+            std::to_string(iterations) + " iterations, route " + std::to_string(route) +
+            (input == &curved ? ", boundary curve points" : "");
+          const Id n = static_cast<Id>(spline.ControlPoints.size());
+          if (iterations > 0 || c == Construction::Kashyap || route > 0)
+          {
+            EXPECT_EQ(spline.ControlPointRanges.Components, 0) << what;
+            EXPECT_EQ(spline.DomainPointRanges.Components, 0) << what;
+            continue;
+          }
+          const PointRanges points = Reference(spline.ControlPoints.data()->data(), 3, n);
+          if (input == &curved)
+          {
+            ASSERT_GE(points.Hi[0], 20.0) << what << ": the curve points are the extremes";
+          }
+          ExpectSame(spline.ControlPointRanges, points, what + ", control points");
+          ExpectSame(spline.DomainPointRanges,
+            Reference(spline.DomainPoints.data()->data(), 2, n), what + ", domain points");
         }
-        ExpectSame(spline.ControlPointRanges,
-          Reference(spline.ControlPoints.data()->data(), 3, n), what + ", control points");
-        ExpectSame(spline.DomainPointRanges,
-          Reference(spline.DomainPoints.data()->data(), 2, n), what + ", domain points");
       }
     }
   }
