@@ -12,9 +12,12 @@
 #error "PointRanges.cxx reports NaN and inf: build it without -ffinite-math-only (-ffast-math)"
 #endif
 
+#include <atomic>
+
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
 #define CTK_POINT_RANGES_AVX2 1
+#define CTK_POINT_RANGES_SSE2 1 // part of x86-64
 #endif
 
 namespace ctk
@@ -44,12 +47,98 @@ void ScanScalar(const double* p, int nc, Id b, Id e, double* lo, double* hi, dou
   }
 }
 
-#if defined(CTK_POINT_RANGES_AVX2)
-bool HasAVX2()
+PointRangeISA CPUPointRangeISA()
 {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
+#if defined(CTK_POINT_RANGES_AVX2)
+  if (__builtin_cpu_supports("avx2"))
+  {
+    return PointRangeISA::AVX2;
+  }
+#endif
+#if defined(CTK_POINT_RANGES_SSE2)
+  return PointRangeISA::SSE2;
+#else
+  return PointRangeISA::Scalar;
+#endif
 }
+
+std::atomic<PointRangeISA>& UsedISA()
+{
+  static std::atomic<PointRangeISA> isa{ CPUPointRangeISA() };
+  return isa;
+}
+
+#if defined(CTK_POINT_RANGES_SSE2)
+// Two points of three components in three registers, [x0 y0] [z0 x1] [y1 z1]: (x + y) + z of
+// each point's squares, VTK's order.
+inline __m128d SquaredNorms3(__m128d a, __m128d b, __m128d c)
+{
+  a = _mm_mul_pd(a, a);
+  b = _mm_mul_pd(b, b);
+  c = _mm_mul_pd(c, c);
+  const __m128d x = _mm_shuffle_pd(a, b, 0x2); // [a0 b1]
+  const __m128d y = _mm_shuffle_pd(a, c, 0x1); // [a1 c0]
+  const __m128d z = _mm_shuffle_pd(b, c, 0x2); // [b0 c1]
+  return _mm_add_pd(_mm_add_pd(x, y), z);
+}
+
+// Two points of two components, [u0 v0] [u1 v1]: u * u + v * v of each.
+inline __m128d SquaredNorms2(__m128d a, __m128d b)
+{
+  a = _mm_mul_pd(a, a);
+  b = _mm_mul_pd(b, b);
+  return _mm_add_pd(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b));
+}
+
+// Points [0, 2 n) in pairs, for CPUs without AVX2: lane j of the k-th register holds value
+// 2 k + j of the pair, kept in lo[2 k + j] (component (2 k + j) % NC, as Result reads the lanes).
+// Returns whether a NaN was seen.
+template <int NC>
+bool ScanSSE2(const double* p, Id n, double* lo, double* hi, double* normLo, double* normHi)
+{
+  __m128d l[NC], h[NC];
+  for (int k = 0; k < NC; ++k)
+  {
+    l[k] = _mm_load_pd(lo + 2 * k);
+    h[k] = _mm_load_pd(hi + 2 * k);
+  }
+  __m128d nl = _mm_load_pd(normLo), nh = _mm_load_pd(normHi);
+  __m128d nan = _mm_setzero_pd();
+  for (Id i = 0; i < n; ++i, p += 2 * NC)
+  {
+    PrefetchAhead(p, StreamPrefetchBytes);
+    __m128d v[NC];
+    for (int k = 0; k < NC; ++k)
+    {
+      v[k] = _mm_loadu_pd(p + 2 * k);
+      l[k] = _mm_min_pd(v[k], l[k]); // the new value first, as in ScanAVX2
+      h[k] = _mm_max_pd(v[k], h[k]);
+    }
+    __m128d s;
+    if constexpr (NC == 3)
+    {
+      s = SquaredNorms3(v[0], v[1], v[2]);
+    }
+    else
+    {
+      s = SquaredNorms2(v[0], v[1]);
+    }
+    nl = _mm_min_pd(s, nl);
+    nh = _mm_max_pd(s, nh);
+    nan = _mm_or_pd(nan, _mm_cmpunord_pd(s, s));
+  }
+  for (int k = 0; k < NC; ++k)
+  {
+    _mm_store_pd(lo + 2 * k, l[k]);
+    _mm_store_pd(hi + 2 * k, h[k]);
+  }
+  _mm_store_pd(normLo, nl);
+  _mm_store_pd(normHi, nh);
+  return _mm_movemask_pd(nan) != 0;
+}
+#endif
+
+#if defined(CTK_POINT_RANGES_AVX2)
 
 // Four points of three components in three registers, [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3],
 // their squares regrouped by component: x = [t1 t2 t1 t2] lanes 0 1 2 3 of t1 = [x0 y0 x2 y2],
@@ -165,8 +254,10 @@ PointRangeScan::PointRangeScan(int components)
 void PointRangeScan::Add(const double* points, Id count)
 {
   Id done = 0;
+  const PointRangeISA isa = UsedISA().load(std::memory_order_relaxed);
+  (void)isa;
 #if defined(CTK_POINT_RANGES_AVX2)
-  if (HasAVX2() && count >= 4)
+  if (isa == PointRangeISA::AVX2 && count >= 4)
   {
     const Id groups = count / 4;
     const bool nan = this->Components == 3
@@ -174,6 +265,17 @@ void PointRangeScan::Add(const double* points, Id count)
       : ScanAVX2<2>(points, groups, this->Lo, this->Hi, this->NormLo, this->NormHi);
     this->NaN = this->NaN || nan;
     done = 4 * groups;
+  }
+#endif
+#if defined(CTK_POINT_RANGES_SSE2)
+  if (isa == PointRangeISA::SSE2 && count >= 2)
+  {
+    const Id pairs = count / 2;
+    const bool nan = this->Components == 3
+      ? ScanSSE2<3>(points, pairs, this->Lo, this->Hi, this->NormLo, this->NormHi)
+      : ScanSSE2<2>(points, pairs, this->Lo, this->Hi, this->NormLo, this->NormHi);
+    this->NaN = this->NaN || nan;
+    done = 2 * pairs;
   }
 #endif
   ScanScalar(points, this->Components, done, count, this->Lo, this->Hi, this->NormLo,
@@ -193,6 +295,12 @@ PointRanges PointRangeScan::Result() const
   r.SquaredNormHi = *std::max_element(this->NormHi, this->NormHi + 4);
   r.NaN = this->NaN;
   return r;
+}
+
+PointRangeISA SetPointRangeISA(PointRangeISA isa)
+{
+  const PointRangeISA best = CPUPointRangeISA();
+  return UsedISA().exchange(static_cast<int>(isa) < static_cast<int>(best) ? isa : best);
 }
 
 PointRanges ScanPointRanges(const double* points, int components, Id count)

@@ -29,9 +29,10 @@ struct PointRanges
 };
 
 /// Accumulates the ranges of blocks of points: each block's extremes stay in the lanes they were
-/// read in (four points at a time) and go to their components only in Result, since a reduction
-/// per block cost more than the scan of a block of ten points. AVX2 where the CPU has it (the
-/// same bits as the scalar loop: no fused multiply-adds, the same order of additions).
+/// read in (four points at a time, two with SSE2) and go to their components only in Result,
+/// since a reduction per block cost more than the scan of a block of ten points. AVX2 where the
+/// CPU has it, else SSE2 (the same bits as the scalar loop: no fused multiply-adds, the same
+/// order of additions).
 class PointRangeScan
 {
 public:
@@ -52,6 +53,18 @@ private:
 
 /// The ranges of points [0, count) in one pass on the calling thread.
 PointRanges ScanPointRanges(const double* points, int components, Id count);
+
+/// The vector instructions the scans use: AVX2 where the CPU has it, else SSE2 on x86-64, else
+/// none. The bits are the same on every path.
+enum class PointRangeISA
+{
+  Scalar,
+  SSE2,
+  AVX2
+};
+/// For tests: scans that start from now on use `isa` at most (never more than the CPU has);
+/// returns the previous setting.
+PointRangeISA SetPointRangeISA(PointRangeISA isa);
 } // namespace ctk
 
 #endif

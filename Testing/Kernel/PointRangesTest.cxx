@@ -55,6 +55,23 @@ std::vector<double> RandomValues(size_t n, unsigned seed)
   return v;
 }
 
+// Runs body(name) with the scans on each instruction set this CPU has (AVX2, SSE2, none), then
+// restores the best.
+template <typename Body>
+void ForEachISA(Body&& body)
+{
+  const PointRangeISA best = SetPointRangeISA(PointRangeISA::AVX2);
+  for (PointRangeISA isa : { PointRangeISA::AVX2, PointRangeISA::SSE2, PointRangeISA::Scalar })
+  {
+    if (static_cast<int>(isa) <= static_cast<int>(best))
+    {
+      SetPointRangeISA(isa);
+      body(isa == PointRangeISA::AVX2 ? "AVX2, " : isa == PointRangeISA::SSE2 ? "SSE2, " : "scalar, ");
+    }
+  }
+  SetPointRangeISA(best);
+}
+
 void ExpectSame(const PointRanges& a, const PointRanges& b, const std::string& what)
 {
   ASSERT_EQ(a.Components, b.Components) << what;
@@ -69,72 +86,78 @@ void ExpectSame(const PointRanges& a, const PointRanges& b, const std::string& w
 }
 } // namespace
 
-// Every count (the vector loop takes four points at a time, the rest goes one by one) and every
-// position of the extremes: the bits of the definition.
+// Every count (the vector loops take four or two points at a time, the rest goes one by one)
+// and every position of the extremes, on every instruction set: the bits of the definition.
 TEST(PointRanges, ScanGivesTheDefinitionsBits)
 {
-  for (int nc : { 2, 3 })
-  {
-    for (Id n = 0; n <= 41; ++n)
+  ForEachISA([](const std::string& isa) {
+    for (int nc : { 2, 3 })
     {
-      for (unsigned seed = 0; seed < 8; ++seed)
+      for (Id n = 0; n <= 41; ++n)
       {
-        const std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 97 * seed + n);
-        ExpectSame(ScanPointRanges(v.data(), nc, n), Reference(v.data(), nc, n),
-          std::to_string(nc) + " components, " + std::to_string(n) + " points");
+        for (unsigned seed = 0; seed < 8; ++seed)
+        {
+          const std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 97 * seed + n);
+          ExpectSame(ScanPointRanges(v.data(), nc, n), Reference(v.data(), nc, n),
+            isa + std::to_string(nc) + " components, " + std::to_string(n) + " points");
+        }
       }
     }
-  }
+  });
 }
 
 // Blocks added to one scan, or scanned apart and merged in another order, give one scan's ranges.
 TEST(PointRanges, BlocksAndMergesGiveOneScansRanges)
 {
-  std::mt19937 rng(7u);
-  for (int nc : { 2, 3 })
-  {
-    const Id n = 5000;
-    const std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 11u + nc);
-    PointRangeScan blocks(nc);
-    PointRanges merged(nc);
-    std::uniform_int_distribution<Id> length(0, 70);
-    std::vector<std::pair<Id, Id>> pieces;
-    for (Id b = 0; b < n;)
+  ForEachISA([](const std::string& isa) {
+    std::mt19937 rng(7u);
+    for (int nc : { 2, 3 })
     {
-      const Id e = std::min(n, b + length(rng));
-      blocks.Add(v.data() + nc * b, e - b);
-      pieces.emplace_back(b, e);
-      b = e;
+      const Id n = 5000;
+      const std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 11u + nc);
+      PointRangeScan blocks(nc);
+      PointRanges merged(nc);
+      std::uniform_int_distribution<Id> length(0, 70);
+      std::vector<std::pair<Id, Id>> pieces;
+      for (Id b = 0; b < n;)
+      {
+        const Id e = std::min(n, b + length(rng));
+        blocks.Add(v.data() + nc * b, e - b);
+        pieces.emplace_back(b, e);
+        b = e;
+      }
+      std::shuffle(pieces.begin(), pieces.end(), rng);
+      for (const auto& piece : pieces)
+      {
+        merged.Merge(ScanPointRanges(v.data() + nc * piece.first, nc, piece.second - piece.first));
+      }
+      const PointRanges whole = Reference(v.data(), nc, n);
+      ExpectSame(blocks.Result(), whole, isa + "blocks of " + std::to_string(nc));
+      ExpectSame(merged, whole, isa + "merged pieces of " + std::to_string(nc));
     }
-    std::shuffle(pieces.begin(), pieces.end(), rng);
-    for (const auto& piece : pieces)
-    {
-      merged.Merge(ScanPointRanges(v.data() + nc * piece.first, nc, piece.second - piece.first));
-    }
-    const PointRanges whole = Reference(v.data(), nc, n);
-    ExpectSame(blocks.Result(), whole, "blocks of " + std::to_string(nc));
-    ExpectSame(merged, whole, "merged pieces of " + std::to_string(nc));
-  }
+  });
 }
 
 // A NaN anywhere is reported; inf shows in the extremes and the norms.
 TEST(PointRanges, NaNIsReportedAndInfShows)
 {
-  for (int nc : { 2, 3 })
-  {
-    const Id n = 23;
-    for (Id at = 0; at < nc * n; ++at)
+  ForEachISA([](const std::string& isa) {
+    for (int nc : { 2, 3 })
     {
-      std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 3u);
-      v[at] = std::numeric_limits<double>::quiet_NaN();
-      EXPECT_TRUE(ScanPointRanges(v.data(), nc, n).NaN) << nc << " components, value " << at;
-      v[at] = -std::numeric_limits<double>::infinity();
-      const PointRanges r = ScanPointRanges(v.data(), nc, n);
-      EXPECT_FALSE(r.NaN) << at;
-      EXPECT_EQ(r.Lo[at % nc], -std::numeric_limits<double>::infinity()) << at;
-      EXPECT_EQ(r.SquaredNormHi, std::numeric_limits<double>::infinity()) << at;
+      const Id n = 23;
+      for (Id at = 0; at < nc * n; ++at)
+      {
+        std::vector<double> v = RandomValues(static_cast<size_t>(nc * n), 3u);
+        v[at] = std::numeric_limits<double>::quiet_NaN();
+        EXPECT_TRUE(ScanPointRanges(v.data(), nc, n).NaN) << isa << nc << " components, value " << at;
+        v[at] = -std::numeric_limits<double>::infinity();
+        const PointRanges r = ScanPointRanges(v.data(), nc, n);
+        EXPECT_FALSE(r.NaN) << isa << at;
+        EXPECT_EQ(r.Lo[at % nc], -std::numeric_limits<double>::infinity()) << isa << at;
+        EXPECT_EQ(r.SquaredNormHi, std::numeric_limits<double>::infinity()) << isa << at;
+      }
     }
-  }
+  });
 }
 
 // The construction's ranges are those of the points it returns, for the rules scanned in their
