@@ -3,7 +3,7 @@
 // change their bits against VTK's.
 #include "PointRanges.h"
 
-#include "LocalityOrder.h" // for PrefetchAhead
+#include "PointRangeLanes.h"
 
 #include <algorithm>
 #include <limits>
@@ -15,9 +15,11 @@
 #include <atomic>
 
 #if defined(__x86_64__) && defined(__GNUC__)
-#include <immintrin.h>
-#define CTK_POINT_RANGES_AVX2 1
+#include <emmintrin.h>
 #define CTK_POINT_RANGES_SSE2 1 // part of x86-64
+#endif
+#if defined(CTSPLINES_AVX2_RANGES) // PointRangesAVX2.cxx built with -mavx2 (CMakeLists.txt)
+#define CTK_POINT_RANGES_AVX2 1
 #endif
 
 namespace ctk
@@ -69,149 +71,37 @@ std::atomic<PointRangeISA>& UsedISA()
 }
 
 #if defined(CTK_POINT_RANGES_SSE2)
-// Two points of three components in three registers, [x0 y0] [z0 x1] [y1 z1]: (x + y) + z of
-// each point's squares, VTK's order.
-inline __m128d SquaredNorms3(__m128d a, __m128d b, __m128d c)
+struct SSE2Lanes
 {
-  a = _mm_mul_pd(a, a);
-  b = _mm_mul_pd(b, b);
-  c = _mm_mul_pd(c, c);
-  const __m128d x = _mm_shuffle_pd(a, b, 0x2); // [a0 b1]
-  const __m128d y = _mm_shuffle_pd(a, c, 0x1); // [a1 c0]
-  const __m128d z = _mm_shuffle_pd(b, c, 0x2); // [b0 c1]
-  return _mm_add_pd(_mm_add_pd(x, y), z);
-}
+  using V = __m128d;
+  static constexpr int Width = 2;
+  static V Load(const double* p) { return _mm_load_pd(p); }
+  static V LoadUnaligned(const double* p) { return _mm_loadu_pd(p); }
+  static void Store(double* p, V v) { _mm_store_pd(p, v); }
+  static V Zero() { return _mm_setzero_pd(); }
+  static V Min(V a, V b) { return _mm_min_pd(a, b); }
+  static V Max(V a, V b) { return _mm_max_pd(a, b); }
+  static V Or(V a, V b) { return _mm_or_pd(a, b); }
+  static V Unordered(V a) { return _mm_cmpunord_pd(a, a); }
+  static bool Any(V a) { return _mm_movemask_pd(a) != 0; }
 
-// Two points of two components, [u0 v0] [u1 v1]: u * u + v * v of each.
-inline __m128d SquaredNorms2(__m128d a, __m128d b)
-{
-  a = _mm_mul_pd(a, a);
-  b = _mm_mul_pd(b, b);
-  return _mm_add_pd(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b));
-}
-
-// Points [0, 2 n) in pairs, for CPUs without AVX2: lane j of the k-th register holds value
-// 2 k + j of the pair, kept in lo[2 k + j] (component (2 k + j) % NC, as Result reads the lanes).
-// Returns whether a NaN was seen.
-template <int NC>
-bool ScanSSE2(const double* p, Id n, double* lo, double* hi, double* normLo, double* normHi)
-{
-  __m128d l[NC], h[NC];
-  for (int k = 0; k < NC; ++k)
+  // Two points of three components, [x0 y0] [z0 x1] [y1 z1]: (x + y) + z of each point's
+  // squares, VTK's order.
+  static V SquaredNorms(const V (&v)[3])
   {
-    l[k] = _mm_load_pd(lo + 2 * k);
-    h[k] = _mm_load_pd(hi + 2 * k);
+    const V a = _mm_mul_pd(v[0], v[0]), b = _mm_mul_pd(v[1], v[1]), c = _mm_mul_pd(v[2], v[2]);
+    const V x = _mm_shuffle_pd(a, b, 0x2); // [a0 b1]
+    const V y = _mm_shuffle_pd(a, c, 0x1); // [a1 c0]
+    const V z = _mm_shuffle_pd(b, c, 0x2); // [b0 c1]
+    return _mm_add_pd(_mm_add_pd(x, y), z);
   }
-  __m128d nl = _mm_load_pd(normLo), nh = _mm_load_pd(normHi);
-  __m128d nan = _mm_setzero_pd();
-  for (Id i = 0; i < n; ++i, p += 2 * NC)
+  // Two points of two components, [u0 v0] [u1 v1]: u * u + v * v of each.
+  static V SquaredNorms(const V (&v)[2])
   {
-    PrefetchAhead(p, StreamPrefetchBytes);
-    __m128d v[NC];
-    for (int k = 0; k < NC; ++k)
-    {
-      v[k] = _mm_loadu_pd(p + 2 * k);
-      l[k] = _mm_min_pd(v[k], l[k]); // the new value first, as in ScanAVX2
-      h[k] = _mm_max_pd(v[k], h[k]);
-    }
-    __m128d s;
-    if constexpr (NC == 3)
-    {
-      s = SquaredNorms3(v[0], v[1], v[2]);
-    }
-    else
-    {
-      s = SquaredNorms2(v[0], v[1]);
-    }
-    nl = _mm_min_pd(s, nl);
-    nh = _mm_max_pd(s, nh);
-    nan = _mm_or_pd(nan, _mm_cmpunord_pd(s, s));
+    const V a = _mm_mul_pd(v[0], v[0]), b = _mm_mul_pd(v[1], v[1]);
+    return _mm_add_pd(_mm_unpacklo_pd(a, b), _mm_unpackhi_pd(a, b));
   }
-  for (int k = 0; k < NC; ++k)
-  {
-    _mm_store_pd(lo + 2 * k, l[k]);
-    _mm_store_pd(hi + 2 * k, h[k]);
-  }
-  _mm_store_pd(normLo, nl);
-  _mm_store_pd(normHi, nh);
-  return _mm_movemask_pd(nan) != 0;
-}
-#endif
-
-#if defined(CTK_POINT_RANGES_AVX2)
-
-// Four points of three components in three registers, [x0 y0 z0 x1] [y1 z1 x2 y2] [z2 x3 y3 z3],
-// their squares regrouped by component: x = [t1 t2 t1 t2] lanes 0 1 2 3 of t1 = [x0 y0 x2 y2],
-// t2 = [z0 x1 z2 x3], t3 = [y1 z1 y3 z3], and so on. Then (x + y) + z, VTK's order.
-__attribute__((target("avx2"))) inline __m256d SquaredNorms3(__m256d a, __m256d b, __m256d c)
-{
-  a = _mm256_mul_pd(a, a);
-  b = _mm256_mul_pd(b, b);
-  c = _mm256_mul_pd(c, c);
-  const __m256d t1 = _mm256_blend_pd(a, b, 0xC);
-  const __m256d t2 = _mm256_permute2f128_pd(a, c, 0x21);
-  const __m256d t3 = _mm256_blend_pd(b, c, 0xC);
-  const __m256d x = _mm256_shuffle_pd(t1, t2, 0xA);
-  const __m256d y = _mm256_shuffle_pd(t1, t3, 0x5);
-  const __m256d z = _mm256_shuffle_pd(t2, t3, 0xA);
-  return _mm256_add_pd(_mm256_add_pd(x, y), z);
-}
-
-// Four points of two components in two registers, [u0 v0 u1 v1] [u2 v2 u3 v3]: the sums of
-// each point's two squares, [p0 p2 p1 p3] (the lanes' order does not matter to the extremes).
-__attribute__((target("avx2"))) inline __m256d SquaredNorms2(__m256d a, __m256d b)
-{
-  return _mm256_hadd_pd(_mm256_mul_pd(a, a), _mm256_mul_pd(b, b));
-}
-
-// Points [0, 4 n) in groups of four; returns whether a NaN was seen.
-template <int NC>
-__attribute__((target("avx2"))) bool ScanAVX2(
-  const double* p, Id n, double* lo, double* hi, double* normLo, double* normHi)
-{
-  __m256d l[NC], h[NC];
-  for (int k = 0; k < NC; ++k)
-  {
-    l[k] = _mm256_load_pd(lo + 4 * k);
-    h[k] = _mm256_load_pd(hi + 4 * k);
-  }
-  __m256d nl = _mm256_load_pd(normLo), nh = _mm256_load_pd(normHi);
-  __m256d nan = _mm256_setzero_pd();
-  for (Id i = 0; i < n; ++i, p += 4 * NC)
-  {
-    PrefetchAhead(p, StreamPrefetchBytes); // one line in 1.5 (or 2): its neighbour comes along
-    __m256d v[NC];
-    for (int k = 0; k < NC; ++k)
-    {
-      v[k] = _mm256_loadu_pd(p + 4 * k);
-      // The new value first: on a NaN or a tie (zeros of both signs) the lane keeps what it
-      // had, as the scalar loop does.
-      l[k] = _mm256_min_pd(v[k], l[k]);
-      h[k] = _mm256_max_pd(v[k], h[k]);
-    }
-    __m256d s;
-    if constexpr (NC == 3)
-    {
-      s = SquaredNorms3(v[0], v[1], v[2]);
-    }
-    else
-    {
-      s = SquaredNorms2(v[0], v[1]);
-    }
-    nl = _mm256_min_pd(s, nl);
-    nh = _mm256_max_pd(s, nh);
-    // A NaN component makes its norm NaN; squares are never -inf, so inf + -inf cannot.
-    nan = _mm256_or_pd(nan, _mm256_cmp_pd(s, s, _CMP_UNORD_Q));
-  }
-  for (int k = 0; k < NC; ++k)
-  {
-    _mm256_store_pd(lo + 4 * k, l[k]);
-    _mm256_store_pd(hi + 4 * k, h[k]);
-  }
-  _mm256_store_pd(normLo, nl);
-  _mm256_store_pd(normHi, nh);
-  return _mm256_movemask_pd(nan) != 0;
-}
+};
 #endif
 } // namespace
 
@@ -260,9 +150,8 @@ void PointRangeScan::Add(const double* points, Id count)
   if (isa == PointRangeISA::AVX2 && count >= 4)
   {
     const Id groups = count / 4;
-    const bool nan = this->Components == 3
-      ? ScanAVX2<3>(points, groups, this->Lo, this->Hi, this->NormLo, this->NormHi)
-      : ScanAVX2<2>(points, groups, this->Lo, this->Hi, this->NormLo, this->NormHi);
+    const bool nan = ScanPointRangesAVX2(
+      this->Components, points, groups, this->Lo, this->Hi, this->NormLo, this->NormHi);
     this->NaN = this->NaN || nan;
     done = 4 * groups;
   }
@@ -272,8 +161,8 @@ void PointRangeScan::Add(const double* points, Id count)
   {
     const Id pairs = count / 2;
     const bool nan = this->Components == 3
-      ? ScanSSE2<3>(points, pairs, this->Lo, this->Hi, this->NormLo, this->NormHi)
-      : ScanSSE2<2>(points, pairs, this->Lo, this->Hi, this->NormLo, this->NormHi);
+      ? ScanLanes<SSE2Lanes, 3>(points, pairs, this->Lo, this->Hi, this->NormLo, this->NormHi)
+      : ScanLanes<SSE2Lanes, 2>(points, pairs, this->Lo, this->Hi, this->NormLo, this->NormHi);
     this->NaN = this->NaN || nan;
     done = 2 * pairs;
   }

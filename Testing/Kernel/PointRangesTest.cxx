@@ -61,6 +61,10 @@ template <typename Body>
 void ForEachISA(Body&& body)
 {
   const PointRangeISA best = SetPointRangeISA(PointRangeISA::AVX2);
+#if defined(__x86_64__) && defined(__GNUC__)
+  // The build gives x86-64 its AVX2 loop (PointRangesAVX2.cxx), and SSE2 is always there.
+  ASSERT_EQ(best, __builtin_cpu_supports("avx2") ? PointRangeISA::AVX2 : PointRangeISA::SSE2);
+#endif
   for (PointRangeISA isa : { PointRangeISA::AVX2, PointRangeISA::SSE2, PointRangeISA::Scalar })
   {
     if (static_cast<int>(isa) <= static_cast<int>(best))
