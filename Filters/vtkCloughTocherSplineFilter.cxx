@@ -719,11 +719,9 @@ void FillSplineGrid(ctk::CloughTocherSpline& spline, const ctk::MeshTopology& to
   output->GetPointData()->AddArray(uvOut);
   output->GetCellData()->AddArray(macroIds);
   output->GetCellData()->AddArray(microIds);
-  if (nT > 0) // the ids as written: no scan of their own
-  {
-    ctsplines::StoreRange(macroIds, double(macroRange[0]), double(macroRange[1]));
-    ctsplines::StoreRange(microIds, 0.0, 2.0);
-  }
+  // The ids as written, no scan of their own (nothing is stored for no cells).
+  ctsplines::StoreRange(macroIds, double(macroRange[0]), double(macroRange[1]));
+  ctsplines::StoreRange(microIds, 0.0, 2.0);
   if (spline.Degree == 3 && !keptTriangles) // every point as written and scanned by the kernel
   {
     // After SetData, which names the points' array (and so modifies it).

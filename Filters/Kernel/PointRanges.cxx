@@ -6,13 +6,12 @@
 #include "PointRangeLanes.h"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 
 #if defined(__FINITE_MATH_ONLY__) && __FINITE_MATH_ONLY__
 #error "PointRanges.cxx reports NaN and inf: build it without -ffinite-math-only (-ffast-math)"
 #endif
-
-#include <atomic>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <emmintrin.h>
