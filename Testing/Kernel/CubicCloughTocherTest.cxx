@@ -363,6 +363,19 @@ TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
   ASSERT_FALSE(r.IsIdentity());
   SplineInput renumbered = mesh;
   renumbered.Renumber(r);
+  // Renumbered vertex k carries input vertex r.Vertices[k]'s rows (the definition, against the
+  // one-pass gather of SplineInput::GatherVertexRows).
+  for (size_t k = 0; k < r.Vertices.size(); ++k)
+  {
+    const size_t v = static_cast<size_t>(r.Vertices[k]);
+    for (int c = 0; c < 3; ++c)
+    {
+      ASSERT_EQ(renumbered.F[3 * k + c], mesh.F[3 * v + c]) << "vertex " << k;
+      ASSERT_EQ(renumbered.Fu[3 * k + c], mesh.Fu[3 * v + c]) << "vertex " << k;
+      ASSERT_EQ(renumbered.Fv[3 * k + c], mesh.Fv[3 * v + c]) << "vertex " << k;
+      ASSERT_TRUE(c == 2 || renumbered.UV[2 * k + c] == mesh.UV[2 * v + c]) << "vertex " << k;
+    }
+  }
   // Two zero-area triangles: vertex b moved onto its neighbour a's (u, v).
   SplineInput degenerate = mesh;
   const Id a = mesh.Triangles[3 * (nT / 2)], b = mesh.Triangles[3 * (nT / 2) + 1];
@@ -395,7 +408,10 @@ TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
     EXPECT_EQ(there.EdgeGradients, renumbered.EdgeGradients);
     there.Renumber(r, true, split);
     EXPECT_EQ(there.Triangles, mesh.Triangles);
+    EXPECT_EQ(there.UV, mesh.UV);
     EXPECT_EQ(there.F, mesh.F);
+    EXPECT_EQ(there.Fu, mesh.Fu);
+    EXPECT_EQ(there.Fv, mesh.Fv);
     const BuildStatus check = ValidateSplineData(degenerate.View(), mesh.Topology, {}, split);
     EXPECT_EQ(check.Message, serialCheck.Message) << threads << " threads";
   }
