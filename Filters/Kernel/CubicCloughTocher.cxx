@@ -215,14 +215,15 @@ private:
       return;
     }
     const Id* p = this->Data.Triangles + 3 * t;
-    const Vec3* P = this->Spline.ControlPoints.data() + this->Spline.Layout.NumberOfVertices;
+    const Vec3* P = this->Spline.ControlPoints.data();
+    const CubicSplineLayout& layout = this->Spline.Layout;
     for (int l = 0; l < 3; ++l)
     {
       const Id e = this->Topo.TriangleEdges[t][l];
-      PrefetchRead(this->Spline.ControlPoints.data() + p[l]);
+      PrefetchRead(P + layout.Vertex(p[l]));
       PrefetchRead(this->Data.UV + 2 * p[l]);
-      PrefetchRead(P + 2 * e);
-      PrefetchAhead(P + 2 * e, 2 * sizeof(Vec3) - 1); // the pair's 48 bytes may span two lines
+      PrefetchRead(P + layout.EdgePoints(e));
+      PrefetchAhead(P + layout.EdgePoints(e), 2 * sizeof(Vec3) - 1); // 48 bytes: maybe two lines
       PrefetchRead(this->Topo.EdgeTriangles.data() + e);
     }
   }

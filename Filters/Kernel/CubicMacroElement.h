@@ -37,10 +37,12 @@ struct CubicSplineLayout
     return NumberOfVertices + 2 * NumberOfEdges + PointsPerTriangle * NumberOfTriangles;
   }
   constexpr Id Vertex(Id v) const { return v; }
+  /// The first of edge e's two T points, the one near its smaller vertex id; the other follows.
+  Id EdgePoints(Id e) const { return NumberOfVertices + 2 * e; }
   /// T point of edge e near its vertex `near` (one of the edge's two vertices).
   Id EdgePoint(const MeshTopology& topo, Id e, Id near) const
   {
-    return NumberOfVertices + 2 * e + (topo.Edges[e][0] == near ? 0 : 1);
+    return EdgePoints(e) + (topo.Edges[e][0] == near ? 0 : 1);
   }
   Id TrianglePoint(Id t, int slot) const
   {
@@ -78,7 +80,7 @@ inline MacroElementIds GetMacroElementIds(
     const int i = l, j = (l + 1) % 3;
     // layout.EdgePoint without reading topo.Edges (a cache miss per edge): edges are stored as
     // (smaller, larger) vertex id.
-    const Id first = layout.NumberOfVertices + 2 * edges[l];
+    const Id first = layout.EdgePoints(edges[l]);
     const Id nearI = p[i] < p[j] ? 0 : 1;
     ids.T[i][j] = first + nearI;
     ids.T[j][i] = first + (1 - nearI);

@@ -11,9 +11,12 @@
 #include "MeshTopology.h"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <tuple>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace ctk
@@ -123,67 +126,119 @@ OverwriteVector<Id> VerticesByFirstUse(
 LocalityRenumbering MakeLocalityRenumbering(Id numVertices, Id numTriangles, const Id* triangles,
   const double* uv, const ParallelFor& parallelFor = SerialFor);
 
+namespace detail
+{
+template <std::size_t... I, typename F>
+void ForEachIndex(std::index_sequence<I...>, F&& f)
+{
+  (f(std::integral_constant<std::size_t, I>()), ...);
+}
+template <std::size_t I, std::size_t... W>
+constexpr std::size_t NthWidth()
+{
+  constexpr std::size_t widths[] = { W... };
+  return widths[I];
+}
+} // namespace detail
+
+/// The rows of several arrays (arrays[a]: rows of W_a values, W_a = 0 for `width` values)
+/// put in the renumbered order (renumbered row k = input row from[k]), or back in the input's
+/// order (back = true), in one pass chunked by parallelFor over the rows: the map is read once
+/// and each row's reads are in flight together (the locality renumbering's (u, v), F, f_u and
+/// f_v: CTi 0.6 %, CTo 2.6 % faster at 1e6 triangles than a pass each). An empty array is left
+/// as is; every other holds from.size() rows.
+template <std::size_t... W, typename B, typename... V>
+void PermuteRowsTogether(const std::vector<Id, B>& from, bool back, const ParallelFor& parallelFor,
+  std::size_t width, V&... arrays)
+{
+  static_assert(sizeof...(W) == sizeof...(V), "a width per array");
+  const std::tuple<V&...> in(arrays...);
+  std::tuple<V...> out;
+  const std::array<bool, sizeof...(V)> used{ !arrays.empty()... };
+  if (from.empty() || std::none_of(used.begin(), used.end(), [](bool u) { return u; }))
+  {
+    return;
+  }
+  const auto each = std::index_sequence_for<V...>();
+  detail::ForEachIndex(each, [&](auto a) {
+    if (used[a])
+    {
+      ResizeForOverwrite(std::get<a>(out), std::get<a>(in).size()); // huge pages, unwritten
+    }
+  });
+  parallelFor(static_cast<Id>(from.size()), [&](Id begin, Id end) {
+    // Locals: rows of ids could alias the captured sizes and pointers, reloaded per row.
+    const std::tuple<const typename V::value_type*...> source(arrays.data()...);
+    std::tuple<typename V::value_type*...> target;
+    detail::ForEachIndex(each, [&](auto a) { std::get<a>(target) = std::get<a>(out).data(); });
+    const std::array<bool, sizeof...(V)> on = used;
+    const Id* row = from.data();
+    const bool gather = !back;
+    for (Id k = begin; k < end; ++k)
+    {
+      const std::size_t i = static_cast<std::size_t>(row[k]), j = static_cast<std::size_t>(k);
+      const std::size_t read = gather ? i : j, write = gather ? j : i;
+      const std::size_t ahead = gather && k + PrefetchDistance < end
+        ? static_cast<std::size_t>(row[k + PrefetchDistance]) + 1
+        : 0;
+      detail::ForEachIndex(each, [&](auto a) {
+        // The usual widths are compile-time constants: std::copy_n of a run-time width is a
+        // call to memmove per row (on 1e6 triangles 21 ms of the construction's 35 ms of
+        // permutations).
+        constexpr std::size_t Wa = detail::NthWidth<a, W...>();
+        const std::size_t n = Wa != 0 ? Wa : width;
+        if (!on[a])
+        {
+          return;
+        }
+        if (ahead != 0)
+        {
+          PrefetchRead(std::get<a>(source) + n * (ahead - 1));
+        }
+        const auto* s = std::get<a>(source) + n * read;
+        auto* t = std::get<a>(target) + n * write;
+        if constexpr (Wa != 0)
+        {
+          for (std::size_t c = 0; c < Wa; ++c)
+          {
+            t[c] = s[c];
+          }
+        }
+        else
+        {
+          std::copy_n(s, n, t);
+        }
+      });
+    }
+  });
+  detail::ForEachIndex(each, [&](auto a) {
+    if (used[a])
+    {
+      std::get<a>(in).swap(std::get<a>(out));
+    }
+  });
+}
+
 /// Rows of `width` values of v (renumbered row k = input row from[k]) put in the renumbered
 /// order, or back in the input's order (back = true), chunked by parallelFor over the rows.
 template <typename T, typename A, typename B>
 void PermuteRows(std::vector<T, A>& v, std::size_t width, const std::vector<Id, B>& from, bool back,
   const ParallelFor& parallelFor = SerialFor)
 {
-  if (v.empty() || from.empty())
-  {
-    return;
-  }
-  std::vector<T, A> out;
-  ResizeForOverwrite(out, v.size()); // huge pages; unwritten for an OverwriteVector
-  // The usual widths are compile-time constants: std::copy_n of a run-time width is a call to
-  // memmove per row (on 1e6 triangles 21 ms of the construction's 35 ms of permutations).
-  auto permute = [&](auto fixedWidth) {
-    constexpr std::size_t W = decltype(fixedWidth)::value; // 0: run-time width
-    parallelFor(static_cast<Id>(from.size()), [&](Id begin, Id end) {
-      // Locals: rows of ids could alias the captured sizes and pointers, reloaded per row.
-      const T* source = v.data();
-      T* target = out.data();
-      const Id* row = from.data();
-      const std::size_t n = W != 0 ? W : width;
-      const bool gather = !back;
-      for (Id k = begin; k < end; ++k)
-      {
-        if (gather && k + PrefetchDistance < end)
-        {
-          PrefetchRead(source + n * static_cast<std::size_t>(row[k + PrefetchDistance]));
-        }
-        const std::size_t i = static_cast<std::size_t>(row[k]), j = static_cast<std::size_t>(k);
-        const T* a = source + n * (gather ? i : j);
-        T* b = target + n * (gather ? j : i);
-        if constexpr (W != 0)
-        {
-          for (std::size_t c = 0; c < W; ++c)
-          {
-            b[c] = a[c];
-          }
-        }
-        else
-        {
-          std::copy_n(a, n, b);
-        }
-      }
-    });
-  };
   switch (width)
   {
     case 1:
-      permute(std::integral_constant<std::size_t, 1>());
+      PermuteRowsTogether<1>(from, back, parallelFor, width, v);
       break;
     case 2:
-      permute(std::integral_constant<std::size_t, 2>());
+      PermuteRowsTogether<2>(from, back, parallelFor, width, v);
       break;
     case 3:
-      permute(std::integral_constant<std::size_t, 3>());
+      PermuteRowsTogether<3>(from, back, parallelFor, width, v);
       break;
     default:
-      permute(std::integral_constant<std::size_t, 0>());
+      PermuteRowsTogether<0>(from, back, parallelFor, width, v);
   }
-  v.swap(out);
 }
 
 /// Runs body(t) for every triangle t, in the given order (empty: 0 .. n-1), chunked by

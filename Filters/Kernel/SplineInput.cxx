@@ -165,62 +165,8 @@ void SplineInput::RenumberVertices(
       triangles[h] = map[static_cast<std::size_t>(triangles[h])];
     }
   });
-  const size_t nV = r.Vertices.size();
-  if (!back && this->UV.size() == 2 * nV && this->F.size() == 3 * nV && this->Fu.size() == 3 * nV &&
-    this->Fv.size() == 3 * nV)
-  {
-    this->GatherVertexRows(r.Vertices, parallelFor);
-    return;
-  }
-  PermuteRows(this->UV, 2, r.Vertices, back, parallelFor);
-  for (OverwriteVector<double>* a : { &this->F, &this->Fu, &this->Fv })
-  {
-    PermuteRows(*a, 3, r.Vertices, back, parallelFor);
-  }
+  PermuteRowsTogether<2, 3, 3, 3>(
+    r.Vertices, back, parallelFor, 0, this->UV, this->F, this->Fu, this->Fv);
 }
 
-// PermuteRows' gather for the four arrays of rows per vertex at once: the map is read once and
-// each row's four gathers are in flight together (CTi 0.6 %, CTo 2.6 % faster at 1e6 triangles
-// than four passes).
-void SplineInput::GatherVertexRows(const OverwriteVector<Id>& from, const ParallelFor& parallelFor)
-{
-  const size_t nV = from.size();
-  OverwriteVector<double> uv, f, fu, fv;
-  ResizeForOverwrite(uv, 2 * nV);
-  ResizeForOverwrite(f, 3 * nV);
-  ResizeForOverwrite(fu, 3 * nV);
-  ResizeForOverwrite(fv, 3 * nV);
-  parallelFor(static_cast<Id>(nV), [&](Id begin, Id end) {
-    const Id* row = from.data();
-    const double* su = this->UV.data();
-    const double* s[3] = { this->F.data(), this->Fu.data(), this->Fv.data() };
-    double* tu = uv.data();
-    double* t[3] = { f.data(), fu.data(), fv.data() };
-    for (Id k = begin; k < end; ++k)
-    {
-      if (k + PrefetchDistance < end)
-      {
-        const size_t ahead = static_cast<size_t>(row[k + PrefetchDistance]);
-        PrefetchRead(su + 2 * ahead);
-        for (int a = 0; a < 3; ++a)
-        {
-          PrefetchRead(s[a] + 3 * ahead);
-        }
-      }
-      const size_t i = static_cast<size_t>(row[k]), j = static_cast<size_t>(k);
-      tu[2 * j] = su[2 * i];
-      tu[2 * j + 1] = su[2 * i + 1];
-      for (int a = 0; a < 3; ++a)
-      {
-        t[a][3 * j] = s[a][3 * i];
-        t[a][3 * j + 1] = s[a][3 * i + 1];
-        t[a][3 * j + 2] = s[a][3 * i + 2];
-      }
-    }
-  });
-  this->UV.swap(uv);
-  this->F.swap(f);
-  this->Fu.swap(fu);
-  this->Fv.swap(fv);
-}
 } // namespace ctk

@@ -57,8 +57,6 @@ private:
   void PermuteTriangleRows(const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor);
   // The ids in the triangles and the rows per vertex ((u, v), values, derivatives).
   void RenumberVertices(const LocalityRenumbering& r, bool back, const ParallelFor& parallelFor);
-  // Renumbered row k of (u, v), F, f_u and f_v = input row from[k], in one pass.
-  void GatherVertexRows(const OverwriteVector<Id>& from, const ParallelFor& parallelFor);
 };
 
 } // namespace ctk

@@ -364,7 +364,7 @@ TEST(CubicCloughTocher, RenumberingAndValidationDoNotDependOnTheSplit)
   SplineInput renumbered = mesh;
   renumbered.Renumber(r);
   // Renumbered vertex k carries input vertex r.Vertices[k]'s rows (the definition, against the
-  // one-pass gather of SplineInput::GatherVertexRows).
+  // one-pass gather of PermuteRowsTogether).
   for (size_t k = 0; k < r.Vertices.size(); ++k)
   {
     const size_t v = static_cast<size_t>(r.Vertices[k]);
@@ -484,6 +484,49 @@ TEST(LocalityOrder, VerticesByFirstUseOnEveryThreadCount)
     EXPECT_TRUE(input.RenumberToLocalityOrder(ThreadedFor(2, 4999)).IsIdentity()) << bad;
     EXPECT_EQ(input.Triangles, before.Triangles);
     EXPECT_EQ(input.UV, before.UV);
+  }
+}
+
+TEST(LocalityOrder, RowsPermutedTogetherAsByDefinition)
+{
+  // Arrays of ids and values, widths 1, 3 and 18 (run-time), and an empty one, permuted in one
+  // pass: renumbered row k is row from[k], on 1-3 threads; the way back restores every array.
+  const Id n = 20011;
+  std::vector<Id> from(static_cast<size_t>(n));
+  std::iota(from.begin(), from.end(), Id(0));
+  std::shuffle(from.begin(), from.end(), std::mt19937_64(3u));
+  std::vector<Id> ids(static_cast<size_t>(n));
+  OverwriteVector<double> triples(static_cast<size_t>(3 * n)), wide(static_cast<size_t>(18 * n));
+  std::iota(ids.begin(), ids.end(), Id(100));
+  std::iota(triples.begin(), triples.end(), 0.5);
+  std::iota(wide.begin(), wide.end(), -7.25);
+  const std::vector<Id> ids0 = ids;
+  const OverwriteVector<double> triples0 = triples, wide0 = wide;
+  for (const auto& [threads, chunk] : { std::pair<int, Id>{ 1, n }, { 2, 4999 }, { 3, 777 } })
+  {
+    OverwriteVector<double> none;
+    PermuteRowsTogether<1, 3, 0, 3>(
+      from, false, ThreadedFor(threads, chunk), 18, ids, triples, wide, none);
+    EXPECT_TRUE(none.empty());
+    for (Id k = 0; k < n; ++k)
+    {
+      const size_t i = static_cast<size_t>(from[k]), j = static_cast<size_t>(k);
+      ASSERT_EQ(ids[j], ids0[i]) << "row " << k << ", " << threads << " threads";
+      ASSERT_TRUE(std::equal(&triples0[3 * i], &triples0[3 * i + 3], &triples[3 * j]))
+        << "row " << k;
+      ASSERT_TRUE(std::equal(&wide0[18 * i], &wide0[18 * i + 18], &wide[18 * j])) << "row " << k;
+    }
+    PermuteRowsTogether<1, 3, 0, 3>(
+      from, true, ThreadedFor(threads, chunk), 18, ids, triples, wide, none);
+    EXPECT_EQ(ids, ids0) << threads << " threads";
+    EXPECT_EQ(triples, triples0) << threads << " threads";
+    EXPECT_EQ(wide, wide0) << threads << " threads";
+    // One array at a time, PermuteRows' width 18 as the run-time copy.
+    PermuteRows(wide, 18, from, false, ThreadedFor(threads, chunk));
+    EXPECT_TRUE(std::equal(&wide0[18 * static_cast<size_t>(from[5])],
+      &wide0[18 * static_cast<size_t>(from[5]) + 18], &wide[18 * 5]));
+    PermuteRows(wide, 18, from, true, ThreadedFor(threads, chunk));
+    EXPECT_EQ(wide, wide0) << threads << " threads";
   }
 }
 
