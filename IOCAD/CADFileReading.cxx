@@ -13,6 +13,7 @@
 #include <BRep_Builder.hxx>
 #include <BRepAdaptor_Surface.hxx>
 #include <BRep_Tool.hxx>
+#include <BRepTools.hxx>
 #include <BinTools.hxx>
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
@@ -736,14 +737,51 @@ void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const TopToo
   }
 }
 
+/// The largest step in (u, v) from an edge's pcurve end to the next edge's start over F's
+/// wires, to the nearest copy across the surface's periods (edges without a pcurve skipped).
+double MaxWireGapUV(const TopoDS_Face& F)
+{
+  const BRepAdaptor_Surface S(F, Standard_False);
+  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+  auto hasPCurve = [&F](const TopoDS_Edge& E) {
+    double a = 0, b = 0;
+    return !BRep_Tool::CurveOnSurface(E, F, a, b).IsNull();
+  };
+  double gap = 0;
+  for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
+  {
+    TopoDS_Edge broken;
+    const std::vector<TopoDS_Edge> chain = WireEdges(TopoDS::Wire(wx.Current()), F, broken);
+    for (std::size_t i = 0; i < chain.size(); ++i)
+    {
+      const TopoDS_Edge& next = chain[(i + 1) % chain.size()];
+      if (!hasPCurve(chain[i]) || !hasPCurve(next))
+      {
+        continue;
+      }
+      const gp_Vec2d d(PCurveEnd(next, F, false), PCurveEnd(chain[i], F, true));
+      double step[2] = { d.X(), d.Y() };
+      for (int k = 0; k < 2; ++k)
+      {
+        step[k] -= period[k] > 0 ? period[k] * std::round(step[k] / period[k]) : 0;
+      }
+      gap = std::max(gap, std::hypot(step[0], step[1]));
+    }
+  }
+  return gap;
+}
+
 /// Pcurves off their edge's 3D curve by more than `tol` (where the edge is SameParameter: the
 /// 3D curve is the edge) are replaced by its projection when that is at most half as far, and
 /// moved by periods to join their wire. OCCT's STEP reader computes pcurves by projection and
 /// raises the edge tolerance over what its projection misses: on surfaces of revolution it can
 /// run the wrong way round (NXP_MPL115A1, faces off by 8 % of the diagonal), on a cylinder jump
 /// by the period inside one span (the toroid inductors of Bourns 8100: the wire then seems to go
-/// round the surface). The edges are changed in place. Returns the number replaced; the faces
-/// are named in a warning.
+/// round the surface). A face whose wires its projections leave open in (u, v) keeps its
+/// pcurves: where the surface barely moves across (u, v) near a vertex, the projections of its
+/// edges land apart there (TQFP-64_14x14mm_P0.8mm: 0.13 apart on faces 13.5 wide, whose splines
+/// then folded). The edges are changed in place. Returns the number replaced; the faces are
+/// named in a warning.
 int ReprojectPCurves(ShapeRead& r, double tol)
 {
   TopTools_IndexedMapOfShape faceMap;
@@ -754,6 +792,8 @@ int ReprojectPCurves(ShapeRead& r, double tol)
   {
     const TopoDS_Face F = TopoDS::Face(faceMap(i).Oriented(TopAbs_FORWARD));
     TopTools_MapOfShape fixed;
+    std::vector<std::pair<TopoDS_Edge, Handle(Geom2d_Curve)>> kept; // the replaced pcurves
+    double gapBefore = -1; // the wires' largest gap in (u, v) before any replacement
     for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
     {
       const TopoDS_Edge& E = TopoDS::Edge(ex.Current());
@@ -775,6 +815,7 @@ int ReprojectPCurves(ShapeRead& r, double tol)
       {
         continue;
       }
+      gapBefore = gapBefore < 0 ? MaxWireGapUV(F) : gapBefore;
       BRep_Builder().UpdateEdge(E, projected, F, BRep_Tool::Tolerance(E));
       if (PCurveDeviation(E, F) > 0.5 * before)
       {
@@ -782,6 +823,7 @@ int ReprojectPCurves(ShapeRead& r, double tol)
         continue;
       }
       fixed.Add(E);
+      kept.emplace_back(E, old);
     }
     if (fixed.IsEmpty())
     {
@@ -790,6 +832,16 @@ int ReprojectPCurves(ShapeRead& r, double tol)
     for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
     {
       ConnectReprojected(TopoDS::Wire(wx.Current()), F, fixed);
+    }
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(F, u0, u1, v0, v1);
+    if (MaxWireGapUV(F) > 2 * gapBefore + 1e-6 * std::hypot(u1 - u0, v1 - v0))
+    {
+      for (const auto& [E, old] : kept)
+      {
+        BRep_Builder().UpdateEdge(E, old, F, BRep_Tool::Tolerance(E));
+      }
+      continue;
     }
     replaced += fixed.Extent();
     faces += ++named > 4 ? (named == 5 ? ", ..." : "")
