@@ -646,6 +646,12 @@ double PCurveDeviation(const TopoDS_Edge& E, const TopoDS_Face& F)
   return d;
 }
 
+/// The whole periods nearest to the parameter step d (0 where period is 0: not periodic).
+double WholePeriods(double d, double period)
+{
+  return period > 0 ? period * std::round(d / period) : 0;
+}
+
 /// E's 3D curve projected on F's surface (ShapeAnalysis_Surface, each point from the previous
 /// one) at 65 parameters, unwrapped across the periods, and interpolated at those parameters.
 Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
@@ -669,10 +675,7 @@ Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
                          : projector->NextValueOfUV(prev, P, Precision::Confusion());
     for (int k = 0; k < 2 && i > 0; ++k)
     {
-      if (period[k] > 0)
-      {
-        uv.SetCoord(k + 1, uv.Coord(k + 1) - period[k] * std::round((uv.Coord(k + 1) - prev.Coord(k + 1)) / period[k]));
-      }
+      uv.SetCoord(k + 1, uv.Coord(k + 1) - WholePeriods(uv.Coord(k + 1) - prev.Coord(k + 1), period[k]));
     }
     points->SetValue(i + 1, uv);
     params->SetValue(i + 1, t);
@@ -722,10 +725,7 @@ void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const TopToo
     gp_Vec2d shift(0, 0);
     for (int k = 0; k < 2; ++k)
     {
-      if (period[k] > 0)
-      {
-        shift.SetCoord(k + 1, period[k] * std::round((from.Coord(k + 1) - start.Coord(k + 1)) / period[k]));
-      }
+      shift.SetCoord(k + 1, WholePeriods(from.Coord(k + 1) - start.Coord(k + 1), period[k]));
     }
     if (shift.SquareMagnitude() > 0)
     {
@@ -763,7 +763,7 @@ double MaxWireGapUV(const TopoDS_Face& F)
       double step[2] = { d.X(), d.Y() };
       for (int k = 0; k < 2; ++k)
       {
-        step[k] -= period[k] > 0 ? period[k] * std::round(step[k] / period[k]) : 0;
+        step[k] -= WholePeriods(step[k], period[k]);
       }
       gap = std::max(gap, std::hypot(step[0], step[1]));
     }
