@@ -3,6 +3,7 @@
 #include "CADFaceMesher.h"
 
 #include "CloughTocherSpline.h"
+#include "SplineDataValidation.h"
 #include "SplineInput.h"
 
 #include <CGAL/Constrained_Delaunay_triangulation_2.h>
@@ -423,11 +424,22 @@ struct FaceSplineInput : ctk::SplineInput
   }
 };
 
-/// The vertex (0-2) of triangle f where two boundary segments meet in nearly the same or the
-/// opposite 3D direction (within 3 degrees; exactly opposite at a node inside a B-rep edge, whose
-/// spans share its derivative), or -1. That corner of the stitched spline is degenerate: its
-/// normal at the vertex is undefined, and flips with round-off. Such triangles (ears on a curved
-/// boundary) are split (CornerSplit).
+/// Boundary corners of a triangle between the edge cubics (degrees) below the first or above
+/// the second are flat (FlatBoundaryCorner). An ear on a boundary this close to straight is
+/// about a tenth as high as long, and its interior micro-triangle a thirtieth: the tolerance's
+/// worth of disagreement between its nodes' derivatives and its edge cubics folds it (KiCad's
+/// USB_Micro-B_Molex_47346-0001, face 70: cubics at 171 degrees, chords at 176.8, the spline at
+/// the split point 1.4e-4 off on a triangle 4.2e-4 high; 180 degrees off G1).
+constexpr double MinBoundaryCorner = 3, MaxBoundaryCorner = 170;
+
+/// The vertex (0-2) of triangle f where two boundary segments meet in nearly the same 3D
+/// direction (a corner below MinBoundaryCorner), nearly the opposite one (above
+/// MaxBoundaryCorner; exactly opposite at a node inside a B-rep edge, whose spans share its
+/// derivative) or beyond it (a reversed corner), or -1. At such a corner the stitched spline is
+/// degenerate (its normal at the vertex undefined, flipping with round-off) or too thin to bear
+/// its data's disagreement, and folds. The corner is measured about the normal of the stitching
+/// derivatives (where they span a plane). Such triangles (ears on a curved boundary) are split
+/// (CornerSplit).
 int FlatBoundaryCorner(
   const CDT& cdt, const CDT::Face_handle f, const SegmentMap& segments, const FaceMesh& mesh)
 {
@@ -445,7 +457,16 @@ int FlatBoundaryCorner(
     const Point3& b = flipOut ? out->Near1 : out->Near0; // near vertex l on edge (l, l + 1)
     const ctk::Vec3 da(a[0] - V[0], a[1] - V[1], a[2] - V[2]);
     const ctk::Vec3 db(b[0] - V[0], b[1] - V[1], b[2] - V[2]);
-    if (da.cross(db).norm() <= std::sin(3 * M_PI / 180) * da.norm() * db.norm())
+    const Id v = f->vertex(l)->info().Index;
+    const ctk::Vec3 n = ctk::Vec3(mesh.Fs[v][0], mesh.Fs[v][1], mesh.Fs[v][2])
+                          .cross(ctk::Vec3(mesh.Ft[v][0], mesh.Ft[v][1], mesh.Ft[v][2]));
+    // The corner from the outgoing cubic to the incoming one about the normal: the triangle
+    // is counter-clockwise, so a sound corner lies in (0, 180) degrees.
+    const double corner = std::atan2(n.normalized().dot(db.cross(da)), db.dot(da)) * 180 / M_PI;
+    const bool flat = n.squaredNorm() > 0 && std::isfinite(corner)
+      ? corner <= MinBoundaryCorner || corner >= MaxBoundaryCorner
+      : da.cross(db).norm() <= std::sin(MinBoundaryCorner * M_PI / 180) * da.norm() * db.norm();
+    if (flat)
     {
       return l;
     }
@@ -459,15 +480,16 @@ int FlatBoundaryCorner(
 /// by two triangles of a sound shape. The centroid of an ear on a nearly straight boundary lies
 /// a third of its sagitta from it (linkrods.step: 2 % of the segment): two triangles on the
 /// boundary segments that thin fold the stitched spline wherever the edge cubic leaves the
-/// segment's chord by a larger angle. The centroid where no such point can go in.
+/// segment's chord by a larger angle. The centroid where no such point can go in. The side of
+/// the chord comes from the face's orientation (counter-clockwise), not from where the vertex
+/// lies: a flat triangle's vertex is on the chord up to round-off (SplitFlatTriangles).
 Steiner CornerSplit(const CDT& cdt, const CDT::Face_handle f, int l)
 {
   const Point &v = f->vertex(l)->point(), &a = f->vertex(CDT::ccw(l))->point(),
               &b = f->vertex(CDT::cw(l))->point();
   const ctk::Vec2 chord(b.x() - a.x(), b.y() - a.y());
-  const ctk::Vec2 inward(a.x() + b.x() - 2 * v.x(), a.y() + b.y() - 2 * v.y());
-  ctk::Vec2 n(-chord.y(), chord.x());
-  n *= (n.dot(inward) < 0 ? -1 : 1) / n.norm();
+  // The chord runs from a to b with v on its left: away from v is its right.
+  const ctk::Vec2 n = ctk::Vec2(chord.y(), -chord.x()) / chord.norm();
   const double h = 0.25 *
     (std::sqrt(CGAL::squared_distance(v, a)) + std::sqrt(CGAL::squared_distance(v, b)));
   for (const double scale : { 1.0, 0.5, 0.25 })
@@ -629,6 +651,8 @@ private:
   void ScalePlane();
   Id AddPoint(double s, double t, const LoopNode* node);
   void CollectFaces();
+  std::size_t SplitFlatTriangles();
+  void CollectSoundFaces();
   std::size_t InsertPoints(const std::vector<Steiner>& inserts);
   bool EstimateTriangles(std::vector<Steiner>& inserts, double& maxError, double& maxAngle);
   void CheckInteriorEdges(std::vector<Steiner>& inserts, double& maxError);
@@ -642,6 +666,7 @@ private:
   const bool AnisotropicScaled; // scale the plane where Anisotropic
   CDT Triangulation;
   TriangulationPlane Plane;
+  double DiagonalUV2 = 0; // the squared diagonal of the loops' (u, v) box
   SegmentMap Segments;
   Multiplicity SegmentCount;
   std::vector<CDT::Face_handle> Faces; // in-domain, after CollectFaces
@@ -735,6 +760,16 @@ bool FaceMesher::Triangulate()
   const double d2 = (box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
     (box.ymax() - box.ymin()) * (box.ymax() - box.ymin());
   this->Plane.MinArea = 1e-10 * d2;
+  ctk::Vec2 lo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+  for (const FaceLoop& loop : this->Loops)
+  {
+    for (const LoopNode& node : loop.Nodes)
+    {
+      lo = lo.cwiseMin(ctk::Vec2(node.UV[0], node.UV[1]));
+      hi = hi.cwiseMax(ctk::Vec2(node.UV[0], node.UV[1]));
+    }
+  }
+  this->DiagonalUV2 = (hi - lo).squaredNorm();
   // A millionth of the diagonal: far below any boundary span, far above round-off and the
   // vertex tolerances of real models (their copies of one vertex are 1e-16 to 1e-7 apart).
   const double snap2 = 1e-12 * d2;
@@ -803,6 +838,80 @@ void FaceMesher::CollectFaces()
       }
       this->Faces.push_back(f);
     }
+  }
+}
+
+/// A triangle is split by SplitFlatTriangles when the kernel would find it degenerate in a box
+/// this many times smaller than the face's (IsDegenerateArea): the subsets of triangles the
+/// rounds build splines over have smaller boxes, and a margin keeps round-off out of the call.
+constexpr double FlatTriangleMargin = 10;
+/// Flat triangles are split in at most this many passes per collection.
+constexpr int MaxFlatSplitPasses = 4;
+
+/// Splits the triangles that are flat in (u, v) for the kernel (IsDegenerateArea, with
+/// FlatTriangleMargin), which the refinement never reaches (their area is far below MinArea):
+/// ears of three boundary nodes on a pcurve that is a straight line, the middle one off the
+/// chord of the others by round-off. KiCad's Bourns 8100 toroids (L38.1 face 71, L43.2 face 47):
+/// spans halved towards a B-rep vertex, the last two nodes 1.45e-5 and 5.6e-4 from the next on
+/// a pcurve of constant v, the ear 2e-8 high; no vertex lay in its circumcircle, so the
+/// triangulation kept it, and the face's spline could not be built. A point beyond the long edge,
+/// in front of the middle vertex (CornerSplit), is in that circumcircle and joins the vertex to
+/// the interior. A flat triangle whose long edge is a boundary segment cannot be split away (the
+/// kernel then names it). Returns how many points went in.
+std::size_t FaceMesher::SplitFlatTriangles()
+{
+  std::vector<Steiner> splits;
+  for (const CDT::Face_handle f : this->Faces)
+  {
+    const std::array<double, 2>& a = this->Mesh.UV[f->vertex(0)->info().Index];
+    const std::array<double, 2>& b = this->Mesh.UV[f->vertex(1)->info().Index];
+    const std::array<double, 2>& c = this->Mesh.UV[f->vertex(2)->info().Index];
+    const double area2 = ctk::SignedArea2(
+      ctk::Vec2(a[0], a[1]), ctk::Vec2(b[0], b[1]), ctk::Vec2(c[0], c[1]));
+    if (!ctk::IsDegenerateArea(area2, FlatTriangleMargin * this->DiagonalUV2))
+    {
+      continue;
+    }
+    int middle = 0; // the vertex opposite the longest edge
+    double longest = -1;
+    for (int l = 0; l < 3; ++l)
+    {
+      const double len2 =
+        CGAL::squared_distance(f->vertex(CDT::ccw(l))->point(), f->vertex(CDT::cw(l))->point());
+      if (len2 > longest)
+      {
+        longest = len2;
+        middle = l;
+      }
+    }
+    if (!this->Triangulation.is_constrained(CDT::Edge(f, middle)))
+    {
+      splits.push_back(CornerSplit(this->Triangulation, f, middle));
+    }
+  }
+  std::size_t added = 0;
+  for (const Steiner& q : splits)
+  {
+    // Not the centroid fallback (it would lie in the flat triangle), nor a point an earlier split
+    // of this pass has moved next to.
+    if (q.MinDistance > 0 && CanInsert(this->Triangulation, q))
+    {
+      const CDT::Vertex_handle v = this->Triangulation.insert(q.P);
+      v->info().Index =
+        this->AddPoint(q.P.x() / this->Plane.Scale[0], q.P.y() / this->Plane.Scale[1], nullptr);
+      ++added;
+    }
+  }
+  return added;
+}
+
+/// CollectFaces, with the flat triangles split first (SplitFlatTriangles).
+void FaceMesher::CollectSoundFaces()
+{
+  this->CollectFaces();
+  for (int pass = 0; pass < MaxFlatSplitPasses && this->SplitFlatTriangles() > 0; ++pass)
+  {
+    this->CollectFaces();
   }
 }
 
@@ -1036,7 +1145,7 @@ bool FaceMesher::Refine()
   FaceMesh& mesh = this->Mesh;
   for (int round = 0;; ++round)
   {
-    this->CollectFaces();
+    this->CollectSoundFaces();
     mesh.Rounds = round;
     std::vector<Steiner> inserts;
     double maxError = 0, maxAngle = 0;
@@ -1072,7 +1181,7 @@ bool FaceMesher::CheckConstruction()
   const FaceMeshOptions& options = this->Options;
   for (int check = 0; options.CheckConstruction; ++check)
   {
-    this->CollectFaces();
+    this->CollectSoundFaces();
     std::vector<Steiner> inserts;
     double maxError = 0, maxAngle = 0;
     if (!CheckStitchedSpline(this->Triangulation, this->Faces, mesh, this->Segments, this->Surface,

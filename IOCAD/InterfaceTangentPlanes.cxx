@@ -45,6 +45,9 @@ struct FaceVertex
   Vector3 Normal; // zero where the surface is degenerate (a pole)
   int Group = -1;
   std::vector<std::pair<int, int>> Nodes; // (loop, node) occurrences
+  /// The node's shared point minus the face's surface point at the node's (u, v): the vertex
+  /// tolerance where B-rep edges end apart, and the pcurve ends' gap (DropSkewingSplits).
+  Vector3 Offset = Vector3::Zero();
 };
 
 /// One end of an edge span at a node, shared by every face along the span (joints, which
@@ -111,7 +114,7 @@ public:
   TangentPlaneReport Run();
 
 private:
-  Jacobian Derivatives(int face, double s, double t) const;
+  Jacobian Derivatives(int face, double s, double t, Vector3* point = nullptr) const;
   Vector3 NormalAtEnd(const SegmentUse& use, int side) const;
   double CurvatureAcross(const SegmentUse& use) const;
   bool TurnsTooFar(const std::vector<int>& uses, double length) const;
@@ -140,10 +143,14 @@ private:
   TangentPlaneReport Report;
 };
 
-Jacobian TangentPlanes::Derivatives(int face, double s, double t) const
+Jacobian TangentPlanes::Derivatives(int face, double s, double t, Vector3* point) const
 {
   double P[3], Ds[3], Dt[3];
   this->Evaluate(face, s, t, P, Ds, Dt);
+  if (point)
+  {
+    *point = Vector3(P[0], P[1], P[2]);
+  }
   Jacobian D;
   D.col(0) = Vector3(Ds[0], Ds[1], Ds[2]);
   D.col(1) = Vector3(Dt[0], Dt[1], Dt[2]);
@@ -168,9 +175,11 @@ void TangentPlanes::Collect()
         const auto it = vertexIndex.emplace(key, static_cast<int>(this->Vertices.size()));
         if (it.second)
         {
-          FaceVertex v{ f, node.GlobalNode, this->Derivatives(f, node.UV[0], node.UV[1]), {}, -1,
-            {} };
+          Vector3 P;
+          FaceVertex v{ f, node.GlobalNode, this->Derivatives(f, node.UV[0], node.UV[1], &P), {},
+            -1, {} };
           v.Normal = UnitNormal(v.J0);
+          v.Offset = V3(this->Nodes[node.GlobalNode]) - P;
           this->Vertices.push_back(v);
         }
         vertexOf[k] = it.first->second;
@@ -608,7 +617,14 @@ void TangentPlanes::Project()
 /// by 3e-4 of 17 at a corner), halving the span next to the vertex again and again (its cubic
 /// disagrees with the face's derivative there) leaves a span whose chord runs across the edge
 /// and whose boundary micro-triangles fold (180 degrees). A span is not split where the offset
-/// (through the face's derivatives) would exceed MaxSplitSkew of the halves' chords.
+/// (through the face's derivatives) would exceed MaxSplitSkew of the halves' chords. The same
+/// in 3D: where B-rep edges end apart (KiCad's Bourns 8100 toroids: gaps of 3e-3), a vertex node
+/// is off its faces' surfaces by up to the vertex tolerance, which no split halves either: spans
+/// split down to that length (4e-4 in 3D, 1.4e-5 in (u, v) on the L43.2's plane face 47) make
+/// boundary triangles whose 3D points and (u, v) disagree 30-fold, and their splines overshoot
+/// by the triangle's length (2 units). A span is not split where the difference of its nodes'
+/// offsets from their surface points (FaceVertex::Offset) would exceed MaxSplitSkew of the
+/// halves' chords either.
 void TangentPlanes::DropSkewingSplits()
 {
   std::vector<std::pair<Id, Id>>& split = this->Report.SpansToSplit;
@@ -625,7 +641,9 @@ void TangentPlanes::DropSkewingSplits()
     const Eigen::Vector2d offset =
       Eigen::Vector2d(b.UV[0] - a.UV[0], b.UV[1] - a.UV[1]) - own;
     const Jacobian& J0 = this->Vertices[use.Vertex[0]].J0;
-    if ((J0 * offset).norm() > MaxSplitSkew * 0.5 * (J0 * own).norm())
+    const Vector3 offset3 =
+      this->Vertices[use.Vertex[1]].Offset - this->Vertices[use.Vertex[0]].Offset;
+    if (std::max((J0 * offset).norm(), offset3.norm()) > MaxSplitSkew * 0.5 * (J0 * own).norm())
     {
       skewing.emplace_back(seg.Edge, seg.Span);
     }

@@ -2,11 +2,13 @@
 // The stitcher's VTK-free stages (CADFaceSplines, CADStitch, CADMeasure) on OCCT-built shapes
 // sampled by vtkCADFaceSampler: facts each stage promises, stage by stage.
 #include "BoundarySpanBulge.h"
+#include "CADFaceMesher.h"
 #include "CADFaceSplines.h"
 #include "CADMeasure.h"
 #include "CADSampledFace.h"
 #include "CADStitch.h"
 #include "InterfaceTangentPlanes.h"
+#include "SplineDataValidation.h"
 
 #include "vtkCADFaceSampler.h"
 
@@ -523,11 +525,14 @@ ctcad::CADFace TriangleFace(int f, const std::vector<ctcad::Point3>& nodes,
 }
 
 /// Face 0's loop node at (0,0,0) is `offset` off its pcurves in t (their ends merged at a
-/// vertex, JoinRuns). Returns the spans SetInterfaceTangentPlanes reports for splitting.
-std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(double degrees, double offset)
+/// vertex, JoinRuns); the node's shared point is `offset3` off both faces' surfaces along y (a
+/// vertex where the B-rep's edges end apart). Returns the spans SetInterfaceTangentPlanes
+/// reports for splitting.
+std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(
+  double degrees, double offset, double offset3 = 0)
 {
   const double c = std::cos(degrees * M_PI / 180), s = std::sin(degrees * M_PI / 180);
-  const std::vector<ctcad::Point3> nodes{ { 0, 0, 0 }, { 1, 0, 0 }, { 0.5, 1, 0 },
+  const std::vector<ctcad::Point3> nodes{ { 0, offset3, 0 }, { 1, 0, 0 }, { 0.5, 1, 0 },
     { 0.5, -c, -s } };
   std::vector<ctcad::CADFace> faces(2);
   // Per face: its nodes (global, uv on the pcurves) and the B-rep edges of its segments.
@@ -705,4 +710,81 @@ TEST(CADStages, NoSplitNextToALoopNodeOffItsPCurves)
   EXPECT_FALSE(splitsEdge0(4, 0.1));
   // An offset that the halves' chords bear (1 % of the half) does not stop the split.
   EXPECT_TRUE(splitsEdge0(4, 0.005));
+}
+
+// The same where the node's shared point is off the faces' surfaces in 3D (a B-rep vertex the
+// edges end apart at: KiCad's Bourns 8100 toroids L38.1 and L43.2, where spans split down to
+// the offset made boundary triangles whose 3D points and (u, v) disagreed 30-fold, and the
+// splines overshot by 2 units).
+TEST(CADStages, NoSplitNextToANodeOffItsSurfaces)
+{
+  auto splitsEdge0 = [](double degrees, double offset3) {
+    const auto spans = SplitsNextToAnOffsetNode(degrees, 0, offset3);
+    return std::find(spans.begin(), spans.end(), std::make_pair(ctcad::Id(0), ctcad::Id(0))) !=
+      spans.end();
+  };
+  // Coplanar faces: the cubic leaves the node 0.1 / 3 off the faces' derivative along the
+  // chord, a mismatch that halving the span would not halve.
+  EXPECT_FALSE(splitsEdge0(0, 0.1));
+  EXPECT_FALSE(splitsEdge0(4, 0.1));
+  EXPECT_TRUE(splitsEdge0(4, 0.005));
+}
+
+// A face whose straight boundary ends in three nodes off their chord by round-off (spans halved
+// towards a B-rep vertex on a straight pcurve: KiCad's Bourns 8100 toroids L38.1 and L43.2), with
+// no other node in the circumcircle of the ear they make: the triangulation keeps the ear, which
+// the kernel finds flat, and the face could not be meshed ("degenerate parameter triangle").
+// The ear is split from its middle node, and no triangle of the mesh is flat.
+TEST(CADStages, AFlatEarOnAStraightBoundaryIsSplit)
+{
+  // Counter-clockwise in the plane z = 0: the ear (a, b, c) is 5e-9 high on a chord of 6e-4
+  // (twice its area is half the kernel's zero for this box), its circumcircle's radius 0.88.
+  const double uv[6][2] = { { -1, 0 }, { -6e-4, 0 }, { -1.5e-5, -5e-9 }, { 0, 0 }, { 5, 5 },
+    { -1, 5 } };
+  std::vector<ctcad::Point3> nodes;
+  ctcad::FaceLoop loop;
+  for (int k = 0; k < 6; ++k)
+  {
+    nodes.push_back({ uv[k][0], uv[k][1], 0 });
+    loop.Nodes.push_back({ { uv[k][0], uv[k][1] }, k });
+  }
+  for (int k = 0; k < 6; ++k)
+  {
+    const int n = (k + 1) % 6;
+    ctcad::LoopSegment seg;
+    seg.Edge = k;
+    seg.Span = 0;
+    for (int i = 0; i < 2; ++i)
+    {
+      seg.Near0[i] = (2 * uv[k][i] + uv[n][i]) / 3;
+      seg.Near1[i] = (uv[k][i] + 2 * uv[n][i]) / 3;
+      seg.PCurveChord[i] = uv[n][i] - uv[k][i];
+    }
+    loop.Segments.push_back(seg);
+  }
+  const ctcad::SurfaceFunction plane = [](double s, double t, double P[3], double Ds[3],
+                                         double Dt[3]) {
+    const double p[3] = { s, t, 0 }, ds[3] = { 1, 0, 0 }, dt[3] = { 0, 1, 0 };
+    std::copy(p, p + 3, P);
+    std::copy(ds, ds + 3, Ds);
+    std::copy(dt, dt + 3, Dt);
+  };
+  ctcad::FaceMeshOptions options;
+  options.Tolerance = 1e-3;
+  ctcad::FaceMesh mesh;
+  ASSERT_TRUE(ctcad::MeshFace({ loop }, nodes, plane, options, mesh)) << mesh.Error;
+  EXPECT_TRUE(mesh.Converged) << mesh.StopReason;
+  const double diag2 = 6 * 6 + 5 * 5;
+  bool earSplit = false; // the middle node b joins a point inside the face
+  for (const std::array<ctcad::Id, 3>& t : mesh.Triangles)
+  {
+    const auto at = [&](int i) { return ctk::Vec2(mesh.UV[t[i]][0], mesh.UV[t[i]][1]); };
+    EXPECT_FALSE(ctk::IsDegenerateArea(ctk::SignedArea2(at(0), at(1), at(2)), diag2))
+      << at(0).transpose() << ", " << at(1).transpose() << ", " << at(2).transpose();
+    for (int i = 0; i < 3; ++i)
+    {
+      earSplit = earSplit || (mesh.GlobalNode[t[i]] == 2 && mesh.GlobalNode[t[(i + 1) % 3]] < 0);
+    }
+  }
+  EXPECT_TRUE(earSplit);
 }
