@@ -730,17 +730,15 @@ TEST(CADStages, NoSplitNextToANodeOffItsSurfaces)
   EXPECT_TRUE(splitsEdge0(4, 0.005));
 }
 
-// A face whose straight boundary ends in three nodes off their chord by round-off (spans halved
-// towards a B-rep vertex on a straight pcurve: KiCad's Bourns 8100 toroids L38.1 and L43.2), with
-// no other node in the circumcircle of the ear they make: the triangulation keeps the ear, which
-// the kernel finds flat, and the face could not be meshed ("degenerate parameter triangle").
-// The ear is split from its middle node, and no triangle of the mesh is flat.
-TEST(CADStages, AFlatEarOnAStraightBoundaryIsSplit)
+namespace
 {
-  // Counter-clockwise in the plane z = 0: the ear (a, b, c) is 5e-9 high on a chord of 6e-4
-  // (twice its area is half the kernel's zero for this box), its circumcircle's radius 0.88.
-  const double uv[6][2] = { { -1, 0 }, { -6e-4, 0 }, { -1.5e-5, -5e-9 }, { 0, 0 }, { 5, 5 },
-    { -1, 5 } };
+/// A plane face (z = 0, counter-clockwise) whose bottom side ends in the ear (a, b, c): a and c
+/// on y = 0, b `sag` below their chord at `x` (c at the origin), then up to (5, 5) and back.
+/// No other node lies in the ear's circumcircle, so the triangulation keeps the ear unless the
+/// mesher splits it. Meshes the face; `split`: whether b joins a point inside the face.
+ctcad::FaceMesh MeshedEar(double ax, double bx, double sag, bool& split)
+{
+  const double uv[6][2] = { { -1, 0 }, { ax, 0 }, { bx, -sag }, { 0, 0 }, { 5, 5 }, { -1, 5 } };
   std::vector<ctcad::Point3> nodes;
   ctcad::FaceLoop loop;
   for (int k = 0; k < 6; ++k)
@@ -772,10 +770,10 @@ TEST(CADStages, AFlatEarOnAStraightBoundaryIsSplit)
   ctcad::FaceMeshOptions options;
   options.Tolerance = 1e-3;
   ctcad::FaceMesh mesh;
-  ASSERT_TRUE(ctcad::MeshFace({ loop }, nodes, plane, options, mesh)) << mesh.Error;
+  EXPECT_TRUE(ctcad::MeshFace({ loop }, nodes, plane, options, mesh)) << mesh.Error;
   EXPECT_TRUE(mesh.Converged) << mesh.StopReason;
   const double diag2 = 6 * 6 + 5 * 5;
-  bool earSplit = false; // the middle node b joins a point inside the face
+  split = false;
   for (const std::array<ctcad::Id, 3>& t : mesh.Triangles)
   {
     const auto at = [&](int i) { return ctk::Vec2(mesh.UV[t[i]][0], mesh.UV[t[i]][1]); };
@@ -783,8 +781,36 @@ TEST(CADStages, AFlatEarOnAStraightBoundaryIsSplit)
       << at(0).transpose() << ", " << at(1).transpose() << ", " << at(2).transpose();
     for (int i = 0; i < 3; ++i)
     {
-      earSplit = earSplit || (mesh.GlobalNode[t[i]] == 2 && mesh.GlobalNode[t[(i + 1) % 3]] < 0);
+      split = split || (mesh.GlobalNode[t[i]] == 2 && mesh.GlobalNode[t[(i + 1) % 3]] < 0);
     }
   }
-  EXPECT_TRUE(earSplit);
+  return mesh;
+}
+} // namespace
+
+// A face whose straight boundary ends in three nodes off their chord by round-off (spans halved
+// towards a B-rep vertex on a straight pcurve: KiCad's Bourns 8100 toroids L38.1 and L43.2), with
+// no other node in the circumcircle of the ear they make: the triangulation keeps the ear, which
+// the kernel finds flat, and the face could not be meshed ("degenerate parameter triangle").
+// The ear is split from its middle node, and no triangle of the mesh is flat.
+TEST(CADStages, AFlatEarOnAStraightBoundaryIsSplit)
+{
+  // The ear is 5e-9 high on a chord of 6e-4 (twice its area is half the kernel's zero for this
+  // box), its circumcircle's radius 0.88.
+  bool split = false;
+  MeshedEar(-6e-4, -1.5e-5, 5e-9, split);
+  EXPECT_TRUE(split);
+}
+
+// An ear whose boundary corner is within 10 degrees of straight is split too (KiCad's
+// USB_Micro-B_Molex_47346-0001: an ear of 171 degrees folded, G1 180); one of 160 is kept.
+TEST(CADStages, AnEarNearlyStraightIsSplit)
+{
+  for (const double degrees : { 175.0, 160.0 })
+  {
+    bool split = false;
+    const double sag = 0.05 * std::tan(0.5 * (180 - degrees) * M_PI / 180);
+    MeshedEar(-0.1, -0.05, sag, split);
+    EXPECT_EQ(split, degrees > 170) << degrees;
+  }
 }
