@@ -426,10 +426,10 @@ struct FaceSplineInput : ctk::SplineInput
 
 /// Boundary corners of a triangle between the edge cubics (degrees) below the first or above
 /// the second are flat (FlatBoundaryCorner). An ear on a boundary this close to straight is
-/// about a tenth as high as long, and its interior micro-triangle a thirtieth: the tolerance's
-/// worth of disagreement between its nodes' derivatives and its edge cubics folds it (KiCad's
-/// USB_Micro-B_Molex_47346-0001, face 70: cubics at 171 degrees, chords at 176.8, the spline at
-/// the split point 1.4e-4 off on a triangle 4.2e-4 high; 180 degrees off G1).
+/// about a twentieth as high as its long edge, its interior micro-triangle a sixtieth: the
+/// tolerance's worth of disagreement between its nodes' derivatives and its edge cubics folds
+/// it (KiCad's USB_Micro-B_Molex_47346-0001, face 70: cubics at 171 degrees, chords at 176.8,
+/// the spline at the split point 1.4e-4 off on a triangle 4.2e-4 high; 180 degrees off G1).
 constexpr double MinBoundaryCorner = 3, MaxBoundaryCorner = 170;
 
 /// The vertex (0-2) of triangle f where two boundary segments meet in nearly the same 3D
@@ -452,21 +452,23 @@ int FlatBoundaryCorner(
     {
       continue;
     }
-    const Point3& V = mesh.F[f->vertex(l)->info().Index];
+    const Id v = f->vertex(l)->info().Index;
+    const Point3& V = mesh.F[v];
     const Point3& a = flipIn ? in->Near0 : in->Near1;   // near vertex l on edge (l + 2, l)
     const Point3& b = flipOut ? out->Near1 : out->Near0; // near vertex l on edge (l, l + 1)
     const ctk::Vec3 da(a[0] - V[0], a[1] - V[1], a[2] - V[2]);
     const ctk::Vec3 db(b[0] - V[0], b[1] - V[1], b[2] - V[2]);
-    const Id v = f->vertex(l)->info().Index;
-    const ctk::Vec3 n = ctk::Vec3(mesh.Fs[v][0], mesh.Fs[v][1], mesh.Fs[v][2])
-                          .cross(ctk::Vec3(mesh.Ft[v][0], mesh.Ft[v][1], mesh.Ft[v][2]));
-    // The corner from the outgoing cubic to the incoming one about the normal: the triangle
-    // is counter-clockwise, so a sound corner lies in (0, 180) degrees.
-    const double corner = std::atan2(n.normalized().dot(db.cross(da)), db.dot(da)) * 180 / M_PI;
-    const bool flat = n.squaredNorm() > 0 && std::isfinite(corner)
-      ? corner <= MinBoundaryCorner || corner >= MaxBoundaryCorner
-      : da.cross(db).norm() <= std::sin(MinBoundaryCorner * M_PI / 180) * da.norm() * db.norm();
-    if (flat)
+    const ctk::Vec3 fs(mesh.Fs[v][0], mesh.Fs[v][1], mesh.Fs[v][2]);
+    const ctk::Vec3 ft(mesh.Ft[v][0], mesh.Ft[v][1], mesh.Ft[v][2]);
+    const ctk::Vec3 n = fs.cross(ft);
+    // The corner from the outgoing cubic to the incoming one about the normal: the triangle is
+    // counter-clockwise, so a sound corner lies in (0, 180) degrees. Unsigned where the
+    // derivatives span no plane (a pole: the normal's direction is round-off).
+    const double sine = n.squaredNorm() > 1e-20 * fs.squaredNorm() * ft.squaredNorm()
+      ? n.normalized().dot(db.cross(da))
+      : db.cross(da).norm();
+    const double corner = std::atan2(sine, db.dot(da)) * 180 / M_PI;
+    if (!(corner > MinBoundaryCorner && corner < MaxBoundaryCorner))
     {
       return l;
     }
@@ -481,8 +483,9 @@ int FlatBoundaryCorner(
 /// a third of its sagitta from it (linkrods.step: 2 % of the segment): two triangles on the
 /// boundary segments that thin fold the stitched spline wherever the edge cubic leaves the
 /// segment's chord by a larger angle. The centroid where no such point can go in. The side of
-/// the chord comes from the face's orientation (counter-clockwise), not from where the vertex
-/// lies: a flat triangle's vertex is on the chord up to round-off (SplitFlatTriangles).
+/// the chord comes from the triangle's vertex order (CGAL's, counter-clockwise), not from where
+/// the vertex lies: a flat triangle's vertex is on the chord up to round-off
+/// (SplitFlatTriangles).
 Steiner CornerSplit(const CDT& cdt, const CDT::Face_handle f, int l)
 {
   const Point &v = f->vertex(l)->point(), &a = f->vertex(CDT::ccw(l))->point(),
@@ -650,6 +653,7 @@ public:
 private:
   void ScalePlane();
   Id AddPoint(double s, double t, const LoopNode* node);
+  void InsertInterior(const Point& p);
   void CollectFaces();
   std::size_t SplitFlatTriangles();
   void CollectSoundFaces();
@@ -741,6 +745,14 @@ Id FaceMesher::AddPoint(double s, double t, const LoopNode* node)
   return static_cast<Id>(mesh.UV.size()) - 1;
 }
 
+/// Inserts interior point p of the triangulation's plane as a point of the mesh.
+void FaceMesher::InsertInterior(const Point& p)
+{
+  const CDT::Vertex_handle v = this->Triangulation.insert(p);
+  v->info().Index =
+    this->AddPoint(p.x() / this->Plane.Scale[0], p.y() / this->Plane.Scale[1], nullptr);
+}
+
 /// The constrained triangulation of the loops. A B-rep vertex met twice at (nearly) the same
 /// place, where an inner loop touches the outer one or itself, is one triangulation vertex: its
 /// two pcurve ends differ by round-off or the vertex tolerance, and two vertices that close
@@ -749,17 +761,7 @@ bool FaceMesher::Triangulate()
 {
   this->ScalePlane();
   const double* scale = this->Plane.Scale;
-  CGAL::Bbox_2 box;
-  for (const FaceLoop& loop : this->Loops)
-  {
-    for (const LoopNode& node : loop.Nodes)
-    {
-      box += Point(scale[0] * node.UV[0], scale[1] * node.UV[1]).bbox();
-    }
-  }
-  const double d2 = (box.xmax() - box.xmin()) * (box.xmax() - box.xmin()) +
-    (box.ymax() - box.ymin()) * (box.ymax() - box.ymin());
-  this->Plane.MinArea = 1e-10 * d2;
+  // The loops' box in (u, v) and in the triangulation's plane.
   ctk::Vec2 lo = ctk::Vec2::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
   for (const FaceLoop& loop : this->Loops)
   {
@@ -770,6 +772,8 @@ bool FaceMesher::Triangulate()
     }
   }
   this->DiagonalUV2 = (hi - lo).squaredNorm();
+  const double d2 = (hi - lo).cwiseProduct(ctk::Vec2(scale[0], scale[1])).squaredNorm();
+  this->Plane.MinArea = 1e-10 * d2;
   // A millionth of the diagonal: far below any boundary span, far above round-off and the
   // vertex tolerances of real models (their copies of one vertex are 1e-16 to 1e-7 apart).
   const double snap2 = 1e-12 * d2;
@@ -841,10 +845,12 @@ void FaceMesher::CollectFaces()
   }
 }
 
-/// A triangle is split by SplitFlatTriangles when the kernel would find it degenerate in a box
-/// this many times smaller than the face's (IsDegenerateArea): the subsets of triangles the
-/// rounds build splines over have smaller boxes, and a margin keeps round-off out of the call.
-constexpr double FlatTriangleMargin = 10;
+/// A triangle is flat for SplitFlatTriangles when the kernel would find it degenerate in a box
+/// of ten times the face's squared diagonal (IsDegenerateArea; the rounds build splines over
+/// subsets of the face, whose boxes are smaller: the face's is the worst case, and the margin
+/// is for round-off) and it is thin: its height at most MaxFlatHeight of its longest edge. A
+/// tiny triangle of a sound shape is not split (its pieces would be smaller still).
+constexpr double FlatTriangleMargin = 10, MaxFlatHeight = 0.01;
 /// Flat triangles are split in at most this many passes per collection.
 constexpr int MaxFlatSplitPasses = 4;
 
@@ -872,19 +878,21 @@ std::size_t FaceMesher::SplitFlatTriangles()
     {
       continue;
     }
-    int middle = 0; // the vertex opposite the longest edge
+    int middle = 0; // the vertex opposite the longest edge (in (u, v), as the area)
     double longest = -1;
     for (int l = 0; l < 3; ++l)
     {
-      const double len2 =
-        CGAL::squared_distance(f->vertex(CDT::ccw(l))->point(), f->vertex(CDT::cw(l))->point());
+      const std::array<double, 2>& p = this->Mesh.UV[f->vertex(CDT::ccw(l))->info().Index];
+      const std::array<double, 2>& q = this->Mesh.UV[f->vertex(CDT::cw(l))->info().Index];
+      const double len2 = (ctk::Vec2(p[0], p[1]) - ctk::Vec2(q[0], q[1])).squaredNorm();
       if (len2 > longest)
       {
         longest = len2;
         middle = l;
       }
     }
-    if (!this->Triangulation.is_constrained(CDT::Edge(f, middle)))
+    if (std::abs(area2) <= MaxFlatHeight * longest &&
+      !this->Triangulation.is_constrained(CDT::Edge(f, middle)))
     {
       splits.push_back(CornerSplit(this->Triangulation, f, middle));
     }
@@ -896,9 +904,7 @@ std::size_t FaceMesher::SplitFlatTriangles()
     // of this pass has moved next to.
     if (q.MinDistance > 0 && CanInsert(this->Triangulation, q))
     {
-      const CDT::Vertex_handle v = this->Triangulation.insert(q.P);
-      v->info().Index =
-        this->AddPoint(q.P.x() / this->Plane.Scale[0], q.P.y() / this->Plane.Scale[1], nullptr);
+      this->InsertInterior(q.P);
       ++added;
     }
   }
@@ -935,9 +941,7 @@ std::size_t FaceMesher::InsertPoints(const std::vector<Steiner>& inserts)
     {
       continue;
     }
-    const CDT::Vertex_handle v = this->Triangulation.insert(q.P);
-    v->info().Index =
-      this->AddPoint(q.P.x() / this->Plane.Scale[0], q.P.y() / this->Plane.Scale[1], nullptr);
+    this->InsertInterior(q.P);
     ++added;
   }
   return added;

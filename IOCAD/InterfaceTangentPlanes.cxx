@@ -641,9 +641,11 @@ void TangentPlanes::DropSkewingSplits()
     const Eigen::Vector2d offset =
       Eigen::Vector2d(b.UV[0] - a.UV[0], b.UV[1] - a.UV[1]) - own;
     const Jacobian& J0 = this->Vertices[use.Vertex[0]].J0;
-    const Vector3 offset3 =
-      this->Vertices[use.Vertex[1]].Offset - this->Vertices[use.Vertex[0]].Offset;
-    if (std::max((J0 * offset).norm(), offset3.norm()) > MaxSplitSkew * 0.5 * (J0 * own).norm())
+    const FaceVertex &va = this->Vertices[use.Vertex[0]], &vb = this->Vertices[use.Vertex[1]];
+    // In 3D against the nodes' chord (J0 may span no plane at a pole).
+    const double chord3 = (V3(this->Nodes[vb.Global]) - V3(this->Nodes[va.Global])).norm();
+    if ((J0 * offset).norm() > MaxSplitSkew * 0.5 * (J0 * own).norm() ||
+      (vb.Offset - va.Offset).norm() > MaxSplitSkew * 0.5 * chord3)
     {
       skewing.emplace_back(seg.Edge, seg.Span);
     }

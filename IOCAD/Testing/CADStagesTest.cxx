@@ -525,8 +525,8 @@ ctcad::CADFace TriangleFace(int f, const std::vector<ctcad::Point3>& nodes,
 }
 
 /// Face 0's loop node at (0,0,0) is `offset` off its pcurves in t (their ends merged at a
-/// vertex, JoinRuns); the node's shared point is `offset3` off both faces' surfaces along y (a
-/// vertex where the B-rep's edges end apart). Returns the spans SetInterfaceTangentPlanes
+/// vertex, JoinRuns); the node's shared point is `offset3` along y from both faces' surface
+/// points at its (u, v) (a vertex where the B-rep's edges end apart). Returns the spans SetInterfaceTangentPlanes
 /// reports for splitting.
 std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(
   double degrees, double offset, double offset3 = 0)
@@ -732,8 +732,8 @@ TEST(CADStages, NoSplitNextToANodeOffItsSurfaces)
 
 namespace
 {
-/// A plane face (z = 0, counter-clockwise) whose bottom side ends in the ear (a, b, c): a and c
-/// on y = 0, b `sag` below their chord at `x` (c at the origin), then up to (5, 5) and back.
+/// A plane face (z = 0, counter-clockwise) whose bottom side ends in the ear (a, b, c): a at
+/// (ax, 0), b at (bx, -sag), c at the origin, then up to (5, 5) and back.
 /// No other node lies in the ear's circumcircle, so the triangulation keeps the ear unless the
 /// mesher splits it. Meshes the face; `split`: whether b joins a point inside the face.
 ctcad::FaceMesh MeshedEar(double ax, double bx, double sag, bool& split)
