@@ -3,6 +3,7 @@
 #include "CADFaceMesher.h"
 
 #include "CloughTocherSpline.h"
+#include "InterfaceTangentPlanes.h"
 #include "SplineDataValidation.h"
 #include "SplineInput.h"
 
@@ -464,10 +465,10 @@ int FlatBoundaryCorner(
     // The corner from the outgoing cubic to the incoming one about the normal: the triangle is
     // counter-clockwise, so a sound corner lies in (0, 180) degrees. Unsigned where the
     // derivatives span no plane (a pole: the normal's direction is round-off).
-    const double sine = n.squaredNorm() > 1e-20 * fs.squaredNorm() * ft.squaredNorm()
-      ? n.normalized().dot(db.cross(da))
-      : db.cross(da).norm();
-    const double corner = std::atan2(sine, db.dot(da)) * 180 / M_PI;
+    const ctk::Vec3 axis = n.squaredNorm() > 1e-20 * fs.squaredNorm() * ft.squaredNorm()
+      ? n.normalized()
+      : db.cross(da).normalized();
+    const double corner = AngleAbout(db, da, axis) * 180 / M_PI;
     if (!(corner > MinBoundaryCorner && corner < MaxBoundaryCorner))
     {
       return l;
@@ -869,11 +870,13 @@ std::size_t FaceMesher::SplitFlatTriangles()
   std::vector<Steiner> splits;
   for (const CDT::Face_handle f : this->Faces)
   {
-    const std::array<double, 2>& a = this->Mesh.UV[f->vertex(0)->info().Index];
-    const std::array<double, 2>& b = this->Mesh.UV[f->vertex(1)->info().Index];
-    const std::array<double, 2>& c = this->Mesh.UV[f->vertex(2)->info().Index];
-    const double area2 = ctk::SignedArea2(
-      ctk::Vec2(a[0], a[1]), ctk::Vec2(b[0], b[1]), ctk::Vec2(c[0], c[1]));
+    ctk::Vec2 uv[3];
+    for (int l = 0; l < 3; ++l)
+    {
+      const std::array<double, 2>& p = this->Mesh.UV[f->vertex(l)->info().Index];
+      uv[l] = ctk::Vec2(p[0], p[1]);
+    }
+    const double area2 = ctk::SignedArea2(uv[0], uv[1], uv[2]);
     if (!ctk::IsDegenerateArea(area2, FlatTriangleMargin * this->DiagonalUV2))
     {
       continue;
@@ -882,9 +885,7 @@ std::size_t FaceMesher::SplitFlatTriangles()
     double longest = -1;
     for (int l = 0; l < 3; ++l)
     {
-      const std::array<double, 2>& p = this->Mesh.UV[f->vertex(CDT::ccw(l))->info().Index];
-      const std::array<double, 2>& q = this->Mesh.UV[f->vertex(CDT::cw(l))->info().Index];
-      const double len2 = (ctk::Vec2(p[0], p[1]) - ctk::Vec2(q[0], q[1])).squaredNorm();
+      const double len2 = (uv[CDT::ccw(l)] - uv[CDT::cw(l)]).squaredNorm();
       if (len2 > longest)
       {
         longest = len2;

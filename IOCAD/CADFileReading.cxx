@@ -42,10 +42,11 @@
 #include <TCollection_HAsciiString.hxx>
 #include <TopExp.hxx>
 #include <TopExp_Explorer.hxx>
+#include <NCollection_DataMap.hxx>
 #include <TopTools_DataMapOfShapeShape.hxx>
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
-#include <TopTools_MapOfShape.hxx>
+#include <TopTools_ShapeMapHasher.hxx>
 #include <TopoDS_Iterator.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
@@ -698,15 +699,18 @@ gp_Pnt2d PCurveEnd(const TopoDS_Edge& E, const TopoDS_Face& F, bool end)
   return pc->Value((E.Orientation() == TopAbs_REVERSED) != end ? b : a);
 }
 
+/// Edges whose pcurve on a face was replaced, and the pcurve they were read with.
+using ReadPCurves = NCollection_DataMap<TopoDS_Shape, Handle(Geom2d_Curve), TopTools_ShapeMapHasher>;
+
 /// The reprojected edges of one wire of F (in `fixed`) moved by whole periods so that each
 /// starts where the edge before it in the wire ends, from an edge that kept its pcurve.
-void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const TopTools_MapOfShape& fixed)
+void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const ReadPCurves& fixed)
 {
   TopoDS_Edge broken;
   const std::vector<TopoDS_Edge> chain = WireEdges(W, F, broken);
   const std::size_t n = chain.size();
   std::size_t anchor = 0;
-  while (anchor < n && fixed.Contains(chain[anchor]))
+  while (anchor < n && fixed.IsBound(chain[anchor]))
   {
     ++anchor;
   }
@@ -716,7 +720,7 @@ void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const TopToo
   for (std::size_t i = 1; i < n; ++i)
   {
     const TopoDS_Edge& E = chain[(anchor + i) % n];
-    if (!fixed.Contains(E))
+    if (!fixed.IsBound(E))
     {
       continue;
     }
@@ -791,8 +795,7 @@ int ReprojectPCurves(ShapeRead& r, double tol)
   for (int i = 1; i <= faceMap.Extent(); ++i)
   {
     const TopoDS_Face F = TopoDS::Face(faceMap(i).Oriented(TopAbs_FORWARD));
-    TopTools_MapOfShape fixed;
-    std::vector<std::pair<TopoDS_Edge, Handle(Geom2d_Curve)>> kept; // the replaced pcurves
+    ReadPCurves fixed; // the edges replaced on F, with the pcurves they were read with
     double gapBefore = -1; // the wires' largest gap in (u, v) before any replacement
     for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
     {
@@ -800,7 +803,7 @@ int ReprojectPCurves(ShapeRead& r, double tol)
       double a = 0, b = 0;
       if (BRep_Tool::Degenerated(E) || BRep_Tool::IsClosed(E, F) || !BRep_Tool::SameParameter(E) ||
         !BRep_Tool::SameRange(E) || BRep_Tool::Curve(E, a, b).IsNull() ||
-        BRep_Tool::CurveOnSurface(E, F, a, b).IsNull() || fixed.Contains(E))
+        BRep_Tool::CurveOnSurface(E, F, a, b).IsNull() || fixed.IsBound(E))
       {
         continue;
       }
@@ -822,8 +825,7 @@ int ReprojectPCurves(ShapeRead& r, double tol)
         BRep_Builder().UpdateEdge(E, old, F, BRep_Tool::Tolerance(E));
         continue;
       }
-      fixed.Add(E);
-      kept.emplace_back(E, old);
+      fixed.Bind(E, old);
     }
     if (fixed.IsEmpty())
     {
@@ -837,9 +839,10 @@ int ReprojectPCurves(ShapeRead& r, double tol)
     BRepTools::UVBounds(F, u0, u1, v0, v1);
     if (MaxWireGapUV(F) > 2 * gapBefore + 1e-6 * std::hypot(u1 - u0, v1 - v0))
     {
-      for (const auto& [E, old] : kept)
+      for (ReadPCurves::Iterator it(fixed); it.More(); it.Next())
       {
-        BRep_Builder().UpdateEdge(E, old, F, BRep_Tool::Tolerance(E));
+        const TopoDS_Edge& E = TopoDS::Edge(it.Key());
+        BRep_Builder().UpdateEdge(E, it.Value(), F, BRep_Tool::Tolerance(E));
       }
       continue;
     }

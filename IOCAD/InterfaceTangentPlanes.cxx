@@ -658,12 +658,6 @@ void TangentPlanes::DropSkewingSplits()
     split.end());
 }
 
-/// Signed angle from a to b about the unit normal n, in (-pi, pi].
-double AngleAbout(const Vector3& a, const Vector3& b, const Vector3& n)
-{
-  return std::atan2(n.dot(a.cross(b)), a.dot(b));
-}
-
 /// Face corners where the boundary cubics leave the node within a much smaller angle than their
 /// chords do in the parameter plane: a cusp (an arc tangent to a line, KiCad's pads and
 /// spandrels), where the 3D corner is 0 while the chords keep an angle. Every interior edge there

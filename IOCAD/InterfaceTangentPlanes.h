@@ -35,10 +35,22 @@
 
 #include "CADBRepSampling.h"
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cmath>
 #include <functional>
 
 namespace ctcad
 {
+/// Signed angle (radians) from a to b about the unit normal n, in (-pi, pi]; unsigned, in
+/// [0, pi], with n the unit vector along a x b.
+inline double AngleAbout(
+  const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& n)
+{
+  return std::atan2(n.dot(a.cross(b)), a.dot(b));
+}
+
 /// Surface point and first derivatives of face f at its oriented parameters (s, t).
 using FaceDerivatives =
   std::function<void(int face, double s, double t, double P[3], double Ds[3], double Dt[3])>;
