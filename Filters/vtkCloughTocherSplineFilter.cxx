@@ -516,6 +516,19 @@ private:
 
 namespace
 {
+// The number of points marked in `used`. A function of its own: summed into a variable that the
+// renumbering's lambda captures, the count went through memory at every point (12 ms of a 0.19 s
+// piece of 5e5 triangles).
+vtkIdType CountUsed(const std::vector<std::atomic<unsigned char>>& used)
+{
+  vtkIdType count = 0;
+  for (const std::atomic<unsigned char>& u : used)
+  {
+    count += u.load(std::memory_order_relaxed);
+  }
+  return count;
+}
+
 // Keeps the points marked in `used` (those the first nConn connectivity entries use) and
 // renumbers the entries. Ghost triangles' micro-cells are never written, so the unused points are
 // the few that only ghosts have (a thin band along the piece's border): each used point past the
@@ -528,11 +541,7 @@ void KeepUsedPoints(CellId* conn, vtkIdType nConn,
   ctk::OverwriteVector<ctk::Vec2>& uv)
 {
   const vtkIdType n = static_cast<vtkIdType>(points.size());
-  vtkIdType kept = 0;
-  for (const std::atomic<unsigned char>& u : used)
-  {
-    kept += u.load(std::memory_order_relaxed);
-  }
+  const vtkIdType kept = CountUsed(used);
   std::vector<vtkIdType> moved(static_cast<size_t>(n - kept), -1); // new id of point kept + j
   vtkIdType hole = 0;
   for (vtkIdType p = kept; p < n; ++p)
