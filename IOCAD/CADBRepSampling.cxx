@@ -1313,14 +1313,15 @@ bool CADModel::Stages::FaceLoops(CADModel& m, int f, double tol)
   return true;
 }
 
-/// UngradedCorners: the longest a tangent span may be beside a span of RestoreG1's splits, in
-/// those spans' lengths, at a face corner under MaxGradedCorner degrees.
+/// UngradedCorners: the longest a tangent span may be beside a split span, in that span's
+/// lengths, at a face corner under MaxGradedCorner degrees.
 constexpr double MaxCornerSpanRatio = 8;
 constexpr double MaxGradedCorner = 60;
 
 /// The spans to halve so that face corners are graded: a tangent span at a corner under
 /// MaxGradedCorner degrees more than MaxCornerSpanRatio times as long (3D chords) as the span
-/// beside it, where that span comes from RestoreG1's splits (one of its nodes a forced sample).
+/// beside it, where that span comes from the rounds' splits (one of its nodes a forced sample:
+/// RestoreG1's, a bulging span's, or this grading's, which so carries on to the next corner).
 /// The face mesher never splits boundary segments, and in such a corner it joins the short
 /// spans' nodes to the far end of the long one: a needle along the tangent interface (KiCad's
 /// muRATA 5100 toroid L21.0, faces 126 and 127: 2e-4 high on a span 0.037 long, beside spans

@@ -526,8 +526,8 @@ ctcad::CADFace TriangleFace(int f, const std::vector<ctcad::Point3>& nodes,
 
 /// Face 0's loop node at (0,0,0) is `offset` off its pcurves in t (their ends merged at a
 /// vertex, JoinRuns); the node's shared point is `offset3` along y from both faces' surface
-/// points at its (u, v) (a vertex where the B-rep's edges end apart). Returns the spans SetInterfaceTangentPlanes
-/// reports for splitting.
+/// points at its (u, v) (a vertex where the B-rep's edges end apart). Returns the spans
+/// SetInterfaceTangentPlanes reports for splitting.
 std::vector<std::pair<ctcad::Id, ctcad::Id>> SplitsNextToAnOffsetNode(
   double degrees, double offset, double offset3 = 0)
 {
