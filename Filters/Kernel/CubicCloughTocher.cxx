@@ -236,11 +236,12 @@ private:
     ForTrianglesInOrder(this->For, this->Data.NumberOfTriangles, this->Order, body);
   }
   // body(i) for items i in [0, n) (vertices, edges or triangles) in parallel, in their order;
-  // with ScanRanges, each block's points (pointsPerItem per item, from point first +
+  // with ScanRanges, each block's points (pointsPerItem per item, from point firstPoint +
   // pointsPerItem * i) scanned into the spline's ranges right after body ran on it (the pass that
-  // writes their last values), while they are in the cache.
+  // writes their last values), while they are in the cache; with ScanBlockRanges, each block's
+  // ranges kept as well.
   template <typename Body>
-  void ForItemsScanningRanges(Id n, Id first, Id pointsPerItem, Body&& body);
+  void ForItemsScanningRanges(Id n, Id firstPoint, Id pointsPerItem, Body&& body);
   // Per interior edge: body(e, t0, l0, t1, l1), in parallel, in the locality order.
   template <typename Body>
   void ForInteriorEdges(Body&& body);
@@ -278,7 +279,7 @@ static_assert(sizeof(Vec3) == 3 * sizeof(double) && sizeof(Vec2) == 2 * sizeof(d
 constexpr Id RangeScanPoints = 640;
 
 template <typename Body>
-void Builder::ForItemsScanningRanges(Id n, Id first, Id pointsPerItem, Body&& body)
+void Builder::ForItemsScanningRanges(Id n, Id firstPoint, Id pointsPerItem, Body&& body)
 {
   if (!this->ScanRanges)
   {
@@ -290,11 +291,16 @@ void Builder::ForItemsScanningRanges(Id n, Id first, Id pointsPerItem, Body&& bo
     });
     return;
   }
-  const double* P = reinterpret_cast<const double*>(this->Spline.ControlPoints.data()) + 3 * first;
-  const double* D = reinterpret_cast<const double*>(this->Spline.DomainPoints.data()) + 2 * first;
+  const double* P =
+    reinterpret_cast<const double*>(this->Spline.ControlPoints.data()) + 3 * firstPoint;
+  const double* D =
+    reinterpret_cast<const double*>(this->Spline.DomainPoints.data()) + 2 * firstPoint;
   const Id block = RangeScanPoints / pointsPerItem;
+  const bool keepBlocks = this->Options.ScanBlockRanges;
   this->For(n, [&](Id begin, Id end) {
     PointRangeScan points(3), domain(2);
+    PointRanges pointsMerged(3), domainMerged(2); // of the blocks kept
+    std::vector<PointBlockRanges> blocks;
     for (Id b = begin; b < end; b += block)
     {
       const Id e = std::min(end, b + block);
@@ -302,12 +308,25 @@ void Builder::ForItemsScanningRanges(Id n, Id first, Id pointsPerItem, Body&& bo
       {
         body(i);
       }
-      points.Add(P + 3 * pointsPerItem * b, pointsPerItem * (e - b));
-      domain.Add(D + 2 * pointsPerItem * b, pointsPerItem * (e - b));
+      const Id first = pointsPerItem * b, count = pointsPerItem * (e - b);
+      if (keepBlocks) // a scan of its own per block: its lanes reduced for each
+      {
+        points = PointRangeScan(3);
+        domain = PointRangeScan(2);
+      }
+      points.Add(P + 3 * first, count);
+      domain.Add(D + 2 * first, count);
+      if (keepBlocks)
+      {
+        blocks.push_back({ first + firstPoint, count, points.Result(), domain.Result() });
+        pointsMerged.Merge(blocks.back().Points);
+        domainMerged.Merge(blocks.back().Domain);
+      }
     }
     std::lock_guard<std::mutex> lock(this->RangesMerge);
-    this->Spline.ControlPointRanges.Merge(points.Result());
-    this->Spline.DomainPointRanges.Merge(domain.Result());
+    this->Spline.ControlPointRanges.Merge(keepBlocks ? pointsMerged : points.Result());
+    this->Spline.DomainPointRanges.Merge(keepBlocks ? domainMerged : domain.Result());
+    this->Spline.BlockRanges.insert(this->Spline.BlockRanges.end(), blocks.begin(), blocks.end());
   });
 }
 
@@ -316,6 +335,7 @@ BuildStatus Builder::Run()
   // Set also where no block is scanned: the ranges of no points, which the VTK layer does not store.
   this->Spline.ControlPointRanges = PointRanges(this->ScanRanges ? 3 : 0);
   this->Spline.DomainPointRanges = PointRanges(this->ScanRanges ? 2 : 0);
+  this->Spline.BlockRanges.clear();
   this->SplitPointsAndStep1();
   const BuildStatus domain = DomainFailure(this->Data, this->Topo, this->Degenerate, this->Folded);
   if (!domain.Ok)

@@ -96,6 +96,10 @@ struct SplineOptions
   /// arrays. Off, no build pays for the scan (the quartic's first cubic, IOCAD's faces, Bézier
   /// extraction).
   bool ScanRanges = false;
+  /// With ScanRanges, also keep the ranges of each block scanned (CubicSpline::BlockRanges): for
+  /// a caller that keeps some of the points only (vtkCloughTocherSplineFilter drops those that
+  /// only ghost cells use) and needs the ranges of what it keeps.
+  bool ScanBlockRanges = false;
 };
 
 /// The boundary rule in force: KaG and MGi turn a non-gradient mode into GradientToSplitPoint.
@@ -116,6 +120,9 @@ struct CubicSpline
   // as without the option, after IM steps, Kashyap's fairing or with a locality order of the
   // kernel's own). Stale once the points change.
   PointRanges ControlPointRanges, DomainPointRanges;
+  // With SplineOptions::ScanBlockRanges as well, the ranges of each block of points scanned, in
+  // no particular order; together they cover every point once (empty when not scanned).
+  std::vector<PointBlockRanges> BlockRanges;
 };
 
 struct BuildStatus

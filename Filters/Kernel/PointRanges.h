@@ -28,6 +28,13 @@ struct PointRanges
   void Merge(const PointRanges& other);
 };
 
+/// The ranges of the control and domain points [First, First + Count) of a spline.
+struct PointBlockRanges
+{
+  Id First = 0, Count = 0;
+  PointRanges Points, Domain;
+};
+
 /// Accumulates the ranges of blocks of points: each block's extremes stay in the lanes they were
 /// read in (four points at a time, two with SSE2) and go to their components only in Result,
 /// since a reduction per block cost more than the scan of a block of ten points. AVX2 where the

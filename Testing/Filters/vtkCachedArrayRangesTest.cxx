@@ -36,6 +36,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -530,9 +531,10 @@ TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
 
 // The spline filter stores the ranges its kernel scanned while writing the points (the
 // one-sided rules in their main pass, the edge-based ones in their last; in either output
-// order), and those of the cell ids it wrote, or scans them as every filter does (IM steps,
-// Kashyap, Quartic, ghost cells whose unused points it drops): VTK's ranges in every case, also
-// when it runs again into its previous output's arrays (ReuseOutputArrays).
+// order; with ghost cells, those of its blocks of points that the kept cells use whole, the
+// other blocks scanned again), and those of the cell ids it wrote, or scans them as every filter
+// does (IM steps, Kashyap, Quartic): VTK's ranges in every case, also when it runs again into its
+// previous output's arrays (ReuseOutputArrays).
 TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
 {
   vtkNew<vtkSampledSurfaceSource> source;
@@ -548,26 +550,48 @@ TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
     ghosts->InsertNextValue(t % 7 == 3 ? vtkDataSetAttributes::DUPLICATECELL : 0);
   }
   withGhosts->GetCellData()->AddArray(ghosts);
+  // Ghosts in a band along two sides of the domain, as a piece's: the points only they use,
+  // which the output drops, hold the largest x and the smallest y, and most blocks of points
+  // have no such point (the kernel's ranges of those blocks are stored, the others scanned).
+  vtkNew<vtkPolyData> withBand;
+  withBand->DeepCopy(source->GetOutput());
+  double bounds[6];
+  withBand->GetBounds(bounds);
+  vtkNew<vtkUnsignedCharArray> band;
+  band->SetName(vtkDataSetAttributes::GhostArrayName());
+  for (vtkIdType t = 0; t < withBand->GetNumberOfCells(); ++t)
+  {
+    double box[6];
+    withBand->GetCellBounds(t, box);
+    const bool ghost = box[1] > bounds[1] - 0.1 * (bounds[1] - bounds[0]) ||
+      box[2] < bounds[2] + 0.1 * (bounds[3] - bounds[2]);
+    band->InsertNextValue(ghost ? vtkDataSetAttributes::DUPLICATECELL : 0);
+  }
+  withBand->GetCellData()->AddArray(band);
   using F = vtkCloughTocherSplineFilter;
   struct Route
   {
     std::string Name;
     int Construction, Iterations, Order;
-    bool Ghosts;
+    vtkPolyData* Input;
   };
-  const std::vector<Route> routes = { { "CTi", F::CTi, 0, F::LocalityOrder, false },
-    { "CTo", F::CTo, 0, F::LocalityOrder, false }, { "Fa", F::Fa, 0, F::LocalityOrder, false },
-    { "MGo", F::MGo, 0, F::LocalityOrder, false }, { "MGi", F::MGi, 0, F::LocalityOrder, false },
-    { "FO", F::FO, 0, F::LocalityOrder, false }, { "Ka", F::Ka, 0, F::LocalityOrder, false },
-    { "KaG", F::KaG, 0, F::LocalityOrder, false }, { "CTi, IM", F::CTi, 2, F::LocalityOrder, false },
-    { "Kashyap", F::Kashyap, 1, F::LocalityOrder, false },
-    { "Quartic", F::Quartic, 0, F::LocalityOrder, false },
-    { "CTi, input order", F::CTi, 0, F::InputOrder, false },
-    { "CTi, ghosts", F::CTi, 0, F::LocalityOrder, true } };
+  vtkPolyData* plain = source->GetOutput();
+  const std::vector<Route> routes = { { "CTi", F::CTi, 0, F::LocalityOrder, plain },
+    { "CTo", F::CTo, 0, F::LocalityOrder, plain }, { "Fa", F::Fa, 0, F::LocalityOrder, plain },
+    { "MGo", F::MGo, 0, F::LocalityOrder, plain }, { "MGi", F::MGi, 0, F::LocalityOrder, plain },
+    { "FO", F::FO, 0, F::LocalityOrder, plain }, { "Ka", F::Ka, 0, F::LocalityOrder, plain },
+    { "KaG", F::KaG, 0, F::LocalityOrder, plain },
+    { "CTi, IM", F::CTi, 2, F::LocalityOrder, plain },
+    { "Kashyap", F::Kashyap, 1, F::LocalityOrder, plain },
+    { "Quartic", F::Quartic, 0, F::LocalityOrder, plain },
+    { "CTi, input order", F::CTi, 0, F::InputOrder, plain },
+    { "CTi, ghosts", F::CTi, 0, F::LocalityOrder, withGhosts },
+    { "CTi, ghosts in a band", F::CTi, 0, F::LocalityOrder, withBand },
+    { "Quartic, ghosts in a band", F::Quartic, 0, F::LocalityOrder, withBand } };
   for (const Route& route : routes)
   {
     vtkNew<F> spline;
-    spline->SetInputData(route.Ghosts ? withGhosts.GetPointer() : source->GetOutput());
+    spline->SetInputData(route.Input);
     spline->SetConstruction(route.Construction);
     spline->SetIterations(route.Iterations);
     spline->SetOutputOrder(route.Order);
@@ -579,6 +603,18 @@ TEST(CachedArrayRanges, SplineFilterStoresVTKsRangesForEveryRoute)
       vtkUnstructuredGrid* out = spline->GetOutput();
       ASSERT_GT(out->GetNumberOfCells(), 0) << what;
       ExpectCachedVTKRanges(out, what);
+      if (route.Input == withBand.GetPointer()) // the dropped points held the input's extremes
+      {
+        double xMax = -VTK_DOUBLE_MAX, yMin = VTK_DOUBLE_MAX, p[3];
+        for (vtkIdType i = 0; i < out->GetNumberOfPoints(); ++i)
+        {
+          out->GetPoint(i, p);
+          xMax = std::max(xMax, p[0]);
+          yMin = std::min(yMin, p[1]);
+        }
+        EXPECT_LT(xMax, bounds[1] - 0.05 * (bounds[1] - bounds[0])) << what;
+        EXPECT_GT(yMin, bounds[2] + 0.05 * (bounds[3] - bounds[2])) << what;
+      }
       double range[6];
       EXPECT_TRUE(ctsplines::FiniteRanges(out->GetPoints()->GetData(), range)) << what;
       // The cubic constructions write their previous points again; the quartic's builds a

@@ -164,10 +164,37 @@ TEST(PointRanges, NaNIsReportedAndInfShows)
   });
 }
 
+namespace
+{
+// Each block of CubicSpline::BlockRanges has the ranges of its points, and the blocks cover
+// every point once.
+void ExpectBlocksCoverPoints(const CubicSpline& spline, const std::string& what)
+{
+  const Id n = static_cast<Id>(spline.ControlPoints.size());
+  std::vector<int> seen(static_cast<size_t>(n), 0);
+  for (const PointBlockRanges& b : spline.BlockRanges)
+  {
+    ASSERT_TRUE(b.First >= 0 && b.Count > 0 && b.First + b.Count <= n) << what;
+    for (Id p = b.First; p < b.First + b.Count; ++p)
+    {
+      ++seen[static_cast<size_t>(p)];
+    }
+    const std::string block = what + ", block at " + std::to_string(b.First);
+    ExpectSame(b.Points, Reference(spline.ControlPoints[b.First].data(), 3, b.Count), block);
+    ExpectSame(b.Domain, Reference(spline.DomainPoints[b.First].data(), 2, b.Count), block);
+  }
+  if (!spline.BlockRanges.empty())
+  {
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1), n) << what << ": each point in one block";
+  }
+}
+} // namespace
+
 // The construction's ranges are those of the points it returns, for the rules scanned in their
 // main pass and in a second one (edge-based), with and without boundary curve points, split into
-// chunks in any order; none without ScanRanges, after IM steps, Kashyap's fairing or with the
-// kernel's own locality order, which write or visit the points otherwise.
+// chunks in any order, and with ScanBlockRanges each block's; none without ScanRanges, after IM
+// steps, Kashyap's fairing or with the kernel's own locality order, which write or visit the
+// points otherwise.
 TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
 {
   const SampledMesh mesh =
@@ -204,11 +231,12 @@ TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
     {
       for (int iterations : { 0, 1 })
       {
-        for (int route = 0; route < 3; ++route) // scanned, not asked, locality order
+        for (int route = 0; route < 4; ++route) // scanned, not asked, locality order, blocks
         {
           SplineOptions o{ c, SplitPointRule::Inc3, BoundaryMode::Midpoint, iterations };
           o.ScanRanges = route != 1;
           o.LocalityOrder = route == 2;
+          o.ScanBlockRanges = route >= 2;
           CubicSpline spline;
           ASSERT_TRUE(
             BuildCubicCloughTocher(input->Data(), input->Topology, o, spline, ThreadedFor(2, 37))
@@ -217,12 +245,15 @@ TEST(PointRanges, ConstructionsGiveTheRangesOfTheirPoints)
             std::to_string(iterations) + " iterations, route " + std::to_string(route) +
             (input == &curved ? ", boundary curve points" : "");
           const Id n = static_cast<Id>(spline.ControlPoints.size());
-          if (iterations > 0 || c == Construction::Kashyap || route > 0)
+          if (iterations > 0 || c == Construction::Kashyap || route == 1 || route == 2)
           {
             EXPECT_EQ(spline.ControlPointRanges.Components, 0) << what;
             EXPECT_EQ(spline.DomainPointRanges.Components, 0) << what;
+            EXPECT_TRUE(spline.BlockRanges.empty()) << what;
             continue;
           }
+          EXPECT_EQ(spline.BlockRanges.empty(), route == 0) << what;
+          ExpectBlocksCoverPoints(spline, what);
           const PointRanges points = Reference(spline.ControlPoints.data()->data(), 3, n);
           if (input == &curved)
           {
