@@ -106,6 +106,7 @@ struct HealingReport
 {
   int SeamsAdded = 0;      // faces given their missing seam edge (ShapeFix_Face::FixMissingSeam)
   int PCurvesReprojected = 0; // pcurves off their edge's 3D curve, replaced by its projection
+  int DegeneratedEdgesDropped = 0; // degenerated edges that are no point on their surface
   int SewnEdges = 0;       // pairs of free edges sewn into one edge
   int RemovedFaces = 0;    // sliver faces removed
   int CollapsedEdges = 0;  // edges the sewing collapsed into a vertex (ends of removed slivers)
@@ -179,6 +180,7 @@ public:
   int NumberOfSeamsAdded() const { return this->Healed.SeamsAdded; }
   /// Pcurves that were off their edge's 3D curve and replaced by its projection when read.
   int NumberOfPCurvesReprojected() const { return this->Healed.PCurvesReprojected; }
+  int NumberOfDegeneratedEdgesDropped() const { return this->Healed.DegeneratedEdgesDropped; }
   /// What the healing on reading changed (seams, sewing, slivers, short edges).
   const HealingReport& Healing() const { return this->Healed; }
   const StageTimes& Times() const { return this->Time; }

@@ -858,6 +858,221 @@ int ReprojectPCurves(ShapeRead& r, double tol)
   return replaced;
 }
 
+/// How far F's surface strays from degenerated edge E's vertex along E's pcurve (17 points).
+double DegeneratedEdgeSpan(const TopoDS_Edge& E, const TopoDS_Face& F)
+{
+  double a = 0, b = 0;
+  const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+  if (pc.IsNull())
+  {
+    return 0;
+  }
+  const BRepAdaptor_Surface surface(F, Standard_False);
+  const gp_Pnt V = BRep_Tool::Pnt(TopExp::FirstVertex(E));
+  double d = 0;
+  for (int i = 0; i <= 16; ++i)
+  {
+    const gp_Pnt2d uv = pc->Value(a + (b - a) * i / 16);
+    d = std::max(d, surface.Value(uv.X(), uv.Y()).Distance(V));
+  }
+  return d;
+}
+
+/// One edge of a wire as it runs on a face: its pcurve for that orientation, moved.
+struct WireStep
+{
+  TopoDS_Edge Edge;
+  Handle(Geom2d_Curve) PCurve;
+  double First = 0, Last = 0;
+  bool Moved = false;
+  gp_Pnt2d End(bool last) const
+  {
+    return this->PCurve->Value((this->Edge.Orientation() == TopAbs_REVERSED) != last ? this->Last : this->First);
+  }
+};
+
+/// The edges of wire `chain` of F without `dropped` ones, each pcurve moved by whole periods to
+/// start where the one before it ends. Empty unless they close up in (u, v) within `tol2d` and
+/// span at most one period in each periodic direction.
+std::vector<WireStep> JoinedWithout(const std::vector<TopoDS_Edge>& chain, const TopoDS_Face& F,
+  const std::function<bool(const TopoDS_Edge&)>& dropped, const double (&period)[2], double tol2d)
+{
+  std::vector<WireStep> steps;
+  double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
+  for (const TopoDS_Edge& E : chain)
+  {
+    WireStep step{ E, Handle(Geom2d_Curve)(), 0, 0, false };
+    step.PCurve = BRep_Tool::CurveOnSurface(E, F, step.First, step.Last);
+    if (dropped(E))
+    {
+      continue;
+    }
+    if (step.PCurve.IsNull())
+    {
+      return {};
+    }
+    if (!steps.empty())
+    {
+      const gp_Vec2d d(step.End(false), steps.back().End(true));
+      const gp_Vec2d shift(WholePeriods(d.X(), period[0]), WholePeriods(d.Y(), period[1]));
+      if (shift.SquareMagnitude() > 0)
+      {
+        step.PCurve = Handle(Geom2d_Curve)::DownCast(step.PCurve->Translated(shift));
+        step.Moved = true;
+      }
+    }
+    for (int i = 0; i <= 8; ++i)
+    {
+      const gp_Pnt2d uv = step.PCurve->Value(step.First + (step.Last - step.First) * i / 8);
+      for (int k = 0; k < 2; ++k)
+      {
+        lo[k] = std::min(lo[k], uv.Coord(k + 1));
+        hi[k] = std::max(hi[k], uv.Coord(k + 1));
+      }
+    }
+    steps.push_back(step);
+  }
+  const bool closed = !steps.empty() && steps.back().End(true).Distance(steps.front().End(false)) <= tol2d;
+  for (int k = 0; k < 2 && closed; ++k)
+  {
+    if (period[k] > 0 && hi[k] - lo[k] > period[k] + tol2d)
+    {
+      return {};
+    }
+  }
+  return closed ? steps : std::vector<WireStep>();
+}
+
+/// F rebuilt on its surface from `wires`, whose moved pcurves replace the edges' ones on F (a
+/// seam edge's two at once).
+TopoDS_Face FaceWithWires(const TopoDS_Face& F, const std::vector<std::vector<WireStep>>& wires)
+{
+  BRep_Builder builder;
+  for (const std::vector<WireStep>& wire : wires)
+  {
+    for (const WireStep& step : wire)
+    {
+      const TopoDS_Edge& E = step.Edge;
+      if (!step.Moved)
+      {
+        continue;
+      }
+      if (!BRep_Tool::IsClosed(E, F))
+      {
+        builder.UpdateEdge(E, step.PCurve, F, BRep_Tool::Tolerance(E));
+        continue;
+      }
+      // A seam: its pcurve for the other orientation, moved too if the wire moved it.
+      const bool forward = E.Orientation() != TopAbs_REVERSED;
+      const TopoDS_Edge other = TopoDS::Edge(E.Reversed());
+      Handle(Geom2d_Curve) otherCurve;
+      for (const std::vector<WireStep>& w : wires)
+      {
+        for (const WireStep& s : w)
+        {
+          otherCurve = s.Edge.IsEqual(other) ? s.PCurve : otherCurve;
+        }
+      }
+      double a = 0, b = 0;
+      otherCurve = otherCurve.IsNull() ? BRep_Tool::CurveOnSurface(other, F, a, b) : otherCurve;
+      builder.UpdateEdge(E, forward ? step.PCurve : otherCurve, forward ? otherCurve : step.PCurve,
+        F, BRep_Tool::Tolerance(E));
+    }
+  }
+  TopLoc_Location location;
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(F, location);
+  TopoDS_Face rebuilt;
+  builder.MakeFace(rebuilt, surface, location, BRep_Tool::Tolerance(F));
+  for (const std::vector<WireStep>& wire : wires)
+  {
+    TopoDS_Wire W;
+    builder.MakeWire(W);
+    for (const WireStep& step : wire)
+    {
+      builder.Add(W, step.Edge);
+    }
+    W.Closed(Standard_True);
+    builder.Add(rebuilt, W);
+  }
+  return rebuilt;
+}
+
+} // namespace
+
+/// Degenerated edges along which the surface does not stay at their vertex (by more than
+/// `tol`) are dropped, and the other edges' pcurves moved by whole periods to join. OCCT's STEP
+/// reader, projecting the edges of a face without pcurves, can put a closed circle's pcurve a
+/// period off on a surface of revolution and close the wire with degenerated edges a period
+/// long, which run along circles (BatteryHolder_Keystone_2462_2xAA: the wire then went twice
+/// round its fillet, u over 4 pi, and the face's spline strayed 0.27 of the diagonal). The face
+/// is rebuilt on its surface from those wires where each then closes within one period, else
+/// kept and named in a warning. Returns the number of edges dropped.
+int DropFalseDegeneratedEdges(ShapeRead& r, double tol)
+{
+  TopTools_IndexedMapOfShape faceMap;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faceMap);
+  const Handle(ShapeBuild_ReShape) context = new ShapeBuild_ReShape;
+  int dropped = 0;
+  std::string fixedFaces, keptFaces;
+  for (int i = 1; i <= faceMap.Extent(); ++i)
+  {
+    const TopoDS_Face F = TopoDS::Face(faceMap(i).Oriented(TopAbs_FORWARD));
+    const auto isFalse = [&](const TopoDS_Edge& E) {
+      return BRep_Tool::Degenerated(E) && DegeneratedEdgeSpan(E, F) > tol;
+    };
+    std::vector<std::vector<TopoDS_Edge>> chains;
+    int count = 0;
+    for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
+    {
+      TopoDS_Edge broken;
+      chains.push_back(WireEdges(TopoDS::Wire(wx.Current()), F, broken));
+      count += static_cast<int>(std::count_if(chains.back().begin(), chains.back().end(), isFalse));
+    }
+    if (count == 0)
+    {
+      continue;
+    }
+    const BRepAdaptor_Surface S(F, Standard_False);
+    const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(F, u0, u1, v0, v1);
+    std::vector<std::vector<WireStep>> wires;
+    for (const std::vector<TopoDS_Edge>& chain : chains)
+    {
+      wires.push_back(JoinedWithout(chain, F, isFalse, period, 1e-7 * std::hypot(u1 - u0, v1 - v0)));
+    }
+    std::string& list = std::all_of(wires.begin(), wires.end(),
+                          [](const std::vector<WireStep>& w) { return !w.empty(); })
+      ? fixedFaces
+      : keptFaces;
+    list += (list.empty() ? "" : ", ") + FaceLabel(i - 1, r.FaceNames[i - 1]);
+    if (&list == &keptFaces)
+    {
+      continue;
+    }
+    context->Replace(F, FaceWithWires(F, wires));
+    dropped += count;
+  }
+  if (!keptFaces.empty())
+  {
+    r.Warnings.push_back("degenerated edges along which the surface moves by more than " +
+      Number(tol) + " kept on " + keptFaces + ": their wires do not close without them");
+  }
+  if (dropped == 0)
+  {
+    return 0;
+  }
+  const TopoDS_Shape healed = context->Apply(r.Shape);
+  KeepFaceOrder(r, faceMap, healed, [&](const TopoDS_Shape& f) { return context->Value(f); });
+  r.Warnings.push_back(std::to_string(dropped) + " degenerated edge(s) along which the surface " +
+    "moves by more than " + Number(tol) + " dropped, the wires joined by whole periods, on " +
+    fixedFaces);
+  return dropped;
+}
+
+namespace
+{
+
 /// Sews free edges that lie within `tol` of each other (BRepBuilderAPI_Sewing, manifold, with
 /// the cutting of free edges at each other's vertices; OCCT's own minimal tolerance, so that no
 /// edge of the model is taken for a degenerated one). OCCT's stored tolerances understate the
@@ -1311,6 +1526,14 @@ bool Translate(const std::string& fileName, Format format, const HealingOptions&
   }
   const double diagonal = std::sqrt(std::pow(r.Box[1] - r.Box[0], 2) +
     std::pow(r.Box[3] - r.Box[2], 2) + std::pow(r.Box[5] - r.Box[4], 2));
+  if (!RunGuarded([&] {
+        r.Healing.DegeneratedEdgesDropped =
+          DropFalseDegeneratedEdges(r, 1e-2 * healing.Tolerance * diagonal);
+      },
+        failure))
+  {
+    r.Warnings.push_back("dropping the degenerated edges that are not points failed: " + failure);
+  }
   if (!RunGuarded(
         [&] { r.Healing.PCurvesReprojected = ReprojectPCurves(r, 1e-2 * healing.Tolerance * diagonal); },
         failure))

@@ -51,6 +51,12 @@ bool ReadCADFile(const std::string& fileName, double timeoutSeconds, const Heali
 /// handler would make Ctrl-C no longer stop the program).
 void SetOCCTSignals(OSD_SignalMode mode);
 
+/// Drops the degenerated edges of r.Shape's faces along which the surface moves by more than
+/// `tol` and joins the other edges' pcurves by whole periods, rebuilding those faces (a step of
+/// ReadCADFile's healing, declared for its tests; CADFileReading.cxx says why). Returns the
+/// number of edges dropped; faces whose wires do not close without them are kept, with a warning.
+int DropFalseDegeneratedEdges(ShapeRead& r, double tol);
+
 /// v as the warnings print it (six significant digits).
 std::string Number(double v);
 

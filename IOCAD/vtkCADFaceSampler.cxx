@@ -399,6 +399,7 @@ void vtkCADFaceSampler::AddModelFields(vtkMultiBlockDataSet* output, double face
   AddField(fd, "MaxEdgeGap", model->MaxEdgeGap());
   AddIntField(fd, "NumberOfSeamsAdded", model->NumberOfSeamsAdded());
   AddIntField(fd, "NumberOfPCurvesReprojected", model->NumberOfPCurvesReprojected());
+  AddIntField(fd, "NumberOfDegeneratedEdgesDropped", model->NumberOfDegeneratedEdgesDropped());
   const ctcad::HealingReport& healed = model->Healing();
   AddIntField(fd, "NumberOfSewnEdges", healed.SewnEdges);
   AddIntField(fd, "NumberOfRemovedFaces", healed.RemovedFaces);

@@ -52,7 +52,9 @@
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
  * than half the tolerance from its shared boundary is refined to twice that distance, with a
  * warning), `NumberOfSeamsAdded`, `NumberOfPCurvesReprojected` (pcurves off their edge's 3D
- * curve, replaced by its projection), `NumberOfSewnEdges` (pairs of free edges sewn into one),
+ * curve, replaced by its projection), `NumberOfDegeneratedEdgesDropped` (degenerated edges
+ * along which the surface moves: the wire joined by whole periods without them),
+ * `NumberOfSewnEdges` (pairs of free edges sewn into one),
  * `NumberOfRemovedFaces` (slivers), `NumberOfCollapsedEdges` (collapsed by the sewing),
  * `SewingTolerance` (absolute, 0 when the sewing did not run), `RestoreG1`, `NumberOfG1Nodes`,
  * `NumberOfG1Spans` (nodes where

@@ -18,7 +18,23 @@
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 
+#include "CADFileReading.h"
+
+#include <BRepAdaptor_Curve.hxx>
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepCheck_Analyzer.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Geom2d_Line.hxx>
+#include <Geom_Circle.hxx>
+#include <Geom_SurfaceOfRevolution.hxx>
+#include <Geom_TrimmedCurve.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <STEPControl_Writer.hxx>
 
@@ -813,4 +829,119 @@ TEST(CADStages, AnEarNearlyStraightIsSplit)
     MeshedEar(-0.1, -0.05, sag, split);
     EXPECT_EQ(split, degrees > 170) << degrees;
   }
+}
+
+namespace
+{
+/// The face OCCT's STEP reader made of a fillet of BatteryHolder_Keystone_2462_2xAA (a quarter
+/// circle revolved): the seam from the big circle to the small one, the small circle's pcurve a
+/// period off (u from 0 to -2 pi), and the wire closed by two degenerated edges a period long,
+/// each at a circle's vertex but running along the other circle's row: u over [-2 pi, 2 pi].
+TopoDS_Face FilletGoingTwiceRound()
+{
+  const double R = 1.1, r = 0.1, pi = M_PI;
+  const gp_Ax2 profilePlane(gp_Pnt(r, 0, 0), gp_Dir(0, 1, 0), gp_Dir(1, 0, 0));
+  const Handle(Geom_Circle) profile = new Geom_Circle(profilePlane, R - r);
+  const Handle(Geom_Surface) S = new Geom_SurfaceOfRevolution(
+    new Geom_TrimmedCurve(profile, 0, pi / 2), gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, -1)));
+  BRep_Builder B;
+  const double tol = 1e-7;
+  TopoDS_Vertex big, small;
+  B.MakeVertex(big, gp_Pnt(R, 0, 0), tol);
+  B.MakeVertex(small, gp_Pnt(r, 0, -(R - r)), tol);
+  TopoDS_Face F;
+  B.MakeFace(F, S, tol);
+  const auto line = [](double u, double v, double du, double dv) {
+    return Handle(Geom2d_Curve)(new Geom2d_Line(gp_Pnt2d(u, v), gp_Dir2d(du, dv)));
+  };
+  const auto edge = [&](const Handle(Geom_Curve)& c, const TopoDS_Vertex& a, const TopoDS_Vertex& b,
+                      double t1) {
+    TopoDS_Edge E;
+    B.MakeEdge(E, c, tol);
+    B.Add(E, a.Oriented(TopAbs_FORWARD));
+    B.Add(E, b.Oriented(TopAbs_REVERSED));
+    B.Range(E, 0, t1);
+    return E;
+  };
+  // Circles about +z; the surface's u turns about -z: u = 2 pi - t.
+  const TopoDS_Edge bigCircle = edge(new Geom_Circle(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1),
+    gp_Dir(1, 0, 0)), R), big, big, 2 * pi);
+  B.UpdateEdge(bigCircle, line(2 * pi, 0, -1, 0), F, tol);
+  const TopoDS_Edge smallCircle = edge(new Geom_Circle(gp_Ax2(gp_Pnt(0, 0, -(R - r)),
+    gp_Dir(0, 0, 1), gp_Dir(1, 0, 0)), r), small, small, 2 * pi);
+  B.UpdateEdge(smallCircle, line(0, pi / 2, -1, 0), F, tol); // a period off
+  const TopoDS_Edge seam = edge(profile, big, small, pi / 2);
+  B.UpdateEdge(seam, line(2 * pi, 0, 0, 1), line(-2 * pi, 0, 0, 1), F, tol);
+  const auto degenerated = [&](const TopoDS_Vertex& v, const Handle(Geom2d_Curve)& pc) {
+    TopoDS_Edge E;
+    B.MakeEdge(E);
+    B.Add(E, v.Oriented(TopAbs_FORWARD));
+    B.Add(E, v.Oriented(TopAbs_REVERSED));
+    B.Degenerated(E, Standard_True);
+    B.UpdateEdge(E, pc, F, tol);
+    B.Range(E, 0, 2 * pi);
+    return E;
+  };
+  const TopoDS_Edge top = degenerated(small, line(2 * pi, pi / 2, -1, 0));
+  const TopoDS_Edge bottom = degenerated(big, line(-2 * pi, 0, 1, 0));
+  TopoDS_Wire W;
+  B.MakeWire(W);
+  for (const TopoDS_Shape& E : { TopoDS_Shape(top), TopoDS_Shape(smallCircle),
+         seam.Reversed(), TopoDS_Shape(bottom), bigCircle.Reversed(), TopoDS_Shape(seam) })
+  {
+    B.Add(W, E);
+  }
+  W.Closed(Standard_True);
+  B.Add(F, W);
+  return F;
+}
+} // namespace
+
+// The degenerated edges that run along circles are dropped and the small circle moved by a
+// period: the face spans one period, keeps its three real edges (the circles, the seam twice)
+// and samples within the tolerance; a true degenerated edge (a pole) stays.
+TEST(CADStages, DegeneratedEdgesThatAreNoPointAreDropped)
+{
+  ctcad::ShapeRead r;
+  r.Shape = FilletGoingTwiceRound();
+  r.FaceNames = { "fillet" };
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+  BRepTools::UVBounds(TopoDS::Face(r.Shape), u0, u1, v0, v1);
+  ASSERT_NEAR(u1 - u0, 4 * M_PI, 1e-9) << "the face as OCCT read it goes twice round";
+  EXPECT_EQ(ctcad::DropFalseDegeneratedEdges(r, 1e-6), 2);
+  TopTools_IndexedMapOfShape faces, edges;
+  TopExp::MapShapes(r.Shape, TopAbs_FACE, faces);
+  ASSERT_EQ(faces.Extent(), 1);
+  const TopoDS_Face F = TopoDS::Face(faces(1));
+  BRepTools::UVBounds(F, u0, u1, v0, v1);
+  EXPECT_NEAR(u1 - u0, 2 * M_PI, 1e-9);
+  EXPECT_NEAR(v1 - v0, M_PI / 2, 1e-9);
+  TopExp::MapShapes(F, TopAbs_EDGE, edges);
+  EXPECT_EQ(edges.Extent(), 3);
+  EXPECT_TRUE(BRepCheck_Analyzer(F).IsValid());
+  EXPECT_EQ(r.FaceNames, std::vector<std::string>{ "fillet" });
+  ASSERT_FALSE(r.Warnings.empty());
+  EXPECT_NE(r.Warnings.back().find("2 degenerated edge(s)"), std::string::npos) << r.Warnings.back();
+  // Every pcurve now runs along its edge on the surface (the seam's two included).
+  const BRepAdaptor_Surface surface(F, Standard_False);
+  for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
+  {
+    const TopoDS_Edge& E = TopoDS::Edge(ex.Current());
+    ASSERT_FALSE(BRep_Tool::Degenerated(E));
+    double a = 0, b = 0;
+    const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+    const BRepAdaptor_Curve curve(E);
+    for (int i = 0; i <= 8; ++i)
+    {
+      const double t = a + (b - a) * i / 8;
+      const gp_Pnt2d uv = pc->Value(t);
+      EXPECT_LT(surface.Value(uv.X(), uv.Y()).Distance(curve.Value(t)), 1e-9) << i;
+    }
+  }
+  // A sphere's poles are degenerated edges that are points: nothing to drop.
+  ctcad::ShapeRead sphere;
+  sphere.Shape = BRepPrimAPI_MakeSphere(1.0).Shape();
+  sphere.FaceNames = { "" };
+  EXPECT_EQ(ctcad::DropFalseDegeneratedEdges(sphere, 1e-6), 0);
+  EXPECT_TRUE(sphere.Warnings.empty());
 }
