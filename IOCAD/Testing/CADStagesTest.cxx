@@ -922,6 +922,22 @@ TEST(CADStages, DegeneratedEdgesThatAreNoPointAreDropped)
   EXPECT_EQ(r.FaceNames, std::vector<std::string>{ "fillet" });
   ASSERT_FALSE(r.Warnings.empty());
   EXPECT_NE(r.Warnings.back().find("2 degenerated edge(s)"), std::string::npos) << r.Warnings.back();
+  // The wire closes in (u, v): each edge starts where the one before it ends.
+  for (TopExp_Explorer wx(F, TopAbs_WIRE); wx.More(); wx.Next())
+  {
+    TopoDS_Edge broken;
+    const std::vector<TopoDS_Edge> chain = ctcad::WireEdges(TopoDS::Wire(wx.Current()), F, broken);
+    ASSERT_EQ(chain.size(), 4u);
+    const auto end = [&F](const TopoDS_Edge& E, bool last) {
+      double a = 0, b = 0;
+      const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
+      return pc->Value((E.Orientation() == TopAbs_REVERSED) != last ? b : a);
+    };
+    for (std::size_t i = 0; i < chain.size(); ++i)
+    {
+      EXPECT_LT(end(chain[i], true).Distance(end(chain[(i + 1) % chain.size()], false)), 1e-9) << i;
+    }
+  }
   // Every pcurve now runs along its edge on the surface (the seam's two included).
   const BRepAdaptor_Surface surface(F, Standard_False);
   for (TopExp_Explorer ex(F, TopAbs_EDGE); ex.More(); ex.Next())
