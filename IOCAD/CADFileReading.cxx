@@ -691,12 +691,19 @@ Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
   return Handle(Geom2d_Curve)(interpolation.Curve().get());
 }
 
+/// The parameter point where oriented edge E, whose pcurve pc runs over [a, b], starts (end:
+/// ends).
+gp_Pnt2d OrientedEnd(const TopoDS_Edge& E, const Handle(Geom2d_Curve)& pc, double a, double b, bool end)
+{
+  return pc->Value((E.Orientation() == TopAbs_REVERSED) != end ? b : a);
+}
+
 /// The parameter point where oriented edge E starts (end: ends) on F.
 gp_Pnt2d PCurveEnd(const TopoDS_Edge& E, const TopoDS_Face& F, bool end)
 {
   double a = 0, b = 0;
   const Handle(Geom2d_Curve) pc = BRep_Tool::CurveOnSurface(E, F, a, b);
-  return pc->Value((E.Orientation() == TopAbs_REVERSED) != end ? b : a);
+  return OrientedEnd(E, pc, a, b, end);
 }
 
 /// Edges whose pcurve on a face was replaced, and the pcurve they were read with.
@@ -885,10 +892,7 @@ struct WireStep
   Handle(Geom2d_Curve) PCurve;
   double First = 0, Last = 0;
   bool Moved = false;
-  gp_Pnt2d End(bool last) const
-  {
-    return this->PCurve->Value((this->Edge.Orientation() == TopAbs_REVERSED) != last ? this->Last : this->First);
-  }
+  gp_Pnt2d End(bool last) const { return OrientedEnd(this->Edge, this->PCurve, this->First, this->Last, last); }
 };
 
 /// The edges of wire `chain` of F without `dropped` ones, each pcurve moved by whole periods to
@@ -901,12 +905,12 @@ std::vector<WireStep> JoinedWithout(const std::vector<TopoDS_Edge>& chain, const
   double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
   for (const TopoDS_Edge& E : chain)
   {
-    WireStep step{ E, Handle(Geom2d_Curve)(), 0, 0, false };
-    step.PCurve = BRep_Tool::CurveOnSurface(E, F, step.First, step.Last);
     if (dropped(E))
     {
       continue;
     }
+    WireStep step{ E, Handle(Geom2d_Curve)(), 0, 0, false };
+    step.PCurve = BRep_Tool::CurveOnSurface(E, F, step.First, step.Last);
     if (step.PCurve.IsNull())
     {
       return {};
@@ -943,6 +947,22 @@ std::vector<WireStep> JoinedWithout(const std::vector<TopoDS_Edge>& chain, const
   return closed ? steps : std::vector<WireStep>();
 }
 
+/// The pcurve of the step of `wires` that runs along oriented edge E (null if none does).
+Handle(Geom2d_Curve) StepPCurve(const std::vector<std::vector<WireStep>>& wires, const TopoDS_Edge& E)
+{
+  for (const std::vector<WireStep>& wire : wires)
+  {
+    for (const WireStep& step : wire)
+    {
+      if (step.Edge.IsEqual(E))
+      {
+        return step.PCurve;
+      }
+    }
+  }
+  return Handle(Geom2d_Curve)();
+}
+
 /// F rebuilt on its surface from `wires`, whose moved pcurves replace the edges' ones on F (a
 /// seam edge's two at once).
 TopoDS_Face FaceWithWires(const TopoDS_Face& F, const std::vector<std::vector<WireStep>>& wires)
@@ -965,14 +985,7 @@ TopoDS_Face FaceWithWires(const TopoDS_Face& F, const std::vector<std::vector<Wi
       // A seam: its pcurve for the other orientation, moved too if the wire moved it.
       const bool forward = E.Orientation() != TopAbs_REVERSED;
       const TopoDS_Edge other = TopoDS::Edge(E.Reversed());
-      Handle(Geom2d_Curve) otherCurve;
-      for (const std::vector<WireStep>& w : wires)
-      {
-        for (const WireStep& s : w)
-        {
-          otherCurve = s.Edge.IsEqual(other) ? s.PCurve : otherCurve;
-        }
-      }
+      Handle(Geom2d_Curve) otherCurve = StepPCurve(wires, other);
       double a = 0, b = 0;
       otherCurve = otherCurve.IsNull() ? BRep_Tool::CurveOnSurface(other, F, a, b) : otherCurve;
       builder.UpdateEdge(E, forward ? step.PCurve : otherCurve, forward ? otherCurve : step.PCurve,

@@ -652,6 +652,7 @@ def parse_args(argv):
 
 def main(argv=None):
     args = parse_args(argv)
+    args.cache = os.path.abspath(args.cache)  # the CLI runs in a temporary folder
     if args.compare:
         compare(*args.compare)
         return 0
