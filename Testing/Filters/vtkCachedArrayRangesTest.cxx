@@ -114,7 +114,7 @@ void ExpectCachedVTKRanges(
 }
 
 // Every data array of the output with cacheable values (finite, at most 32 components):
-// points, point data and cell data. Arrays passed through from an input checked before have
+// points, point, cell and field data. Arrays passed through from an input checked before have
 // their L2 norm's finite range computed by VTK then (stored = false).
 void ExpectCachedVTKRanges(vtkDataSet* output, const std::string& what, bool stored = true)
 {
@@ -126,7 +126,7 @@ void ExpectCachedVTKRanges(vtkDataSet* output, const std::string& what, bool sto
     arrays.emplace_back("points", ps->GetPoints()->GetData());
   }
   for (vtkFieldData* fd : { static_cast<vtkFieldData*>(output->GetPointData()),
-         static_cast<vtkFieldData*>(output->GetCellData()) })
+         static_cast<vtkFieldData*>(output->GetCellData()), output->GetFieldData() })
   {
     for (int i = 0; i < fd->GetNumberOfArrays(); ++i)
     {
@@ -470,7 +470,8 @@ TEST(CachedArrayRanges, ZeroExtremesDoNotDependOnTheThreads)
   }
 }
 
-// The data sets of a composite output, each as a data set's.
+// The data sets of a composite output, each as a data set's (its one-value field arrays too, as
+// a CAD face's), and the composite's own field data.
 TEST(CachedArrayRanges, CoverEveryBlockOfACompositeOutput)
 {
   vtkNew<vtkMultiBlockDataSet> blocks;
@@ -483,14 +484,21 @@ TEST(CachedArrayRanges, CoverEveryBlockOfACompositeOutput)
     auto values = RandomArray<vtkDoubleArray>(100 + k, 2, 0.0, 5.0, 30 + k);
     values->SetName("values");
     pd->GetPointData()->AddArray(values);
+    auto faceValue = RandomArray<vtkIdTypeArray>(1, 1, 0.0, 100.0, 40 + k);
+    faceValue->SetName("face value");
+    pd->GetFieldData()->AddArray(faceValue);
     blocks->SetBlock(k, pd);
   }
+  auto total = RandomArray<vtkDoubleArray>(1, 1, -1.0, 1.0, 50);
+  blocks->GetFieldData()->AddArray(total);
   ctsplines::CacheRanges(blocks.Get());
   for (unsigned int k = 0; k < 2; ++k)
   {
     vtkPolyData* pd = vtkPolyData::SafeDownCast(blocks->GetBlock(k));
     ExpectCachedVTKRanges(pd, "block " + std::to_string(k));
+    ExpectCachedVTKRanges(pd->GetFieldData()->GetArray("face value"), "field data");
   }
+  ExpectCachedVTKRanges(total, "the composite's field data");
 }
 
 // Every filter's output: the source, the spline, its tessellation, curvature, reflection lines,
