@@ -440,9 +440,9 @@ constexpr double MinBoundaryCorner = 3, MaxBoundaryCorner = 170;
 /// degenerate (its normal at the vertex undefined, flipping with round-off) or too thin to bear
 /// its data's disagreement, and folds. The corner is measured about the normal of the stitching
 /// derivatives (where they span a plane). Such triangles (ears on a curved boundary) are split
-/// (CornerSplit).
-int FlatBoundaryCorner(
-  const CDT& cdt, const CDT::Face_handle f, const SegmentMap& segments, const FaceMesh& mesh)
+/// (CornerSplit). `cusp`: whether that corner is below MinBoundaryCorner.
+int FlatBoundaryCorner(const CDT& cdt, const CDT::Face_handle f, const SegmentMap& segments,
+  const FaceMesh& mesh, bool& cusp)
 {
   for (int l = 0; l < 3; ++l)
   {
@@ -471,6 +471,7 @@ int FlatBoundaryCorner(
     const double corner = AngleAbout(db, da, axis) * 180 / M_PI;
     if (!(corner > MinBoundaryCorner && corner < MaxBoundaryCorner))
     {
+      cusp = corner <= MinBoundaryCorner;
       return l;
     }
   }
@@ -1044,12 +1045,19 @@ bool FaceMesher::EstimateTriangles(
     const CDT::Face_handle f = this->Faces[triFace[j]];
     const TriangleKey key = MakeKey(
       f->vertex(0)->info().Index, f->vertex(1)->info().Index, f->vertex(2)->info().Index);
+    bool cusp = false;
     const int corner = this->Plane.Refinable(f)
-      ? FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh)
+      ? FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh, cusp)
       : -1;
-    if (corner >= 0)
+    const Steiner cornerSplit = corner >= 0 ? CornerSplit(this->Triangulation, f, corner) : Steiner();
+    // At a cusp (two boundary curves leaving a node in one direction) no point opens the
+    // corner: its centroid would lie inside the needle, the tip of a fan of needles from the
+    // spans beside it (KiCad's RC1602A, 32 pads where an arc meets a line tangentially: a 30:1
+    // triangle's corner of 2 degrees next to an edge cubic turning 2.8, its patches folded). The
+    // triangle is measured as any other instead.
+    if (corner >= 0 && !(cusp && cornerSplit.MinDistance == 0))
     {
-      inserts.push_back(CornerSplit(this->Triangulation, f, corner));
+      inserts.push_back(cornerSplit);
       continue;
     }
     const ctk::Id tj = static_cast<ctk::Id>(j);

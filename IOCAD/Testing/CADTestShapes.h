@@ -441,6 +441,25 @@ inline TopoDS_Shape BoxWithInscribedDisk(double r, double height)
   return BRepAlgoAPI_Fuse(box, disk).Shape();
 }
 
+/// A pad as KiCad's RC1602A display has 32 of: a block (2 r wide, 2 r deep) whose semicircular
+/// bite of radius r meets its sides x = +-r tangentially (two cusps on each of its top and
+/// bottom faces), fused with a half ring (radii r / 2 to r) that fills the bite coplanarly: the
+/// ring's arc is a tangent interface from cusp to cusp.
+inline TopoDS_Shape PadWithRingInBite(double r, double height)
+{
+  const TopoDS_Shape block = BRepPrimAPI_MakeBox(gp_Pnt(-r, 0, 0), 2 * r, 2 * r, height).Shape();
+  const TopoDS_Shape bite =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -height), gp::DZ()), r, 3 * height).Shape();
+  const TopoDS_Shape disk =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), r, height).Shape();
+  const TopoDS_Shape hole =
+    BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, -height), gp::DZ()), r / 2, 3 * height).Shape();
+  const TopoDS_Shape lower = BRepPrimAPI_MakeBox(gp_Pnt(-2 * r, -2 * r, -height), 4 * r, 2 * r,
+    3 * height).Shape(); // y < 0: the ring is the half y > 0
+  const TopoDS_Shape ring = BRepAlgoAPI_Cut(BRepAlgoAPI_Cut(disk, hole).Shape(), lower).Shape();
+  return BRepAlgoAPI_Fuse(BRepAlgoAPI_Cut(block, bite).Shape(), ring).Shape();
+}
+
 /// A plate (2 r x 2 r x height) with a hole of radius r / 2 through it that touches the side
 /// x = -r: the top and bottom faces' inner loop touches their outer one at (-r, 0), where the
 /// face's boundary curves (the circle and the side's line) are tangent: two cusps at one node.

@@ -1287,6 +1287,30 @@ TEST(CADConversion, CuspCornersDoNotFold)
   EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
 }
 
+TEST(CADConversion, CuspEarsAreNotSplitIntoNeedles)
+{
+  // At a cusp no point opens the corner: the ear's centroid (the split's fallback) made a needle
+  // tip that the spans along the arc fanned to, and on RC1602A's pads a 30:1 triangle there
+  // folded (G1 180 degrees across the coplanar ring). The ear is now measured as any triangle.
+  const TopoDS_Shape shape = ctsplines_test::PadWithRingInBite(1.0, 0.25);
+  ASSERT_FALSE(shape.IsNull());
+  Conversion c;
+  // RC1602A's tolerance (1e-4 of its diagonal) is 3e-3 of a pad's: the fold shows here at 2e-3.
+  c.Run(TempStep("pad_ring_in_bite", shape), 2e-3);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("pad with a ring in its bite: %u faces, %g cusp nodes, G1 %.3g over %g tangent "
+              "macro-edges, normal deviation %.3g degrees, deviation %.3g\n",
+    c.Faces->GetNumberOfBlocks(), Field(fd, "NumberOfCuspNodes"), Field(fd, "MaxG1AngleTangent"),
+    Field(fd, "NumberOfTangentInterfaceEdges"), Field(fd, "MaxNormalDeviation"),
+    Field(fd, "MaxDeviation"));
+  EXPECT_GE(Field(fd, "NumberOfCuspNodes"), 4);
+  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
+  EXPECT_LE(Field(fd, "MaxG1AngleTangent"), 0.1);
+  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10);
+  EXPECT_LE(Field(fd, "MaxDeviation"), 2e-3);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+}
+
 TEST(CADConversion, NormalUndefinedAtTouchingLoops)
 {
   // Where the hole touches the plate's side, the top and bottom faces' corner is 0: the spline's
