@@ -1267,24 +1267,32 @@ TEST(CADConversion, ThinStripDoesNotFold)
   }
 }
 
+/// A model whose faces meet tangentially at cusps, converted at `tolerance`: G1 across the
+/// tangent interfaces, normals within 10 degrees of the surfaces', watertight, within the
+/// tolerance.
+void ExpectSmoothAtCusps(const TopoDS_Shape& shape, const std::string& name, double tolerance)
+{
+  ASSERT_FALSE(shape.IsNull());
+  Conversion c;
+  c.Run(TempStep(name, shape), tolerance);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  std::printf("%s: %u faces, %g cusp nodes, G1 %.3g over %g tangent macro-edges, normal "
+              "deviation %.3g degrees, deviation %.3g\n",
+    name.c_str(), c.Faces->GetNumberOfBlocks(), Field(fd, "NumberOfCuspNodes"),
+    Field(fd, "MaxG1AngleTangent"), Field(fd, "NumberOfTangentInterfaceEdges"),
+    Field(fd, "MaxNormalDeviation"), Field(fd, "MaxDeviation"));
+  EXPECT_GE(Field(fd, "NumberOfCuspNodes"), 4) << name;
+  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0) << name;
+  EXPECT_LE(Field(fd, "MaxG1AngleTangent"), 0.1) << name;
+  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10) << name;
+  EXPECT_LE(Field(fd, "MaxDeviation"), tolerance) << name;
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0) << name;
+}
+
 TEST(CADConversion, CuspCornersDoNotFold)
 {
   // Without the fitted corner derivatives the corner pieces fold at their cusps (180 degrees).
-  const TopoDS_Shape shape = ctsplines_test::BoxWithInscribedDisk(1.0, 0.5);
-  ASSERT_FALSE(shape.IsNull());
-  Conversion c;
-  c.Run(TempStep("box_inscribed_disk", shape), 1e-4);
-  vtkFieldData* fd = c.Merged->GetFieldData();
-  std::printf("box with an inscribed disk: %u faces, G1 %.3g over %g tangent macro-edges, normal "
-              "deviation %.3g degrees, deviation %.3g\n",
-    c.Faces->GetNumberOfBlocks(), Field(fd, "MaxG1AngleTangent"),
-    Field(fd, "NumberOfTangentInterfaceEdges"), Field(fd, "MaxNormalDeviation"),
-    Field(fd, "MaxDeviation"));
-  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
-  EXPECT_LE(Field(fd, "MaxG1AngleTangent"), 0.1);
-  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10);
-  EXPECT_LE(Field(fd, "MaxDeviation"), 1e-4);
-  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  ExpectSmoothAtCusps(ctsplines_test::BoxWithInscribedDisk(1.0, 0.5), "box_inscribed_disk", 1e-4);
 }
 
 TEST(CADConversion, CuspEarsAreNotSplitIntoNeedles)
@@ -1292,23 +1300,8 @@ TEST(CADConversion, CuspEarsAreNotSplitIntoNeedles)
   // At a cusp no point opens the corner: the ear's centroid (the split's fallback) made a needle
   // tip that the spans along the arc fanned to, and on RC1602A's pads a 30:1 triangle there
   // folded (G1 180 degrees across the coplanar ring). The ear is now measured as any triangle.
-  const TopoDS_Shape shape = ctsplines_test::PadWithRingInBite(1.0, 0.25);
-  ASSERT_FALSE(shape.IsNull());
-  Conversion c;
   // RC1602A's tolerance (1e-4 of its diagonal) is 3e-3 of a pad's: the fold shows here at 2e-3.
-  c.Run(TempStep("pad_ring_in_bite", shape), 2e-3);
-  vtkFieldData* fd = c.Merged->GetFieldData();
-  std::printf("pad with a ring in its bite: %u faces, %g cusp nodes, G1 %.3g over %g tangent "
-              "macro-edges, normal deviation %.3g degrees, deviation %.3g\n",
-    c.Faces->GetNumberOfBlocks(), Field(fd, "NumberOfCuspNodes"), Field(fd, "MaxG1AngleTangent"),
-    Field(fd, "NumberOfTangentInterfaceEdges"), Field(fd, "MaxNormalDeviation"),
-    Field(fd, "MaxDeviation"));
-  EXPECT_GE(Field(fd, "NumberOfCuspNodes"), 4);
-  EXPECT_GT(Field(fd, "NumberOfTangentInterfaceEdges"), 0);
-  EXPECT_LE(Field(fd, "MaxG1AngleTangent"), 0.1);
-  EXPECT_LE(Field(fd, "MaxNormalDeviation"), 10);
-  EXPECT_LE(Field(fd, "MaxDeviation"), 2e-3);
-  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0);
+  ExpectSmoothAtCusps(ctsplines_test::PadWithRingInBite(1.0, 0.25), "pad_ring_in_bite", 2e-3);
 }
 
 TEST(CADConversion, NormalUndefinedAtTouchingLoops)
