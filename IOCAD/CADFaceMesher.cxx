@@ -440,7 +440,7 @@ constexpr double MinBoundaryCorner = 3, MaxBoundaryCorner = 170;
 /// degenerate (its normal at the vertex undefined, flipping with round-off) or too thin to bear
 /// its data's disagreement, and folds. The corner is measured about the normal of the stitching
 /// derivatives (where they span a plane). Such triangles (ears on a curved boundary) are split
-/// (CornerSplit). `cusp`: whether that corner is below MinBoundaryCorner.
+/// (CornerSplit). `cusp`: whether that corner is within MinBoundaryCorner of 0 (either side).
 int FlatBoundaryCorner(const CDT& cdt, const CDT::Face_handle f, const SegmentMap& segments,
   const FaceMesh& mesh, bool& cusp)
 {
@@ -471,7 +471,7 @@ int FlatBoundaryCorner(const CDT& cdt, const CDT::Face_handle f, const SegmentMa
     const double corner = AngleAbout(db, da, axis) * 180 / M_PI;
     if (!(corner > MinBoundaryCorner && corner < MaxBoundaryCorner))
     {
-      cusp = corner <= MinBoundaryCorner;
+      cusp = std::abs(corner) <= MinBoundaryCorner;
       return l;
     }
   }
