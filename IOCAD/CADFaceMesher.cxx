@@ -1049,12 +1049,14 @@ bool FaceMesher::EstimateTriangles(
     const int corner = this->Plane.Refinable(f)
       ? FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh, cusp)
       : -1;
-    const Steiner cornerSplit = corner >= 0 ? CornerSplit(this->Triangulation, f, corner) : Steiner();
-    // At a cusp (two boundary curves leaving a node in one direction) no point opens the
-    // corner: its centroid would lie inside the needle, the tip of a fan of needles from the
-    // spans beside it (KiCad's RC1602A, 32 pads where an arc meets a line tangentially: a 30:1
-    // triangle's corner of 2 degrees next to an edge cubic turning 2.8, its patches folded). The
-    // triangle is measured as any other instead.
+    const Steiner cornerSplit =
+      corner >= 0 ? CornerSplit(this->Triangulation, f, corner) : Steiner();
+    // At a cusp (two boundary curves leaving a node in one direction) where CornerSplit finds no
+    // point that opens the corner (its centroid fallback, MinDistance 0), the centroid would lie
+    // inside the needle, the tip of a fan of needles from the spans beside it (KiCad's RC1602A,
+    // 32 pads where an arc meets a line tangentially: a 30:1 triangle's corner of 2 degrees next
+    // to an edge cubic turning 2.8, its patches folded). The triangle is measured as any other
+    // instead.
     if (corner >= 0 && !(cusp && cornerSplit.MinDistance == 0))
     {
       inserts.push_back(cornerSplit);

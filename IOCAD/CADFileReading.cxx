@@ -947,7 +947,8 @@ std::vector<WireStep> JoinedWithout(const std::vector<TopoDS_Edge>& chain, const
   return closed ? steps : std::vector<WireStep>();
 }
 
-/// The pcurve of the step of `wires` that runs along oriented edge E (null if none does).
+/// The pcurve of the step of `wires` that runs along oriented edge E (null if none does; a valid
+/// face runs along each oriented edge once).
 Handle(Geom2d_Curve) StepPCurve(const std::vector<std::vector<WireStep>>& wires, const TopoDS_Edge& E)
 {
   for (const std::vector<WireStep>& wire : wires)
