@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <list>
+#include <optional>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
@@ -484,11 +485,10 @@ int FlatBoundaryCorner(const CDT& cdt, const CDT::Face_handle f, const SegmentMa
 /// by two triangles of a sound shape. The centroid of an ear on a nearly straight boundary lies
 /// a third of its sagitta from it (linkrods.step: 2 % of the segment): two triangles on the
 /// boundary segments that thin fold the stitched spline wherever the edge cubic leaves the
-/// segment's chord by a larger angle. The centroid where no such point can go in. The side of
-/// the chord comes from the triangle's vertex order (CGAL's, counter-clockwise), not from where
-/// the vertex lies: a flat triangle's vertex is on the chord up to round-off
-/// (SplitFlatTriangles).
-Steiner CornerSplit(const CDT& cdt, const CDT::Face_handle f, int l)
+/// segment's chord by a larger angle. None where no such point can go in. The side of the
+/// chord comes from the triangle's vertex order (CGAL's, counter-clockwise), not from where the
+/// vertex lies: a flat triangle's vertex is on the chord up to round-off (SplitFlatTriangles).
+std::optional<Steiner> CornerSplit(const CDT& cdt, const CDT::Face_handle f, int l)
 {
   const Point &v = f->vertex(l)->point(), &a = f->vertex(CDT::ccw(l))->point(),
               &b = f->vertex(CDT::cw(l))->point();
@@ -506,7 +506,16 @@ Steiner CornerSplit(const CDT& cdt, const CDT::Face_handle f, int l)
       return q;
     }
   }
-  return { CGAL::centroid(v, a, b), 0, false, {} };
+  return std::nullopt;
+}
+
+/// The centroid of triangle f, summed from its vertex l (as CornerSplit orders them), to split
+/// a boundary corner where CornerSplit finds no place.
+Steiner CornerCentroid(const CDT::Face_handle f, int l)
+{
+  return { CGAL::centroid(f->vertex(l)->point(), f->vertex(CDT::ccw(l))->point(),
+             f->vertex(CDT::cw(l))->point()),
+    0, false, {} };
 }
 
 /// A point splitting triangle f where its error is largest (parameter X), not next to a vertex
@@ -896,15 +905,18 @@ std::size_t FaceMesher::SplitFlatTriangles()
     if (std::abs(area2) <= MaxFlatHeight * longest &&
       !this->Triangulation.is_constrained(CDT::Edge(f, middle)))
     {
-      splits.push_back(CornerSplit(this->Triangulation, f, middle));
+      // Where the corner has no place, a centroid would lie in the flat triangle: none.
+      if (std::optional<Steiner> q = CornerSplit(this->Triangulation, f, middle))
+      {
+        splits.push_back(std::move(*q));
+      }
     }
   }
   std::size_t added = 0;
   for (const Steiner& q : splits)
   {
-    // Not the centroid fallback (it would lie in the flat triangle), nor a point an earlier split
-    // of this pass has moved next to.
-    if (q.MinDistance > 0 && CanInsert(this->Triangulation, q))
+    // Not a point an earlier split of this pass has moved next to.
+    if (CanInsert(this->Triangulation, q))
     {
       this->InsertInterior(q.P);
       ++added;
@@ -1049,17 +1061,21 @@ bool FaceMesher::EstimateTriangles(
     const int corner = this->Plane.Refinable(f)
       ? FlatBoundaryCorner(this->Triangulation, f, this->Segments, mesh, cusp)
       : -1;
-    const Steiner cornerSplit =
-      corner >= 0 ? CornerSplit(this->Triangulation, f, corner) : Steiner();
-    // At a cusp (two boundary curves leaving a node in one direction) where CornerSplit finds no
-    // point that opens the corner (its centroid fallback, MinDistance 0), the centroid would lie
-    // inside the needle, the tip of a fan of needles from the spans beside it (KiCad's RC1602A,
-    // 32 pads where an arc meets a line tangentially: a 30:1 triangle's corner of 2 degrees next
-    // to an edge cubic turning 2.8, its patches folded). The triangle is measured as any other
-    // instead.
-    if (corner >= 0 && !(cusp && cornerSplit.MinDistance == 0))
+    std::optional<Steiner> cornerSplit =
+      corner >= 0 ? CornerSplit(this->Triangulation, f, corner) : std::nullopt;
+    // Where CornerSplit finds no point that opens the corner, the triangle's centroid splits it,
+    // except at a cusp (two boundary curves leaving a node in one direction): there the centroid
+    // would lie inside the needle, the tip of a fan of needles from the spans beside it (KiCad's
+    // RC1602A, 32 pads where an arc meets a line tangentially: a 30:1 triangle's corner of 2
+    // degrees next to an edge cubic turning 2.8, its patches folded), and the triangle is
+    // measured as any other instead.
+    if (corner >= 0 && !cornerSplit && !cusp)
     {
-      inserts.push_back(cornerSplit);
+      cornerSplit = CornerCentroid(f, corner);
+    }
+    if (cornerSplit)
+    {
+      inserts.push_back(std::move(*cornerSplit));
       continue;
     }
     const ctk::Id tj = static_cast<ctk::Id>(j);

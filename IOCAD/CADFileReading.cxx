@@ -61,6 +61,7 @@
 #include <XSControl_WorkSession.hxx>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
@@ -653,6 +654,20 @@ double WholePeriods(double d, double period)
   return period > 0 ? period * std::round(d / period) : 0;
 }
 
+/// A surface's periods in u and v (0 where it is not periodic); Surface is Geom_Surface or
+/// BRepAdaptor_Surface.
+template <class Surface>
+std::array<double, 2> SurfacePeriods(const Surface& S)
+{
+  return { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+}
+
+/// The shift by whole periods that brings parameter point `to` nearest to `from`.
+gp_Vec2d PeriodShift(const gp_Pnt2d& from, const gp_Pnt2d& to, const std::array<double, 2>& period)
+{
+  return gp_Vec2d(WholePeriods(from.X() - to.X(), period[0]), WholePeriods(from.Y() - to.Y(), period[1]));
+}
+
 /// E's 3D curve projected on F's surface (ShapeAnalysis_Surface, each point from the previous
 /// one) at 65 parameters, unwrapped across the periods, and interpolated at those parameters.
 Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
@@ -663,7 +678,7 @@ Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
   const gp_Trsf toSurface = loc.Transformation().Inverted();
   const BRepAdaptor_Curve curve(E);
   const double a = curve.FirstParameter(), b = curve.LastParameter();
-  const double period[2] = { S->IsUPeriodic() ? S->UPeriod() : 0, S->IsVPeriodic() ? S->VPeriod() : 0 };
+  const std::array<double, 2> period = SurfacePeriods(*S);
   const int n = 64;
   const Handle(TColgp_HArray1OfPnt2d) points = new TColgp_HArray1OfPnt2d(1, n + 1);
   const Handle(TColStd_HArray1OfReal) params = new TColStd_HArray1OfReal(1, n + 1);
@@ -674,9 +689,9 @@ Handle(Geom2d_Curve) ProjectedPCurve(const TopoDS_Edge& E, const TopoDS_Face& F)
     const gp_Pnt P = curve.Value(t).Transformed(toSurface);
     gp_Pnt2d uv = i == 0 ? projector->ValueOfUV(P, Precision::Confusion())
                          : projector->NextValueOfUV(prev, P, Precision::Confusion());
-    for (int k = 0; k < 2 && i > 0; ++k)
+    if (i > 0)
     {
-      uv.SetCoord(k + 1, uv.Coord(k + 1) - WholePeriods(uv.Coord(k + 1) - prev.Coord(k + 1), period[k]));
+      uv.SetXY(uv.XY() - PeriodShift(uv, prev, period).XY());
     }
     points->SetValue(i + 1, uv);
     params->SetValue(i + 1, t);
@@ -723,7 +738,7 @@ void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const ReadPC
   }
   anchor %= std::max<std::size_t>(n, 1);
   const BRepAdaptor_Surface S(F, Standard_False);
-  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+  const std::array<double, 2> period = SurfacePeriods(S);
   for (std::size_t i = 1; i < n; ++i)
   {
     const TopoDS_Edge& E = chain[(anchor + i) % n];
@@ -733,11 +748,7 @@ void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const ReadPC
     }
     const gp_Pnt2d from = PCurveEnd(chain[(anchor + i - 1) % n], F, true);
     const gp_Pnt2d start = PCurveEnd(E, F, false);
-    gp_Vec2d shift(0, 0);
-    for (int k = 0; k < 2; ++k)
-    {
-      shift.SetCoord(k + 1, WholePeriods(from.Coord(k + 1) - start.Coord(k + 1), period[k]));
-    }
+    const gp_Vec2d shift = PeriodShift(from, start, period);
     if (shift.SquareMagnitude() > 0)
     {
       double a = 0, b = 0;
@@ -753,7 +764,7 @@ void ConnectReprojected(const TopoDS_Wire& W, const TopoDS_Face& F, const ReadPC
 double MaxWireGapUV(const TopoDS_Face& F)
 {
   const BRepAdaptor_Surface S(F, Standard_False);
-  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+  const std::array<double, 2> period = SurfacePeriods(S);
   auto hasPCurve = [&F](const TopoDS_Edge& E) {
     double a = 0, b = 0;
     return !BRep_Tool::CurveOnSurface(E, F, a, b).IsNull();
@@ -770,13 +781,9 @@ double MaxWireGapUV(const TopoDS_Face& F)
       {
         continue;
       }
-      const gp_Vec2d d(PCurveEnd(next, F, false), PCurveEnd(chain[i], F, true));
-      double step[2] = { d.X(), d.Y() };
-      for (int k = 0; k < 2; ++k)
-      {
-        step[k] -= WholePeriods(step[k], period[k]);
-      }
-      gap = std::max(gap, std::hypot(step[0], step[1]));
+      const gp_Pnt2d end = PCurveEnd(chain[i], F, true), start = PCurveEnd(next, F, false);
+      const gp_Vec2d step = gp_Vec2d(start, end) - PeriodShift(end, start, period);
+      gap = std::max(gap, std::hypot(step.X(), step.Y()));
     }
   }
   return gap;
@@ -899,7 +906,7 @@ struct WireStep
 /// start where the one before it ends. Empty unless they close up in (u, v) within `tol2d` and
 /// span at most one period in each periodic direction.
 std::vector<WireStep> JoinedWithout(const std::vector<TopoDS_Edge>& chain, const TopoDS_Face& F,
-  const std::function<bool(const TopoDS_Edge&)>& dropped, const double (&period)[2], double tol2d)
+  const std::function<bool(const TopoDS_Edge&)>& dropped, const std::array<double, 2>& period, double tol2d)
 {
   std::vector<WireStep> steps;
   double lo[2] = { HUGE_VAL, HUGE_VAL }, hi[2] = { -HUGE_VAL, -HUGE_VAL };
@@ -917,8 +924,7 @@ std::vector<WireStep> JoinedWithout(const std::vector<TopoDS_Edge>& chain, const
     }
     if (!steps.empty())
     {
-      const gp_Vec2d d(step.End(false), steps.back().End(true));
-      const gp_Vec2d shift(WholePeriods(d.X(), period[0]), WholePeriods(d.Y(), period[1]));
+      const gp_Vec2d shift = PeriodShift(steps.back().End(true), step.End(false), period);
       if (shift.SquareMagnitude() > 0)
       {
         step.PCurve = Handle(Geom2d_Curve)::DownCast(step.PCurve->Translated(shift));
@@ -1047,7 +1053,7 @@ int DropFalseDegeneratedEdges(ShapeRead& r, double tol)
       continue;
     }
     const BRepAdaptor_Surface S(F, Standard_False);
-    const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+    const std::array<double, 2> period = SurfacePeriods(S);
     double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
     BRepTools::UVBounds(F, u0, u1, v0, v1);
     std::vector<std::vector<WireStep>> wires;
