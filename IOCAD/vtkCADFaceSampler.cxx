@@ -153,7 +153,10 @@ int vtkCADFaceSampler::RequestData(
   this->AddModelFields(output, faceTime);
   this->Internals->Model = std::move(this->Internals->Current);
   this->Internals->Meshes.clear();
-  ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
+  if (this->CacheArrayRanges)
+  {
+    ctsplines::CacheRanges(output); // for ParaView's data information and colour maps
+  }
   return 1;
 }
 
@@ -449,4 +452,5 @@ void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "BoundaryMode: " << this->BoundaryMode << "\n";
   os << indent << "RestoreG1: " << this->RestoreG1 << "\n";
   os << indent << "G1Threshold: " << this->G1Threshold << "\n";
+  os << indent << "CacheArrayRanges: " << this->CacheArrayRanges << "\n";
 }

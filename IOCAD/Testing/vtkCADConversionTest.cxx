@@ -646,6 +646,55 @@ TEST(CADConversion, SphereIsClosedAndWatertight)
   EXPECT_LT(Field(fd, "MaxDeviation"), 1e-4);
 }
 
+TEST(CADConversion, FaceRangesCanBeLeftToVTK)
+{
+  // CacheArrayRanges off (the command line's conversion): the face blocks' arrays carry no
+  // stored ranges, VTK computes the same ones when asked, and the stitched spline is unchanged.
+  const std::string file = TempStep("sphere_ranges", Sphere());
+  Conversion cached, uncached;
+  uncached.Sampler->CacheArrayRangesOff();
+  cached.Run(file, 1e-4);
+  uncached.Run(file, 1e-4);
+  ASSERT_EQ(uncached.Faces->GetNumberOfBlocks(), cached.Faces->GetNumberOfBlocks());
+  for (unsigned int f = 0; f < cached.Faces->GetNumberOfBlocks(); ++f)
+  {
+    vtkPolyData *a = cached.Face(f), *b = uncached.Face(f);
+    std::vector<vtkDataArray*> arrays{ b->GetPoints()->GetData() };
+    // Not the field data: the stitcher passes it to its face splines and stores its ranges.
+    for (vtkFieldData* fd : { static_cast<vtkFieldData*>(b->GetPointData()),
+           static_cast<vtkFieldData*>(b->GetCellData()) })
+    {
+      for (int i = 0; i < fd->GetNumberOfArrays(); ++i)
+      {
+        if (fd->GetArray(i))
+        {
+          arrays.push_back(fd->GetArray(i));
+        }
+      }
+    }
+    ASSERT_GT(arrays.size(), 8u);
+    for (vtkDataArray* array : arrays)
+    {
+      const std::string what = "face " + std::to_string(f) + " " +
+        (array->GetName() ? array->GetName() : "points");
+      EXPECT_FALSE(array->HasInformation() &&
+        array->GetInformation()->Has(vtkDataArray::PER_COMPONENT())) << what;
+    }
+    ExpectStoredPointRanges(a, "cached face " + std::to_string(f));
+    for (int c = 0; c < 3; ++c)
+    {
+      double stored[2], computed[2];
+      a->GetPoints()->GetData()->GetRange(stored, c);
+      b->GetPoints()->GetData()->GetRange(computed, c);
+      EXPECT_TRUE(stored[0] == computed[0] && stored[1] == computed[1]) << f << " " << c;
+    }
+  }
+  vtkDataArray *p = cached.Merged->GetPoints()->GetData(), *q = uncached.Merged->GetPoints()->GetData();
+  ASSERT_EQ(p->GetNumberOfValues(), q->GetNumberOfValues());
+  EXPECT_EQ(0, std::memcmp(p->GetVoidPointer(0), q->GetVoidPointer(0),
+                 sizeof(double) * static_cast<size_t>(p->GetNumberOfValues())));
+}
+
 /// A closed model converted at `tolerance`: no free edge, no non-manifold edge, no C0 gap, every
 /// face (or only face `deviationFace` if given) within the tolerance.
 void CheckClosed(const std::string& name, const TopoDS_Shape& shape, double tolerance = 1e-4,

@@ -90,6 +90,9 @@ def convert(model, output, options, messages, progress):
     sampler.SetG1Threshold(options.get("g1_threshold", 10.0))
     sampler.SetReadTimeout(options.get("read_timeout", 120.0))
     sampler.SetSew(bool(options.get("sew", True)))
+    # The face blocks only feed the stitcher: their ranges would be a third of a many-face
+    # model's peak memory (vtkCADFaceSampler::CacheArrayRanges).
+    sampler.SetCacheArrayRanges(False)
     start = time.perf_counter()
     ok, errors = _update(sampler, messages)
     if not ok:
