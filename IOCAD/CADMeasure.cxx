@@ -30,6 +30,9 @@ struct Side
   /// Unit normals of the face's boundary micro-triangle at the G1 sample points, from the lower
   /// node id (zero where the surface is degenerate, at poles).
   std::array<ctk::Vec3, 9> Normal;
+  /// The face and its macro-triangle at the edge.
+  int Face;
+  ctk::Id Triangle;
 };
 
 /// Unit normals of the boundary micro-triangle of macro-triangle t at its local edge l, at the
@@ -55,8 +58,8 @@ std::array<ctk::Vec3, 9> EdgeNormals(
   return normals;
 }
 
-/// The side of boundary edge e of a face: its cubic and normals from its lower node.
-Side FaceSide(const SampledFace& face, const FaceSpline& fs, ctk::Id e)
+/// The side of boundary edge e of face f: its cubic and normals from its lower node.
+Side FaceSide(const SampledFace& face, const FaceSpline& fs, int f, ctk::Id e)
 {
   const ctk::MeshTopology& topo = fs.Topology;
   const ctk::OverwriteVector<ctk::Vec3>& cp = fs.Spline.ControlPoints;
@@ -72,7 +75,7 @@ Side FaceSide(const SampledFace& face, const FaceSpline& fs, ctk::Id e)
   const bool fromFirst = face.GlobalNode[tri[l]] <= face.GlobalNode[tri[(l + 1) % 3]];
   return Side{ { forward ? cp[a] : cp[b], forward ? cp[ta] : cp[tb], forward ? cp[tb] : cp[ta],
                  forward ? cp[b] : cp[a] },
-    EdgeNormals(ids, cp, l, fromFirst) };
+    EdgeNormals(ids, cp, l, fromFirst), f, t };
 }
 
 /// Adds the C0 gap and the G1 angle between two sides of one span to m.
@@ -96,7 +99,12 @@ void CompareSides(const Side& o, const Side& side, bool tangent, InterfaceMeasur
   }
   angle *= 180 / M_PI;
   AngleSummary& g1 = m.G1[tangent];
-  g1.Max = std::max(g1.Max, angle);
+  if (angle > g1.Max || g1.Face < 0)
+  {
+    g1.Max = angle;
+    g1.Face = side.Face;
+    g1.Triangle = side.Triangle;
+  }
   g1.Sum += angle;
   ++g1.Count;
 }
@@ -242,7 +250,7 @@ InterfaceMeasures MeasureInterfaces(
       const ctk::Id local = 3 * topo.EdgeTriangles[e][0] + topo.EdgeLocalIndex[e][0];
       const ctk::Id ga = face.GlobalNode[a], gb = face.GlobalNode[b];
       const SpanKey key{ face.BRepEdge[local], std::min(ga, gb), std::max(ga, gb) };
-      const Side side = FaceSide(face, fs, e);
+      const Side side = FaceSide(face, fs, static_cast<int>(f), e);
       auto first = firstSide.emplace(key, side);
       if (!first.second)
       {

@@ -144,6 +144,19 @@ void FillMergedGrid(const ctcad::StitchedSurface& surface, vtkUnstructuredGrid* 
     NewArray<vtkSignedCharArray>("MicroTriangleId", surface.MicroTriangles));
 }
 
+/// The first Bézier triangle of face f's macro-triangle t in the merged grid (-1: none).
+vtkIdType FirstCellOf(const ctcad::StitchedSurface& surface, int f, ctk::Id t)
+{
+  for (std::size_t c = 0; c < surface.FaceIds.size(); ++c)
+  {
+    if (surface.FaceIds[c] == f && surface.MacroTriangles[c] == t)
+    {
+      return static_cast<vtkIdType>(c);
+    }
+  }
+  return -1;
+}
+
 /// Cell data `Deviation` (relative to the diagonal) and `NormalDeviation` (degrees): the largest
 /// of each cell's macro-triangle (cell data MacroTriangleId) in its face (cell data FaceId, or
 /// `face` when not -1); field data `MaxDeviationCell`, `MaxNormalDeviationCell`: the first cell
@@ -363,6 +376,11 @@ int vtkWatertightSplineStitcher::RequestData(
   AddField(fd, "NumberOfTangentInterfaceEdges", static_cast<double>(tangent.Count));
   AddField(fd, "MaxG1AngleTangent", tangent.Max);
   AddField(fd, "MeanG1AngleTangent", tangent.Count ? tangent.Sum / tangent.Count : 0.0);
+  const vtkIdType worstTangent = FirstCellOf(surface, tangent.Face, tangent.Triangle);
+  if (worstTangent >= 0)
+  {
+    AddField(fd, "MaxG1AngleTangentCell", static_cast<double>(worstTangent));
+  }
 
   start = Clock::now();
   std::vector<ctcad::Deviation> deviations;

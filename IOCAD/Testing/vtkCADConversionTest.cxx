@@ -1273,6 +1273,34 @@ TEST(CADConversion, FilletedBoxIsG1ByDefault)
   }
 }
 
+TEST(CADConversion, WorstTangentG1IsLocated)
+{
+  // Without RestoreG1 the fillets' interfaces are off G1; MaxG1AngleTangentCell names a cell of
+  // a macro-triangle with a tangent interface edge. A box without fillets has none to name.
+  Conversion c;
+  c.Run(TempStep("filleted_box_g1_off", ctsplines_test::FilletedBox(0.15, false)), 1e-4, 7, 0);
+  vtkFieldData* fd = c.Merged->GetFieldData();
+  ASSERT_GT(Field(fd, "MaxG1AngleTangent"), 0.0);
+  vtkDataArray* where = fd->GetArray("MaxG1AngleTangentCell");
+  ASSERT_NE(where, nullptr);
+  const auto cell = static_cast<vtkIdType>(where->GetTuple1(0));
+  ASSERT_TRUE(cell >= 0 && cell < c.Merged->GetNumberOfCells());
+  const auto face = static_cast<unsigned int>(
+    c.Merged->GetCellData()->GetArray("FaceId")->GetTuple1(cell));
+  const auto macro =
+    static_cast<vtkIdType>(c.Merged->GetCellData()->GetArray("MacroTriangleId")->GetTuple1(cell));
+  vtkDataArray* tangent = c.Face(face)->GetCellData()->GetArray("TangentInterface");
+  ASSERT_NE(tangent, nullptr);
+  double flags[3];
+  tangent->GetTuple(macro, flags);
+  EXPECT_GT(std::max({ flags[0], flags[1], flags[2] }), 0.0) << "face " << face << " " << macro;
+
+  Conversion box;
+  box.Run(TempStep("box_no_tangent", BRepPrimAPI_MakeBox(1.0, 1.0, 1.0).Shape()), 1e-4);
+  EXPECT_EQ(Field(box.Merged->GetFieldData(), "NumberOfTangentInterfaceEdges"), 0);
+  EXPECT_EQ(box.Merged->GetFieldData()->GetArray("MaxG1AngleTangentCell"), nullptr);
+}
+
 /// A rounded cylinder rim cut by a plane: where the cut crosses the rim's tangent circles, the
 /// cut edges' cubics leave the vertices off the faces' derivatives along their chords. Without
 /// splitting those spans the tangent spans at the vertices are 0.098 and 0.101 degrees off G1

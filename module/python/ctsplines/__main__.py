@@ -325,6 +325,12 @@ def _convert_cad(args):
           f"{r['g1_angle_tangent']:.3g}, mean {r['g1_angle_tangent_mean']:.3g}"
           + f" (tangent within {options['g1_threshold']:g} degrees"
           + (", RestoreG1)" if options["g1"] else ")"))
+    where = r["g1_angle_tangent_at"]
+    if where and r["tangent_edges"]:
+        x, y, z = where["point"]
+        print(f"largest G1 angle at a tangent interface: face {where['face']}, macro-triangle "
+              f"{where['macro_triangle']} (one of the edge's two sides), near ({x:.6g}, "
+              f"{y:.6g}, {z:.6g})")
     print("time [s]: " + ", ".join(f"{name} {t:.3f}" for name, t in r["stages"])
           + f"; total {r['total']:.3f}")
     return 0

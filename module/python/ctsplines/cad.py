@@ -30,7 +30,8 @@ def _field(data, name, i=0):
 
 def _worst_cell(merged, field):
     """Where a maximum is (field data `field` names the merged grid's cell): face, macro-triangle
-    and the centre of the cell's corners; None without a deviation measured."""
+    and the centre of the cell's corners; None when the field is absent (no deviation measured,
+    no tangent interface)."""
     a = merged.GetFieldData().GetArray(field)
     if a is None or merged.GetNumberOfCells() == 0:
         return None
@@ -72,7 +73,9 @@ def convert(model, output, options, messages, progress):
     a dict: max_deviation, rms_deviation relative to the diagonal, max_normal_deviation,
     rms_normal_deviation in degrees (not at poles nor at the cusp_nodes, where the face's
     boundary curves touch and the spline's normal is undefined), gap_faces (the faces whose own edge curves lie farther from
-    them than half the tolerance: (index, name, relative gap), held to twice the gap), ..."""
+    them than half the tolerance: (index, name, relative gap), held to twice the gap),
+    max_deviation_at, max_normal_deviation_at, g1_angle_tangent_at (face, macro_triangle and
+    point of the worst cell, or None), ..."""
     splines_path, merged_path = output_paths(output)
     sampler = cad_sampler(model, messages)  # InputError first when the build has no IOCAD
     from . import vtkWatertightSplineStitcher
@@ -157,6 +160,7 @@ def convert(model, output, options, messages, progress):
         "g1_angle": _field(merged, "MaxG1Angle"),
         "g1_angle_tangent": _field(merged, "MaxG1AngleTangent"),
         "g1_angle_tangent_mean": _field(merged, "MeanG1AngleTangent"),
+        "g1_angle_tangent_at": _worst_cell(merged, "MaxG1AngleTangentCell"),
         "tangent_edges": int(_field(merged, "NumberOfTangentInterfaceEdges")),
         "stages": stages,
         "total": total,
