@@ -1098,14 +1098,12 @@ bool CADModel::Stages::WireRuns(CADModel& m, int f, const TopoDS_Wire& W, std::v
   }
   // A run whose pcurve starts a whole number of periods away from where the previous one ended
   // (the same 3D point) is moved by those periods: the loop must be closed in the plane.
-  const BRepAdaptor_Surface& S = d.Surfaces[f];
-  const double period[2] = { S.IsUPeriodic() ? S.UPeriod() : 0.0,
-    S.IsVPeriodic() ? S.VPeriod() : 0.0 };
+  const std::array<double, 2> period = SurfacePeriods(d.Surfaces[f]);
   auto pushRun = [&](Run& run) {
     for (int i = 0; i < 2 && !runs.empty(); ++i)
     {
-      const double jump = runs.back().Nodes.back().UV[i] - run.Nodes.front().UV[i];
-      const double shift = period[i] > 0 ? period[i] * std::round(jump / period[i]) : 0.0;
+      const double shift =
+        WholePeriods(runs.back().Nodes.back().UV[i] - run.Nodes.front().UV[i], period[i]);
       for (LoopNode& node : run.Nodes)
       {
         node.UV[i] += shift;

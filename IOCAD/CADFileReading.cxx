@@ -648,24 +648,11 @@ double PCurveDeviation(const TopoDS_Edge& E, const TopoDS_Face& F)
   return d;
 }
 
-/// The whole periods nearest to the parameter step d (0 where period is 0: not periodic).
-double WholePeriods(double d, double period)
-{
-  return period > 0 ? period * std::round(d / period) : 0;
-}
-
-/// A surface's periods in u and v (0 where it is not periodic); Surface is Geom_Surface or
-/// BRepAdaptor_Surface.
-template <class Surface>
-std::array<double, 2> SurfacePeriods(const Surface& S)
-{
-  return { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
-}
-
 /// The shift by whole periods that brings parameter point `to` nearest to `from`.
 gp_Vec2d PeriodShift(const gp_Pnt2d& from, const gp_Pnt2d& to, const std::array<double, 2>& period)
 {
-  return gp_Vec2d(WholePeriods(from.X() - to.X(), period[0]), WholePeriods(from.Y() - to.Y(), period[1]));
+  return gp_Vec2d(
+    WholePeriods(from.X() - to.X(), period[0]), WholePeriods(from.Y() - to.Y(), period[1]));
 }
 
 /// E's 3D curve projected on F's surface (ShapeAnalysis_Surface, each point from the previous

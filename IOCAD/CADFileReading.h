@@ -17,6 +17,8 @@
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Wire.hxx>
 
+#include <array>
+#include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
@@ -67,6 +69,20 @@ std::vector<TopoDS_Edge> WireEdges(const TopoDS_Wire& W, const TopoDS_Face& F, T
 /// The pre-check of ReadCADFile: false with `error` (line, entity) when a real number of a STEP
 /// file is out of the range of a double (1e400) or not a number, or the file is empty.
 bool CheckFileNumbers(const std::string& fileName, std::string& error);
+
+/// The whole periods nearest to the parameter step d (0 where period is 0: not periodic).
+inline double WholePeriods(double d, double period)
+{
+  return period > 0 ? period * std::round(d / period) : 0;
+}
+
+/// A surface's periods in u and v (0 where it is not periodic); Surface is Geom_Surface or
+/// BRepAdaptor_Surface.
+template <class Surface>
+std::array<double, 2> SurfacePeriods(const Surface& S)
+{
+  return { S.IsUPeriodic() ? S.UPeriod() : 0, S.IsVPeriodic() ? S.VPeriod() : 0 };
+}
 
 } // namespace ctcad
 

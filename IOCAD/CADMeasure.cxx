@@ -30,9 +30,10 @@ struct Side
   /// Unit normals of the face's boundary micro-triangle at the G1 sample points, from the lower
   /// node id (zero where the surface is degenerate, at poles).
   std::array<ctk::Vec3, 9> Normal;
-  /// The face and its macro-triangle at the edge.
+  /// The face, its macro-triangle at the edge and the micro-triangle on the edge.
   int Face;
   ctk::Id Triangle;
+  int MicroTriangle;
 };
 
 /// Unit normals of the boundary micro-triangle of macro-triangle t at its local edge l, at the
@@ -42,7 +43,7 @@ std::array<ctk::Vec3, 9> EdgeNormals(
 {
   // Micro-triangle k = l + 2 spans (U_l, U_{l+1}, Z), counter-clockwise like its macro-triangle,
   // so the normal points out of the solid (the faces' parameter planes are oriented so).
-  const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, (l + 2) % 3);
+  const std::array<ctk::Id, 10> net = ctk::MicroTriangleNet(ids, ctk::MicroTriangleAtEdge(l));
   ctk::Vec3 Q[10];
   for (int i = 0; i < 10; ++i)
   {
@@ -75,7 +76,7 @@ Side FaceSide(const SampledFace& face, const FaceSpline& fs, int f, ctk::Id e)
   const bool fromFirst = face.GlobalNode[tri[l]] <= face.GlobalNode[tri[(l + 1) % 3]];
   return Side{ { forward ? cp[a] : cp[b], forward ? cp[ta] : cp[tb], forward ? cp[tb] : cp[ta],
                  forward ? cp[b] : cp[a] },
-    EdgeNormals(ids, cp, l, fromFirst), f, t };
+    EdgeNormals(ids, cp, l, fromFirst), f, t, ctk::MicroTriangleAtEdge(l) };
 }
 
 /// Adds the C0 gap and the G1 angle between two sides of one span to m.
@@ -99,11 +100,12 @@ void CompareSides(const Side& o, const Side& side, bool tangent, InterfaceMeasur
   }
   angle *= 180 / M_PI;
   AngleSummary& g1 = m.G1[tangent];
-  if (angle > g1.Max || g1.Face < 0)
+  if (angle > g1.Max || g1.Count == 0)
   {
     g1.Max = angle;
     g1.Face = side.Face;
     g1.Triangle = side.Triangle;
+    g1.MicroTriangle = side.MicroTriangle;
   }
   g1.Sum += angle;
   ++g1.Count;

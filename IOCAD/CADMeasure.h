@@ -19,10 +19,12 @@ struct AngleSummary
 {
   double Max = 0, Sum = 0;
   ctk::Id Count = 0;
-  /// Where Max is first reached: the face and macro-triangle of the macro-edge's side met
-  /// second (-1 before any edge).
+  /// Where Max is first reached: the face, macro-triangle and micro-triangle on the edge
+  /// (ctk::MicroTriangleNet's k) of the edge's side met second, whose tangent flag counted the
+  /// edge here (-1 before any edge).
   int Face = -1;
   ctk::Id Triangle = -1;
+  int MicroTriangle = -1;
 };
 
 /// Where the faces meet: every boundary macro-edge against the first face seen at its span.

@@ -144,12 +144,13 @@ void FillMergedGrid(const ctcad::StitchedSurface& surface, vtkUnstructuredGrid* 
     NewArray<vtkSignedCharArray>("MicroTriangleId", surface.MicroTriangles));
 }
 
-/// The first Bézier triangle of face f's macro-triangle t in the merged grid (-1: none).
-vtkIdType FirstCellOf(const ctcad::StitchedSurface& surface, int f, ctk::Id t)
+/// The Bézier triangle of face f's macro-triangle t, micro-triangle k in the merged grid (-1:
+/// none).
+vtkIdType CellOf(const ctcad::StitchedSurface& surface, int f, ctk::Id t, int k)
 {
   for (std::size_t c = 0; c < surface.FaceIds.size(); ++c)
   {
-    if (surface.FaceIds[c] == f && surface.MacroTriangles[c] == t)
+    if (surface.FaceIds[c] == f && surface.MacroTriangles[c] == t && surface.MicroTriangles[c] == k)
     {
       return static_cast<vtkIdType>(c);
     }
@@ -376,7 +377,8 @@ int vtkWatertightSplineStitcher::RequestData(
   AddField(fd, "NumberOfTangentInterfaceEdges", static_cast<double>(tangent.Count));
   AddField(fd, "MaxG1AngleTangent", tangent.Max);
   AddField(fd, "MeanG1AngleTangent", tangent.Count ? tangent.Sum / tangent.Count : 0.0);
-  const vtkIdType worstTangent = FirstCellOf(surface, tangent.Face, tangent.Triangle);
+  const vtkIdType worstTangent =
+    CellOf(surface, tangent.Face, tangent.Triangle, tangent.MicroTriangle);
   if (worstTangent >= 0)
   {
     AddField(fd, "MaxG1AngleTangentCell", static_cast<double>(worstTangent));

@@ -36,9 +36,9 @@
  * largest angle between the two sides' normals at nine interior points of every interface
  * macro-edge),
  * `NumberOfTangentInterfaceEdges`, `MaxG1AngleTangent`, `MeanG1AngleTangent` (the same over the
- * interfaces where the CAD faces meet tangentially), `MaxG1AngleTangentCell` (a cell of the
- * macro-triangle on one side of the first macro-edge where MaxG1AngleTangent is reached; none
- * without tangent interfaces), `StageTimes` (splines, stitch data, merge,
+ * interfaces where the CAD faces meet tangentially), `MaxG1AngleTangentCell` (the cell on one
+ * side of the first macro-edge where MaxG1AngleTangent is reached; none without tangent
+ * interfaces), `StageTimes` (splines, stitch data, merge,
  * deviation in seconds) and, with a SurfaceSource, `MaxDeviation` and `RMSDeviation` (relative to
  * the diagonal) of the stitched splines from the CAD surfaces and `MaxNormalDeviation`,
  * `RMSNormalDeviation` (degrees between their normals, not at poles nor at the

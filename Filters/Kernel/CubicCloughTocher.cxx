@@ -141,7 +141,7 @@ private:
   // Micro-triangle of t (ids) at local edge l, over (U_l, U_{l+1}, Z), from the current points.
   void MicroNet(Id t, const MacroElementIds& ids, int l, Vec3* P, Vec2* A) const
   {
-    const std::array<Id, 10> net = MicroTriangleNet(ids, (l + 2) % 3);
+    const std::array<Id, 10> net = MicroTriangleNet(ids, MicroTriangleAtEdge(l));
     for (int a = 0; a < 10; ++a)
     {
       P[a] = this->Spline.ControlPoints[net[a]];

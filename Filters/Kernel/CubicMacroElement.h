@@ -89,6 +89,13 @@ inline MacroElementIds GetMacroElementIds(
   return ids;
 }
 
+/// The micro-triangle k (MicroTriangleNet's) on local edge l of its macro-triangle: the one
+/// over (U_l, U_{l+1}, Z).
+constexpr int MicroTriangleAtEdge(int l)
+{
+  return (l + 2) % 3;
+}
+
 /// Ids of the cubic net of micro-triangle k of a macro-element, in the kernel's canonical
 /// order for the domain (U_{k+1}, U_{k+2}, Z). Inline: Step 3 reads a few entries of three nets.
 inline std::array<Id, 10> MicroTriangleNet(const MacroElementIds& ids, int k)

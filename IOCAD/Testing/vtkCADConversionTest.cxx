@@ -77,6 +77,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
@@ -1289,11 +1290,13 @@ TEST(CADConversion, WorstTangentG1IsLocated)
     c.Merged->GetCellData()->GetArray("FaceId")->GetTuple1(cell));
   const auto macro =
     static_cast<vtkIdType>(c.Merged->GetCellData()->GetArray("MacroTriangleId")->GetTuple1(cell));
+  // The cell is the micro-triangle on a tangent edge l of its macro-triangle (k = l + 2).
   vtkDataArray* tangent = c.Face(face)->GetCellData()->GetArray("TangentInterface");
   ASSERT_NE(tangent, nullptr);
-  double flags[3];
-  tangent->GetTuple(macro, flags);
-  EXPECT_GT(std::max({ flags[0], flags[1], flags[2] }), 0.0) << "face " << face << " " << macro;
+  const int micro =
+    static_cast<int>(c.Merged->GetCellData()->GetArray("MicroTriangleId")->GetTuple1(cell));
+  EXPECT_GT(tangent->GetComponent(macro, (micro + 1) % 3), 0.0)
+    << "face " << face << " macro-triangle " << macro << " micro-triangle " << micro;
 
   Conversion box;
   box.Run(TempStep("box_no_tangent", BRepPrimAPI_MakeBox(1.0, 1.0, 1.0).Shape()), 1e-4);

@@ -296,8 +296,10 @@ class CADCommandLineTest(CommandLineCase):
         self.assertLessEqual(s["max_deviation"], 1e-3)
         self.assertEqual([name for name, _ in s["stages"]][:2], ["read", "edges"])
         self.assertIn("g1_angle_tangent", s)
-        # Where the largest deviations are: a face and macro-triangle of the model, near the box.
-        for key in ("max_deviation_at", "max_normal_deviation_at"):
+        # Where the largest deviations and the largest G1 angle at a tangent interface (the
+        # hole's seam) are: a face and macro-triangle of the model, near the box.
+        self.assertGreater(s["tangent_edges"], 0)
+        for key in ("max_deviation_at", "max_normal_deviation_at", "g1_angle_tangent_at"):
             where = s[key]
             self.assertTrue(0 <= where["face"] < s["faces"], where)
             self.assertGreaterEqual(where["macro_triangle"], 0)

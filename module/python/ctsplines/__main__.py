@@ -251,6 +251,13 @@ def _write_cad_summary(args, options, result, warnings, error=None):
               file=sys.stderr)
 
 
+def _place(where):
+    """A worst cell of the merged grid (cad.convert's *_at): face, macro-triangle, point."""
+    x, y, z = where["point"]
+    return (f"face {where['face']}, macro-triangle {where['macro_triangle']}, near "
+            f"({x:.6g}, {y:.6g}, {z:.6g})")
+
+
 def _convert_cad(args):
     from . import cad
     from .io import Progress, VTKMessages, check_output_folder
@@ -310,13 +317,11 @@ def _convert_cad(args):
              if r["cusp_nodes"] else "")
           + (f" (angular tolerance {options['angular_tolerance']:g})"
              if options["angular_tolerance"] else ""))
-    for what, where in (("deviation", r["max_deviation_at"]),
-                        ("normal deviation", r["max_normal_deviation_at"])):
+    for what, where, array in (("deviation", r["max_deviation_at"], "Deviation"),
+                               ("normal deviation", r["max_normal_deviation_at"],
+                                "NormalDeviation")):
         if where:
-            x, y, z = where["point"]
-            print(f"largest {what}: face {where['face']}, macro-triangle "
-                  f"{where['macro_triangle']}, near ({x:.6g}, {y:.6g}, {z:.6g}) (cell data "
-                  f"{'Deviation' if what == 'deviation' else 'NormalDeviation'} of {r['merged']})")
+            print(f"largest {what}: {_place(where)} (cell data {array} of {r['merged']})")
     for f, name, gap in r["gap_faces"]:
         print(f"model gap: face {f} ({name}) lies {gap:.3e} of the diagonal from its shared "
               f"edge curves, more than half the tolerance: held to {2 * gap:.3e} there")
@@ -325,12 +330,9 @@ def _convert_cad(args):
           f"{r['g1_angle_tangent']:.3g}, mean {r['g1_angle_tangent_mean']:.3g}"
           + f" (tangent within {options['g1_threshold']:g} degrees"
           + (", RestoreG1)" if options["g1"] else ")"))
-    where = r["g1_angle_tangent_at"]
-    if where and r["tangent_edges"]:
-        x, y, z = where["point"]
-        print(f"largest G1 angle at a tangent interface: face {where['face']}, macro-triangle "
-              f"{where['macro_triangle']} (one of the edge's two sides), near ({x:.6g}, "
-              f"{y:.6g}, {z:.6g})")
+    if r["g1_angle_tangent_at"]:
+        print(f"largest G1 angle at a tangent interface: {_place(r['g1_angle_tangent_at'])} (the "
+              "cell on one side of the macro-edge)")
     print("time [s]: " + ", ".join(f"{name} {t:.3f}" for name, t in r["stages"])
           + f"; total {r['total']:.3f}")
     return 0
