@@ -150,7 +150,8 @@ vtkIdType CellOf(const ctcad::StitchedSurface& surface, int f, ctk::Id t, int k)
 {
   for (std::size_t c = 0; c < surface.FaceIds.size(); ++c)
   {
-    if (surface.FaceIds[c] == f && surface.MacroTriangles[c] == t && surface.MicroTriangles[c] == k)
+    if (surface.FaceIds[c] == f && surface.MacroTriangles[c] == t &&
+      surface.MicroTriangles[c] == k)
     {
       return static_cast<vtkIdType>(c);
     }

@@ -690,7 +690,8 @@ TEST(CADConversion, FaceRangesCanBeLeftToVTK)
       EXPECT_TRUE(stored[0] == computed[0] && stored[1] == computed[1]) << f << " " << c;
     }
   }
-  vtkDataArray *p = cached.Merged->GetPoints()->GetData(), *q = uncached.Merged->GetPoints()->GetData();
+  vtkDataArray* p = cached.Merged->GetPoints()->GetData();
+  vtkDataArray* q = uncached.Merged->GetPoints()->GetData();
   ASSERT_EQ(p->GetNumberOfValues(), q->GetNumberOfValues());
   EXPECT_EQ(0, std::memcmp(p->GetVoidPointer(0), q->GetVoidPointer(0),
                  sizeof(double) * static_cast<size_t>(p->GetNumberOfValues())));
