@@ -94,99 +94,145 @@ TopologyStatus TriangleFailure(Id numPoints, const Id* triangles, Id t)
   return status;
 }
 
-// The n half-edges of one vertex block (with their vertex offsets), bucketed (in `scratch`) by
-// their smaller vertex in half-edge order, are rewritten as the block's edges in order: an
-// interior edge as its two half-edges, a boundary edge as ~h. Returns the number of edges, or
-// -1 with `failure` set; `consistent`: whether every interior edge's half-edges run along it in
-// opposite directions.
+// A vertex block's half-edges bucketed by their smaller vertex v, in half-edge order: bucket
+// v - v0 is Half[Start[v - v0] ..), with each half-edge's other vertex at the same place in Far
+// (read while bucketing, when its triangle row is asked for anyway; the pairing then reads the
+// bucket alone, and marks a matched half-edge by Far -1).
+struct Buckets
+{
+  std::vector<Id> Start;
+  Id* Half = nullptr;
+  OverwriteVector<Id> Far;
+};
+
+void FillBuckets(const Id* triangles, Id v0, Id v1, const Id* in, Id n, Buckets& b)
+{
+  b.Start.assign(static_cast<size_t>(v1 - v0 + 1), 0);
+  for (Id i = 0; i < n; ++i)
+  {
+    ++b.Start[(in[i] >> HalfEdgeBits) + 1];
+  }
+  for (Id v = v0; v < v1; ++v)
+  {
+    b.Start[v - v0 + 1] += b.Start[v - v0];
+  }
+  ResizeForOverwrite(b.Far, static_cast<size_t>(n));
+  std::vector<Id> fill(b.Start.begin(), b.Start.end() - 1);
+  Id *half = b.Half, *far = b.Far.data(), *next = fill.data();
+  for (Id i = 0; i < n; ++i)
+  {
+    // The triangles of later half-edges asked for ahead: reading each half-edge's triangle,
+    // the matching waited on a miss for a third of its time.
+    if (i + PrefetchDistance < n)
+    {
+      PrefetchRead(triangles + (in[i + PrefetchDistance] & HalfEdgeMask));
+    }
+    const Id h = in[i] & HalfEdgeMask, at = next[in[i] >> HalfEdgeBits]++;
+    half[at] = h;
+    far[at] = std::max(triangles[h], triangles[NextCorner(h)]);
+  }
+}
+
+// The failures of PairBucket, out of its loop (which is then small enough to be inlined).
+[[gnu::noinline]] TopologyStatus DuplicateTriangles(Id v, Id other, Id opposite, Id t, Id t2)
+{
+  MessageBuilder os;
+  os << "duplicate triangles " << TriangleId{ std::min(t, t2) } << " and "
+     << TriangleId{ std::max(t, t2) } << " have the same vertices (" << VertexId{ v } << ", "
+     << VertexId{ other } << ", " << VertexId{ opposite } << ")";
+  TopologyStatus failure = os.Failure<TopologyStatus>();
+  failure.Triangle = std::max(t, t2);
+  return failure;
+}
+[[gnu::noinline]] TopologyStatus NonManifoldEdge(Id v, Id other, Id t, Id t2, Id t3)
+{
+  MessageBuilder os;
+  os << "non-manifold edge (" << VertexId{ v } << ", " << VertexId{ other }
+     << ") shared by triangles " << TriangleId{ t } << ", " << TriangleId{ t2 } << " and "
+     << TriangleId{ t3 };
+  TopologyStatus failure = os.Failure<TopologyStatus>();
+  failure.Triangle = t3;
+  return failure;
+}
+
+// The edges of the bucket of vertex v (count half-edges h, their other vertices far), in the
+// order of their first half-edge: an interior edge as its two half-edges, a boundary edge as ~h,
+// written at `write`. Returns the number of edges, or -1 with `failure` set at the bucket's
+// first non-manifold edge or duplicate triangles.
+Id PairBucket(const Id* triangles, Id v, const Id* h, Id* far, Id count, Id*& written,
+  TopologyStatus& failure, bool& consistent)
+{
+  Id edges = 0, *write = written;
+  bool opposed = true;
+  for (Id i = 0; i < count; ++i)
+  {
+    const Id other = far[i];
+    if (other < 0)
+    {
+      continue; // matched to an earlier half-edge
+    }
+    Id j = i + 1;
+    while (j < count && far[j] != other)
+    {
+      ++j;
+    }
+    ++edges;
+    if (j == count)
+    {
+      *write++ = ~h[i];
+      continue;
+    }
+    const Id t = h[i] / 3, t2 = h[j] / 3, opposite = triangles[3 * t + (h[i] % 3 + 2) % 3];
+    if (triangles[3 * t2 + (h[j] % 3 + 2) % 3] == opposite)
+    {
+      failure = DuplicateTriangles(v, other, opposite, t, t2);
+      return -1;
+    }
+    Id k = j + 1;
+    while (k < count && far[k] != other)
+    {
+      ++k;
+    }
+    if (k < count)
+    {
+      failure = NonManifoldEdge(v, other, t, t2, h[k] / 3);
+      return -1;
+    }
+    far[j] = -1;
+    // Half-edge h runs from triangles[h]: from v for one of a consistent pair only.
+    opposed &= (triangles[h[i]] == v) != (triangles[h[j]] == v);
+    *write++ = h[i];
+    *write++ = h[j];
+  }
+  written = write;
+  consistent &= opposed;
+  return edges;
+}
+
+// The n half-edges of one vertex block (with their vertex offsets) are rewritten as the block's
+// edges in order: an interior edge as its two half-edges, a boundary edge as ~h (the buckets'
+// half-edges in `scratch`). Returns the number of edges, or -1 with `failure` set;
+// `consistent`: whether every interior edge's half-edges run along it in opposite directions.
 Id MatchBlock(const Id* triangles, Id v0, Id v1, Id* halfEdges, Id n, Id* scratch,
   TopologyStatus& failure, bool& consistent)
 {
   consistent = true;
-  const Id* in = halfEdges;
-  auto high = [triangles](Id h) { return std::max(triangles[h], triangles[NextCorner(h)]); };
-  std::vector<Id> start(static_cast<size_t>(v1 - v0 + 1), 0);
-  for (Id i = 0; i < n; ++i)
-  {
-    ++start[(in[i] >> HalfEdgeBits) + 1];
-  }
-  for (Id v = v0; v < v1; ++v)
-  {
-    start[v - v0 + 1] += start[v - v0];
-  }
-  Id* bucket = scratch;
-  {
-    std::vector<Id> fill(start.begin(), start.end() - 1);
-    for (Id i = 0; i < n; ++i)
-    {
-      bucket[fill[in[i] >> HalfEdgeBits]++] = in[i] & HalfEdgeMask;
-    }
-  }
+  Buckets b;
+  b.Half = scratch;
+  FillBuckets(triangles, v0, v1, halfEdges, n, b);
   Id edges = 0;
   Id* write = halfEdges; // free: the buckets hold every half-edge
-  std::vector<Id> others; // the other vertex of each half-edge of the bucket, read once
+  const Id* start = b.Start.data();
   for (Id v = v0; v < v1; ++v)
   {
-    const Id begin = start[v - v0], count = start[v - v0 + 1] - begin;
-    Id* h = bucket + begin;
-    others.resize(static_cast<size_t>(count));
-    for (Id i = 0; i < count; ++i)
+    const Id begin = start[v - v0];
+    const Id made = PairBucket(triangles, v, b.Half + begin, b.Far.data() + begin,
+      start[v - v0 + 1] - begin, write, failure, consistent);
+    if (made < 0)
     {
-      // The triangles of later vertices' half-edges asked for ahead: reading each half-edge's
-      // triangle, the matching waited on a miss for a third of its time.
-      if (begin + i + PrefetchDistance < n)
-      {
-        PrefetchRead(triangles + bucket[begin + i + PrefetchDistance]);
-      }
-      others[i] = high(h[i]);
+      return -1;
     }
-    for (Id i = 0; i < count; ++i)
-    {
-      if (h[i] < 0)
-      {
-        continue; // matched to an earlier half-edge
-      }
-      const Id other = others[i], t = h[i] / 3, opposite = triangles[3 * t + (h[i] % 3 + 2) % 3];
-      Id partner = -1;
-      for (Id j = i + 1; j < count; ++j)
-      {
-        if (h[j] < 0 || others[j] != other)
-        {
-          continue;
-        }
-        const Id t2 = h[j] / 3;
-        if (partner >= 0)
-        {
-          MessageBuilder os;
-          os << "non-manifold edge (" << VertexId{ v } << ", " << VertexId{ other }
-             << ") shared by triangles " << TriangleId{ t } << ", " << TriangleId{ partner / 3 }
-             << " and " << TriangleId{ t2 };
-          failure = os.Failure<TopologyStatus>();
-          failure.Triangle = t2;
-          return -1;
-        }
-        if (triangles[3 * t2 + (h[j] % 3 + 2) % 3] == opposite)
-        {
-          MessageBuilder os;
-          os << "duplicate triangles " << TriangleId{ std::min(t, t2) } << " and "
-             << TriangleId{ std::max(t, t2) } << " have the same vertices (" << VertexId{ v }
-             << ", " << VertexId{ other } << ", " << VertexId{ opposite } << ")";
-          failure = os.Failure<TopologyStatus>();
-          failure.Triangle = std::max(t, t2);
-          return -1;
-        }
-        partner = h[j];
-        h[j] = -1;
-        // Half-edge h runs from triangles[h]: from v for one of a consistent pair only.
-        consistent &= (triangles[h[i]] == v) != (triangles[partner] == v);
-      }
-      *write++ = partner < 0 ? ~h[i] : h[i];
-      if (partner >= 0)
-      {
-        *write++ = partner;
-      }
-      ++edges;
-    }
+    edges += made;
   }
   return edges;
 }
@@ -298,9 +344,13 @@ TopologyStatus BuildMeshTopology(Id numPoints, Id numTriangles, const Id* triang
       const bool boundary = *h < 0;
       Id h0 = boundary ? ~*h : *h, h1 = boundary ? -1 : h[1];
       h += boundary ? 1 : 2;
-      if (rank && !boundary && rank[h1 / 3] < rank[h0 / 3])
+      if (rank && !boundary)
       {
-        std::swap(h0, h1);
+        // Picked without a branch: which side ranks first is a coin toss.
+        const Id sides[2] = { h0, h1 };
+        const int second = rank[h1 / 3] < rank[h0 / 3];
+        h0 = sides[second];
+        h1 = sides[1 - second];
       }
       const Id a = triangles[h0], b = triangles[NextCorner(h0)];
       std::array<Id, 2>& edge = topology.Edges[e];
