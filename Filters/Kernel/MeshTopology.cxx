@@ -96,8 +96,9 @@ TopologyStatus TriangleFailure(Id numPoints, const Id* triangles, Id t)
 
 // A vertex block's half-edges bucketed by their smaller vertex v, in half-edge order: bucket
 // v - v0 is Half[Start[v - v0] ..), with each half-edge's other vertex at the same place in Far
-// (read while bucketing, when its triangle row is asked for anyway; the pairing then reads the
-// bucket alone, and marks a matched half-edge by Far -1).
+// (read while bucketing, when its triangle row is asked for anyway: the pairing's search then
+// reads the bucket alone, the triangles only for a pair's checks; a matched half-edge's Far is
+// set to -1).
 struct Buckets
 {
   std::vector<Id> Start;
@@ -157,7 +158,7 @@ void FillBuckets(const Id* triangles, Id v0, Id v1, const Id* in, Id n, Buckets&
 
 // The edges of the bucket of vertex v (count half-edges h, their other vertices far), in the
 // order of their first half-edge: an interior edge as its two half-edges, a boundary edge as ~h,
-// written at `write`. Returns the number of edges, or -1 with `failure` set at the bucket's
+// written at `written` (advanced past them). Returns the number of edges, or -1 with `failure` set at the bucket's
 // first non-manifold edge or duplicate triangles.
 Id PairBucket(const Id* triangles, Id v, const Id* h, Id* far, Id count, Id*& written,
   TopologyStatus& failure, bool& consistent)
