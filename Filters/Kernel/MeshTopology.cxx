@@ -158,8 +158,8 @@ void FillBuckets(const Id* triangles, Id v0, Id v1, const Id* in, Id n, Buckets&
 
 // The edges of the bucket of vertex v (count half-edges h, their other vertices far), in the
 // order of their first half-edge: an interior edge as its two half-edges, a boundary edge as ~h,
-// written at `written` (advanced past them). Returns the number of edges, or -1 with `failure` set at the bucket's
-// first non-manifold edge or duplicate triangles.
+// written at `written` (advanced past them). Returns the number of edges, or -1 with `failure`
+// set at the bucket's first non-manifold edge or duplicate triangles.
 Id PairBucket(const Id* triangles, Id v, const Id* h, Id* far, Id count, Id*& written,
   TopologyStatus& failure, bool& consistent)
 {
