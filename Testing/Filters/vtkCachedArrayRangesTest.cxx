@@ -537,6 +537,55 @@ TEST(CachedArrayRanges, EveryFilterStoresVTKsOwnRanges)
   }
 }
 
+// The probe's output arrays (points, derivatives, normals, ids and the mask) carry VTK's own
+// ranges with queries inside and outside the spline (ids -1, mask 0, zero derivatives), with
+// and without derivatives, on one thread and on several.
+TEST(CachedArrayRanges, ProbeStoresVTKsRangesInsideAndOutside)
+{
+  vtkNew<vtkSampledSurfaceSource> source;
+  source->SetDomainToRandomDelaunay();
+  source->SetResolution(40);
+  vtkNew<vtkCloughTocherSplineFilter> spline;
+  spline->SetInputConnection(source->GetOutputPort());
+  spline->Update();
+  double bounds[6];
+  spline->GetOutput()->GetBounds(bounds);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> U(-0.25, 1.25);
+  vtkNew<vtkPoints> points;
+  const vtkIdType n = 100000; // several of the module's chunks of 2^16 queries
+  points->SetNumberOfPoints(n);
+  for (vtkIdType i = 0; i < n; ++i)
+  {
+    points->SetPoint(i, U(rng), U(rng), 0.0);
+  }
+  vtkNew<vtkPolyData> queries;
+  queries->SetPoints(points);
+  for (int threads : { 1, 3 })
+  {
+    ModuleThreads scope(threads);
+    for (bool derivatives : { true, false })
+    {
+      vtkNew<vtkSplineParameterProbe> probe;
+      probe->SetInputData(queries);
+      probe->SetSourceConnection(spline->GetOutputPort());
+      probe->SetComputeDerivatives(derivatives);
+      probe->Update();
+      const std::string what = std::to_string(threads) + " thread(s), derivatives " +
+        std::to_string(derivatives);
+      vtkDataSet* out = probe->GetOutput();
+      vtkDataArray* mask = out->GetPointData()->GetArray("vtkValidPointMask");
+      ASSERT_NE(mask, nullptr) << what;
+      double maskRange[2];
+      mask->GetRange(maskRange);
+      ASSERT_EQ(maskRange[0], 0.0) << what << ": some queries outside";
+      ASSERT_EQ(maskRange[1], 1.0) << what << ": some queries inside";
+      EXPECT_EQ(out->GetPointData()->GetArray("dFdu") != nullptr, derivatives) << what;
+      ExpectCachedVTKRanges(out, what);
+    }
+  }
+}
+
 // The spline filter stores the ranges its kernel scanned while writing the points (the
 // one-sided rules in their main pass, the edge-based ones in their last; in either output
 // order; with ghost cells, those of its blocks of points that the kept cells use whole, the
