@@ -1311,23 +1311,48 @@ bool CADModel::Stages::FaceLoops(CADModel& m, int f, double tol)
   return true;
 }
 
-/// UngradedCorners: the longest a tangent span may be beside a split span, in that span's
-/// lengths, at a face corner under MaxGradedCorner degrees. 8 left KiCad's Bourns L43.2 a 45-degree
-/// corner of face 218 with spans 0.022 and 0.0033 long (6.7 to 1) whose skewed triangle missed G1
-/// by 0.104 degrees (0.052 at 4, with 1 % more triangles).
+/// UngradedCorners: where a tangent span b meets a shorter span a at a face corner of angle
+/// alpha, the face mesher's corner triangle joins a's far node to b's far end; its split point
+/// lies off b's midpoint by (b / 2 - a cos alpha) / 3 along b and a sin alpha / 3 across, and
+/// the boundary micro-patch's derivative toward it, mostly along b where that skew is large,
+/// tilts the normal by the edge cubic's error times the skew (TurnsTooFar). Corners from
+/// MinSkewedCorner to MaxGradedCorner degrees are graded to a skew of MaxCornerSkew: a
+/// right-angled corner of KiCad's EA_eDIP320X (face 39, spans 0.039 and 0.0099: skew 1.98) missed
+/// G1 by 0.13 degrees, 0.018 graded (7 % more triangles). Sharper corners make thin triangles
+/// whatever their spans (their skew grows as 1 / sin alpha: a cusp's spans would be halved round
+/// after round, and KiCad's C_Trimmer_Murata_TZR1 folded where they were): there b is graded to
+/// at most MaxCornerSpanRatio times a. 8 left Bourns L43.2 a 45-degree corner of face 218 with
+/// spans 0.022 and 0.0033 long (6.7 to 1) whose triangle missed G1 by 0.104 degrees (0.052 at 4,
+/// with 1 % more triangles).
+constexpr double MaxCornerSkew = 1.5;
 constexpr double MaxCornerSpanRatio = 4;
-constexpr double MaxGradedCorner = 60;
+constexpr double MinSkewedCorner = 60;
+constexpr double MaxGradedCorner = 100;
 
-/// The spans to halve so that face corners are graded: a tangent span at a corner under
-/// MaxGradedCorner degrees more than MaxCornerSpanRatio times as long (3D chords) as the span
-/// beside it, where that span comes from the rounds' splits (one of its nodes a forced sample:
-/// RestoreG1's, a bulging span's, or this grading's, which so carries on to the next corner).
-/// The face mesher never splits boundary segments, and in such a corner it joins the short
-/// spans' nodes to the far end of the long one: a needle along the tangent interface (KiCad's
-/// muRATA 5100 toroid L21.0, faces 126 and 127: 2e-4 high on a span 0.037 long, beside spans
-/// halved to 3.4e-4 at a vertex of three nearly tangent faces; G1 0.37 degrees, 0.036 graded).
-/// Wider corners leave the mesher room for interior points: grading those under 90 degrees too
-/// added 11 % of triangles on that model for a G1 of 0.023.
+/// Whether a corner whose spans are `shorter` and `longer` long (3D chords, shorter > 0) with
+/// the cosine `cosine` of the angle between them is to be graded (see MaxCornerSkew).
+bool CornerToGrade(double shorter, double longer, double cosine)
+{
+  if (cosine <= std::cos(MaxGradedCorner * M_PI / 180))
+  {
+    return false;
+  }
+  if (cosine > std::cos(MinSkewedCorner * M_PI / 180))
+  {
+    return longer > MaxCornerSpanRatio * shorter;
+  }
+  const double sine = std::sqrt(std::max(0.0, 1 - cosine * cosine));
+  return 0.5 * longer / shorter - cosine > MaxCornerSkew * sine;
+}
+
+/// The spans to halve so that face corners are graded: a tangent span at a corner that
+/// CornerToGrade names, where the shorter span comes from the rounds' splits (one of its nodes
+/// a forced sample: RestoreG1's, a bulging span's, or this grading's, which so carries on to the
+/// next corner). The face mesher never splits boundary segments, and in such a corner it joins
+/// the short spans' nodes to the far end of the long one: a needle along the tangent interface
+/// (KiCad's muRATA 5100 toroid L21.0, faces 126 and 127: 2e-4 high on a span 0.037 long, beside
+/// spans halved to 3.4e-4 at a vertex of three nearly tangent faces; G1 0.37 degrees, 0.036
+/// graded). Wider corners leave the mesher room for interior points.
 std::vector<std::pair<Id, Id>> CADModel::Stages::UngradedCorners(const CADModel& m)
 {
   const Impl& d = *m.Internal;
@@ -1342,7 +1367,6 @@ std::vector<std::pair<Id, Id>> CADModel::Stages::UngradedCorners(const CADModel&
     };
     return isForced(es.T[seg.Span]) || isForced(es.T[seg.Span + 1]);
   };
-  const double cosMax = std::cos(MaxGradedCorner * M_PI / 180);
   std::vector<std::pair<Id, Id>> split;
   for (const CADFace& face : m.FaceList)
   {
@@ -1365,8 +1389,8 @@ std::vector<std::pair<Id, Id>> CADModel::Stages::UngradedCorners(const CADModel&
           std::swap(a, b);
           std::swap(la, lb);
         }
-        if (b->Tangent && b->Edge >= 0 && b->Span >= 0 && lb > MaxCornerSpanRatio * la &&
-          dot > cosMax * la * lb && forcedSplit(*a))
+        if (b->Tangent && b->Edge >= 0 && b->Span >= 0 && la > 0 &&
+          CornerToGrade(la, lb, dot / (la * lb)) && forcedSplit(*a))
         {
           split.emplace_back(b->Edge, b->Span);
         }
