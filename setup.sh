@@ -28,7 +28,7 @@ packages=(
   paraview-dev python3-paraview
   libeigen3-dev libgtest-dev libcgal-dev
   libocct-data-exchange-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev libtbb-dev
-  python3-numpy python3-scipy python3-matplotlib
+  python3-numpy python3-scipy python3-matplotlib python3-lz4
   xvfb xauth libgl1-mesa-dri
   # The ParaView plugin: find_package(ParaView) needs the development files of everything
   # ParaView's VTK was built against.
