@@ -19,6 +19,7 @@
 
 #include <IGESControl_Controller.hxx>
 #include <Standard_ConstructionError.hxx>
+#include <Standard_DomainError.hxx>
 #include <IGESControl_Writer.hxx>
 #include <STEPControl_Writer.hxx>
 
@@ -267,6 +268,40 @@ TEST(Mutants, GuardTurnsOCCTFailuresIntoErrors)
   {
     EXPECT_FALSE(ctcad::RunGuarded([] { std::raise(SIGSEGV); }, failure));
     EXPECT_EQ(failure.rfind("OSD_SIGSEGV: ", 0), 0u) << failure;
+  }
+}
+
+TEST(Mutants, NestedGuardsCatchExceptionsInsideAndSignalsOutside)
+{
+  // Inside a guard, a guard catches OCCT's and standard exceptions itself; the outer one goes on.
+  std::string outer, inner, signalled;
+  int failures = 0;
+  EXPECT_TRUE(ctcad::RunGuarded(
+    [&] {
+      for (int k = 0; k < 3; ++k)
+      {
+        failures += !ctcad::RunGuarded([] { throw Standard_DomainError("off the surface"); }, inner);
+      }
+      failures += !ctcad::RunGuarded([] { throw std::length_error("too long"); }, inner);
+    },
+    outer));
+  EXPECT_EQ(failures, 4);
+  EXPECT_EQ(inner, "std::length_error: too long");
+  if (SanitizerHandlesSegfaults())
+  {
+    GTEST_SKIP() << "the sanitizer has SIGSEGV: OCCT keeps off it";
+  }
+  // A signal inside a nested guard is the outer guard's failure; afterwards a guard on its own
+  // catches signals again (its depth was restored).
+  for (int k = 0; k < 2; ++k)
+  {
+    inner.clear();
+    EXPECT_FALSE(ctcad::RunGuarded(
+      [&] { ctcad::RunGuarded([] { std::raise(SIGSEGV); }, inner); }, signalled));
+    EXPECT_EQ(signalled.rfind("OSD_SIGSEGV: ", 0), 0u) << signalled;
+    EXPECT_TRUE(inner.empty()) << inner;
+    EXPECT_FALSE(ctcad::RunGuarded([] { std::raise(SIGSEGV); }, signalled));
+    EXPECT_EQ(signalled.rfind("OSD_SIGSEGV: ", 0), 0u) << signalled;
   }
 }
 
