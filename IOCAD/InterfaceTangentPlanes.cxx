@@ -161,6 +161,19 @@ void TangentPlanes::Collect()
 {
   std::map<std::tuple<int, Id, double, double>, int> vertexIndex;
   std::map<SpanEndKey, int> endIndex;
+  // At most one vertex, segment use and two span ends per loop node: reserved, the stage's
+  // arrays are written once (grown, they were copied into fresh pages round after round).
+  std::size_t loopNodes = 0;
+  for (const CADFace& face : this->Faces)
+  {
+    for (const FaceLoop& loop : face.Loops)
+    {
+      loopNodes += loop.Nodes.size();
+    }
+  }
+  this->Vertices.reserve(loopNodes);
+  this->Uses.reserve(loopNodes);
+  this->Ends.reserve(2 * loopNodes);
   for (int f = 0; f < static_cast<int>(this->Faces.size()); ++f)
   {
     for (int l = 0; l < static_cast<int>(this->Faces[f].Loops.size()); ++l)
@@ -218,19 +231,28 @@ void TangentPlanes::Collect()
 
 void TangentPlanes::FormGroups()
 {
-  std::map<Id, std::vector<int>> vertexOfNode;
+  // The vertices with a normal by node (ascending), each node's in index order.
+  std::vector<std::pair<Id, int>> byNode;
+  byNode.reserve(this->Vertices.size());
   for (int i = 0; i < static_cast<int>(this->Vertices.size()); ++i)
   {
     if (this->Vertices[i].Normal.squaredNorm() > 0)
     {
-      vertexOfNode[this->Vertices[i].Global].push_back(i);
+      byNode.emplace_back(this->Vertices[i].Global, i);
     }
   }
-  for (const auto& entry : vertexOfNode)
+  std::sort(byNode.begin(), byNode.end());
+  this->Groups.reserve(byNode.size());
+  std::vector<int> vs, parent;
+  for (std::size_t first = 0, last = 0; first < byNode.size(); first = last)
   {
-    const std::vector<int>& vs = entry.second;
+    vs.clear();
+    for (last = first; last < byNode.size() && byNode[last].first == byNode[first].first; ++last)
+    {
+      vs.push_back(byNode[last].second);
+    }
     const int nv = static_cast<int>(vs.size());
-    std::vector<int> parent(nv);
+    parent.resize(nv);
     std::iota(parent.begin(), parent.end(), 0);
     auto find = [&](int a) {
       while (parent[a] != a)
@@ -502,6 +524,7 @@ void TangentPlanes::Project()
     }
   }
   const double sinThreshold = std::sqrt(1 - this->CosThreshold * this->CosThreshold);
+  std::vector<Vector3> planes;
   for (SpanEnd& end : this->Ends)
   {
     // Tangent groups' planes first, so that where two planes are one, theirs is kept. Faces
@@ -510,7 +533,7 @@ void TangentPlanes::Project()
     // planes are one: their line, from the mean normals' rounding (1e-7), ran anywhere in
     // the plane and turned the cubic by up to 90 degrees (45 on L19's edge 540), so the
     // span was halved down to the shortest and left needle triangles (G1 0.71 degrees).
-    std::vector<Vector3> planes;
+    planes.clear();
     bool moved = false;
     for (const bool groupedPass : { true, false })
     {
