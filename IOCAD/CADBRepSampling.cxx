@@ -78,10 +78,16 @@ bool RunGuarded(const std::function<void()>& body, std::string& failure)
   // SIGSEGV) stay.
   static std::once_flag once;
   std::call_once(once, [] { SetOCCTSignals(OSD_SignalMode_SetUnhandled); });
-  const int depth = GuardDepth;
+  // The depth is restored however this call ends: also after a signal's jump out of nested
+  // calls (whose frames are skipped) and an exception of another type.
+  struct Restore
+  {
+    int Depth;
+    ~Restore() { GuardDepth = this->Depth; }
+  } const restore{ GuardDepth };
   try
   {
-    if (depth > 0)
+    if (restore.Depth > 0)
     {
       // Nested: exceptions are caught here, signals by the outer guard. OCC_CATCH_SIGNALS
       // registers a handler under a process-wide lock; per point of a face (the deviation
@@ -89,10 +95,9 @@ bool RunGuarded(const std::function<void()>& body, std::string& failure)
       body();
       return true;
     }
-    GuardDepth = depth + 1;
+    GuardDepth = 1;
     OCC_CATCH_SIGNALS
     body();
-    GuardDepth = depth;
     return true;
   }
   catch (const Standard_Failure&)
@@ -103,7 +108,6 @@ bool RunGuarded(const std::function<void()>& body, std::string& failure)
   {
     DescribeFailure(failure);
   }
-  GuardDepth = depth; // also after a signal's jump out of nested calls
   return false;
 }
 
