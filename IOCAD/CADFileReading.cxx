@@ -1455,8 +1455,6 @@ std::unique_ptr<Reader, void (*)(Reader*)> NewReader(bool keep)
   return { new Reader, keep ? +[](Reader*) {} : +[](Reader* reader) { delete reader; } };
 }
 
-/// Translation and the healing that belongs to reading, in this process (inChild: in the
-/// reading child, which leaves the reader to its exit).
 /// BRepBndLib::AddOptimal of the shape (exact extents, no tolerances), the same bits: the union
 /// of its faces' boxes, computed in parallel (their surfaces' PSO searches were a third of the
 /// reading of a 620-face model with fillets), then, as AddOptimal adds them, its edges outside
@@ -1516,6 +1514,8 @@ bool ShapeBox(const ShapeRead& r, const std::string& prefix, Bnd_Box& box, std::
   return true;
 }
 
+/// Translation and the healing that belongs to reading, in this process (inChild: in the
+/// reading child, which leaves the reader to its exit).
 bool Translate(const std::string& fileName, Format format, const HealingOptions& healing, ShapeRead& r,
   std::string& error, bool inChild)
 {

@@ -528,7 +528,7 @@ def _grid_file(grid):
     keys (VTK's cached ranges) are not written. None when VTK's writer must write it: another
     data type, polyhedra, points missing, an array not of one contiguous block."""
     if not grid.IsA("vtkUnstructuredGrid") or grid.GetFaces() is not None \
-            or grid.GetPoints() is None:
+            or grid.GetPoints() is None or grid.GetCells() is None:  # (no cell array: VTK 9.1)
         return None
     data = _AppendedData()
     parts = [_arrays_xml(grid.GetFieldData(), "FieldData", data, "    ", tuples=True),
