@@ -1477,8 +1477,7 @@ bool ShapeBox(const ShapeRead& r, const std::string& prefix, Bnd_Box& box, std::
     {
       const std::string name =
         f < static_cast<int>(r.FaceNames.size()) ? r.FaceNames[f] : std::string();
-      error = prefix + "the bounding box of face " + std::to_string(f) +
-        (name.empty() || name == "NONE" || name == "''" ? "" : " (" + name + ")") +
+      error = prefix + "the bounding box of " + FaceLabel(f, name) +
         " (BRepBndLib::AddOptimal, evaluating its surface): " + failures[f];
       return false;
     }

@@ -410,13 +410,14 @@ def _write_blocks(data, path, messages):
             content = content if isinstance(content, bytes) else content.encode()
         _save(os.path.join(os.path.dirname(path), file), content)
         entries.append(entry + f" file={_xml_attribute(file)}/>\n")
-    order = "LittleEndian" if sys.byteorder == "little" else "BigEndian"
     _save(path, ('<?xml version="1.0"?>\n<VTKFile type="vtkMultiBlockDataSet" version="1.0" '
-                 f'byte_order="{order}" header_type="UInt64">\n  <vtkMultiBlockDataSet>\n'
+                 f'byte_order="{_BYTE_ORDER}" header_type="UInt64">\n  <vtkMultiBlockDataSet>\n'
                  + "".join(entries) + "  </vtkMultiBlockDataSet>\n" + _field_data_xml(data)
                  + "</VTKFile>\n").encode())
     return path
 
+
+_BYTE_ORDER = "LittleEndian" if sys.byteorder == "little" else "BigEndian"
 
 try:  # VTK's LZ4 blocks are LZ4's raw block format (python3-lz4; without it, uncompressed)
     from lz4.block import compress as _lz4_block
@@ -552,10 +553,9 @@ def _grid_file(grid):
               "      </Cells>\n    </Piece>\n"]
     if None in parts:
         return None
-    order = "LittleEndian" if sys.byteorder == "little" else "BigEndian"
     compressor = "" if _lz4_block is None else ' compressor="vtkLZ4DataCompressor"'
     head = (f'<?xml version="1.0"?>\n<VTKFile type="UnstructuredGrid" version="1.0" '
-            f'byte_order="{order}" header_type="UInt64"{compressor}>\n  <UnstructuredGrid>\n'
+            f'byte_order="{_BYTE_ORDER}" header_type="UInt64"{compressor}>\n  <UnstructuredGrid>\n'
             + "".join(parts) + '  </UnstructuredGrid>\n  <AppendedData encoding="raw">\n   _')
     return b"".join([head.encode(), *data.parts, b"\n  </AppendedData>\n</VTKFile>\n"])
 
