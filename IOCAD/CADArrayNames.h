@@ -21,6 +21,9 @@ constexpr const char* StitchEdgeGradients = "StitchEdgeGradients";
 constexpr const char* TangentInterface = "TangentInterface";
 constexpr const char* EdgeCurvePoints = "EdgeCurvePoints";
 constexpr const char* BRepEdgeId = "BRepEdgeId";
+// Field data of a face block: the construction the face was refined for in place of the
+// sampler's (vtkCADFaceSampler::FallbackConstructions).
+constexpr const char* FallbackConstruction = "FallbackConstruction";
 // Field data of the sampler's output: the spline the faces were refined for.
 constexpr const char* RefinedConstruction = "RefinedConstruction";
 constexpr const char* RefinedSplitPoint = "RefinedSplitPoint";

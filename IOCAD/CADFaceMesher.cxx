@@ -549,11 +549,13 @@ Steiner RefinementPoint(const CDT& cdt, const CDT::Face_handle f, const ctk::Vec
 /// Builds the stitched spline of the current face mesh (options.Spline, boundary edges following
 /// the loop segments' cubics, exact mid-edge gradients) and measures it against the surface at
 /// the check points of every micro-triangle; the worst point of every triangle that is off by
-/// more than the tolerance goes into `inserts`.
+/// more than the tolerance goes into `inserts`. With tangentTurn, also the largest angle
+/// (degrees) between the spline's normal and the shared one at the midpoint of a boundary span
+/// whose interface RestoreG1 made tangent (LoopSegment::MidNormal).
 bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& faces,
   const FaceMesh& mesh, const SegmentMap& segments, const SurfaceFunction& surface,
   const FaceMeshOptions& options, const TriangulationPlane& plane, std::vector<Steiner>& inserts,
-  double& maxError, double& maxAngle, std::string& error)
+  double& maxError, double& maxAngle, std::string& error, double* tangentTurn = nullptr)
 {
   const ctk::Id nT = static_cast<ctk::Id>(faces.size());
   FaceSplineInput in;
@@ -565,6 +567,8 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
   in.EdgeGradients.resize(18 * nT);
   in.BoundaryCurvePoints.assign(18 * nT, std::nan(""));
   std::vector<std::array<bool, 3>> onBoundary(nT);
+  std::vector<std::pair<ctk::Id, int>> tangentSpans; // (triangle, local edge) with a MidNormal
+  std::vector<const LoopSegment*> tangentSegments;
   for (ctk::Id t = 0; t < nT; ++t)
   {
     const CDT::Face_handle f = faces[t];
@@ -582,6 +586,11 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
       bool flipped = false;
       const LoopSegment* seg = FaceSegment(cdt, f, l, segments, flipped);
       onBoundary[t][l] = seg != nullptr;
+      if (seg && seg->Tangent && seg->MidNormal != Point3{})
+      {
+        tangentSpans.emplace_back(t, l);
+        tangentSegments.push_back(seg);
+      }
       if (seg)
       {
         StitchEdgeGradient(*seg, g);
@@ -623,6 +632,18 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
       inserts.push_back(RefinementPoint(cdt, faces[t], in.ParameterAt(t, worst), plane));
     }
   }
+  for (std::size_t k = 0; tangentTurn && k < tangentSpans.size(); ++k)
+  {
+    const auto [t, l] = tangentSpans[k];
+    ctk::Vec3 tau = ctk::Vec3::Zero();
+    tau[l] = tau[(l + 1) % 3] = 0.5;
+    const ctk::ParametricJet jet = ctk::EvaluateSpline(spline, topo, in.Triangles.data(), t, tau, 1);
+    const ctk::Vec3 n = jet.Du.cross(jet.Dv);
+    const Point3& m = tangentSegments[k]->MidNormal;
+    const ctk::Vec3 shared(m[0], m[1], m[2]);
+    const double turn = std::atan2(n.cross(shared).norm(), std::abs(n.dot(shared)));
+    *tangentTurn = std::max(*tangentTurn, turn * 180 / M_PI);
+  }
   return true;
 }
 /// Why refinement stopped: the cap reached, or triangles over the tolerances too small to split.
@@ -659,9 +680,13 @@ public:
   bool Triangulate();
   bool Refine();
   bool CheckConstruction();
+  /// After CheckConstruction left the face over the tolerances: the fallback, if any. False
+  /// with Mesh.Error when the fallback's check rounds fail.
+  bool TryOtherConstructions();
   void Output();
 
 private:
+  bool CheckRounds(const FaceMeshOptions& options);
   void ScalePlane();
   Id AddPoint(double s, double t, const LoopNode* node);
   void InsertInterior(const Point& p);
@@ -1208,9 +1233,14 @@ bool FaceMesher::Refine()
 /// whole face and refined where it is off. Non-local constructions: every triangle, every round.
 bool FaceMesher::CheckConstruction()
 {
+  return !this->Options.CheckConstruction || this->CheckRounds(this->Options);
+}
+
+/// The check rounds of CheckConstruction for the construction of `options`.
+bool FaceMesher::CheckRounds(const FaceMeshOptions& options)
+{
   FaceMesh& mesh = this->Mesh;
-  const FaceMeshOptions& options = this->Options;
-  for (int check = 0; options.CheckConstruction; ++check)
+  for (int check = mesh.CheckRounds;; ++check)
   {
     this->CollectSoundFaces();
     std::vector<Steiner> inserts;
@@ -1233,10 +1263,87 @@ bool FaceMesher::CheckConstruction()
       mesh.Converged = inserts.empty() && within;
       mesh.StopReason =
         mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
-      break;
+      return true;
     }
   }
-  return true;
+}
+
+/// How far over the tolerances an error and angle are (<= 1: within).
+double Excess(double error, double angle, const FaceMeshOptions& options)
+{
+  return std::max(error / options.Tolerance,
+    options.AngularTolerance > 0 ? angle / options.AngularTolerance : 0.0);
+}
+
+/// A fallback must not turn the face's normals further from the surface's than this many times
+/// the chosen construction's largest angle, or 1 degree: ESP-WROOM-02's face 250 below is a
+/// plane that MGo and MGi fold (180 degrees) within the distance tolerance, which KaG did not.
+constexpr double FallbackAngleGrowth = 2, FallbackAngleFloor = 1;
+/// Nor turn its normal at a tangent span's midpoint from the tangent plane RestoreG1 shares
+/// there by more than this (degrees), or than the chosen construction does: a tenth of the G1
+/// that RestoreG1 aims at. KiCad's USB_Micro-B_Molex_47346-0001 went 2.3 degrees off G1 at a face
+/// built with CTi instead of KaG (CTi reads no mid-edge gradient).
+constexpr double FallbackTangentTurn = 0.01;
+
+/// A face the chosen construction leaves over the tolerances (FallbackConstructions): every
+/// other stitchable cubic construction is checked on the mesh as it is; the one least over the
+/// tolerances (the first in the table among equals), if less than the chosen one and without
+/// turning the normals (FallbackAngleGrowth, FallbackTangentTurn), refines on.
+/// ESP-WROOM-02 (KiCad), face 250: a plane face whose domain narrows to a wedge as wide as its
+/// triangles, where KaG's least-squares central points stay 1.26e-4 of the diagonal off the
+/// plane's parametrisation and no point can go in.
+bool FaceMesher::TryOtherConstructions()
+{
+  FaceMesh& mesh = this->Mesh;
+  const FaceMeshOptions& chosen = this->Options;
+  double best = Excess(mesh.MaxEstimatedError, mesh.MaxEstimatedAngle, chosen);
+  if (best <= 1)
+  {
+    return true; // within the tolerances, short of the margin refinement aims at
+  }
+  // Every candidate measured with its normals (the excess counts them only with an
+  // AngularTolerance).
+  FaceMeshOptions measured = chosen;
+  measured.AngularTolerance = chosen.AngularTolerance > 0 ? chosen.AngularTolerance : 180;
+  auto measure = [&](ctk::Construction method, double& maxError, double& maxAngle,
+                   double& tangentTurn) {
+    measured.Spline.Method = method;
+    std::vector<Steiner> inserts;
+    std::string error; // a construction that fails on this mesh is not a fallback
+    return CheckStitchedSpline(this->Triangulation, this->Faces, mesh, this->Segments,
+      this->Surface, measured, this->Plane, inserts, maxError, maxAngle, error, &tangentTurn);
+  };
+  double chosenError = 0, chosenAngle = 0, chosenTurn = 0;
+  if (!measure(chosen.Spline.Method, chosenError, chosenAngle, chosenTurn))
+  {
+    return true;
+  }
+  const double maxAngle = std::max(FallbackAngleGrowth * chosenAngle, FallbackAngleFloor);
+  const double maxTurn = std::max(chosenTurn, FallbackTangentTurn);
+  int bestMethod = -1;
+  for (int c = 0; c < ctk::NumberOfConstructions; ++c)
+  {
+    const auto method = static_cast<ctk::Construction>(c);
+    double error = 0, angle = 0, turn = 0;
+    if (method != chosen.Spline.Method && ctk::CanBeStitched(method) &&
+      ctk::Info(method).Degree == 3 && measure(method, error, angle, turn) && angle <= maxAngle &&
+      turn <= maxTurn && Excess(error, angle, chosen) < best)
+    {
+      best = Excess(error, angle, chosen);
+      bestMethod = c;
+    }
+  }
+  if (bestMethod < 0)
+  {
+    return true;
+  }
+  mesh.FallbackConstruction = bestMethod;
+  mesh.ChosenError = mesh.MaxEstimatedError;
+  mesh.ChosenAngle = mesh.MaxEstimatedAngle;
+  mesh.ChosenStopReason = mesh.StopReason;
+  FaceMeshOptions fallback = chosen;
+  fallback.Spline.Method = static_cast<ctk::Construction>(bestMethod);
+  return this->CheckRounds(fallback);
 }
 
 /// The mesh: in-domain triangles and their boundary segments.
@@ -1271,22 +1378,28 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   {
     return false;
   }
-  mesher.Output();
-  if (mesh.Converged || !mesher.Anisotropic)
-  {
-    return true;
-  }
   // Left over the tolerances in the raw plane of a far from isotropic surface: the scaled
-  // plane's mesh where it does better (ScalePlane).
+  // plane's mesh where it does better (ScalePlane). Only then another construction.
+  FaceMesher* kept = &mesher;
   FaceMesh scaled;
   FaceMesher again(loops, nodePoints, surface, options, scaled, true);
-  if (again.Triangulate() && again.Refine() && again.CheckConstruction())
+  if (!mesh.Converged && mesher.Anisotropic && again.Triangulate() && again.Refine() &&
+    again.CheckConstruction() &&
+    (scaled.Converged || scaled.MaxEstimatedError < mesh.MaxEstimatedError))
   {
-    again.Output();
-    if (scaled.Converged || scaled.MaxEstimatedError < mesh.MaxEstimatedError)
-    {
-      mesh = std::move(scaled);
-    }
+    kept = &again;
+  }
+  const FaceMesh& result = kept == &mesher ? mesh : scaled;
+  if (!result.Converged && options.CheckConstruction && options.FallbackConstructions &&
+    !kept->TryOtherConstructions())
+  {
+    mesh.Error = result.Error;
+    return false;
+  }
+  kept->Output();
+  if (kept == &again)
+  {
+    mesh = std::move(scaled);
   }
   return true;
 }

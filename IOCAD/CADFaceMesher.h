@@ -36,6 +36,11 @@ struct FaceMeshOptions
   /// which the face cannot refine, are the edge sampling's).
   bool CheckConstruction = false;
   int CheckLevel = 4;
+  /// With CheckConstruction: a face that Spline.Method leaves over the tolerances when nothing
+  /// more can be inserted (or a cap is reached) is checked with every other stitchable
+  /// construction on the mesh as it is, and refined on with the one furthest within them, if
+  /// any does better (FaceMesh::FallbackConstruction; the stitcher builds the face with it).
+  bool FallbackConstructions = true;
   ctk::SplineOptions Spline;
 };
 
@@ -62,6 +67,12 @@ struct FaceMesh
   double MaxEstimatedAngle = 0;
   /// Why refinement stopped short of the tolerances (empty when converged).
   std::string StopReason;
+  /// The construction the face's check rounds ended with when Spline.Method could not bring it
+  /// within the tolerances and this one does better (FallbackConstructions), else -1; and what
+  /// Spline.Method had reached then (ChosenError, ChosenAngle, ChosenStopReason).
+  int FallbackConstruction = -1;
+  double ChosenError = 0, ChosenAngle = 0;
+  std::string ChosenStopReason;
   std::string Error;
 };
 

@@ -13,6 +13,16 @@ void ForEachFaceSerially(int n, const std::function<void(int)>& body)
   }
 }
 
+ctk::SplineOptions FaceOptions(const SampledFace& face, const ctk::SplineOptions& options)
+{
+  ctk::SplineOptions own = options;
+  if (face.FallbackConstruction >= 0)
+  {
+    own.Method = static_cast<ctk::Construction>(face.FallbackConstruction);
+  }
+  return own;
+}
+
 bool RunOnFaces(int n, const std::function<bool(int f, std::string& error)>& body,
   std::string& error, const FaceRunner& forEach)
 {
@@ -72,7 +82,7 @@ bool BuildFaceSplines(const std::vector<SampledFace>& faces, const ctk::SplineOp
   return RunOnFaces(
     static_cast<int>(faces.size()),
     [&](int f, std::string& message) {
-      if (BuildFaceSpline(faces[f], options, splines[f], message))
+      if (BuildFaceSpline(faces[f], FaceOptions(faces[f], options), splines[f], message))
       {
         return true;
       }

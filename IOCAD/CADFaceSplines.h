@@ -28,7 +28,13 @@ struct SampledFace
   /// Empty or #T by 3: nonzero where the local edge is an interface at which the CAD faces
   /// meet tangentially.
   std::vector<signed char> Tangent;
+  /// The construction the sampler refined this face for in place of the model's (its
+  /// FallbackConstructions), or -1.
+  int FallbackConstruction = -1;
 };
+
+/// The options face is built with: options, with its FallbackConstruction if it has one.
+ctk::SplineOptions FaceOptions(const SampledFace& face, const ctk::SplineOptions& options);
 
 /// A face's spline with the mesh topology it was built on.
 struct FaceSpline
@@ -53,7 +59,7 @@ bool RunOnFaces(int n, const std::function<bool(int f, std::string& error)>& bod
 bool BuildFaceSpline(const SampledFace& face, const ctk::SplineOptions& options,
   FaceSpline& spline, std::string& error);
 
-/// BuildFaceSpline on every face, forEach running the faces (ForEachFaceInParallel by default):
+/// BuildFaceSpline on every face with its FaceOptions, forEach running the faces (ForEachFaceInParallel by default):
 /// the splines are the same bit for bit whatever forEach. On failure returns false with the
 /// error of the lowest failed face, named ("face 3: spline construction failed: ...").
 bool BuildFaceSplines(const std::vector<SampledFace>& faces, const ctk::SplineOptions& options,

@@ -6,9 +6,13 @@
 
 #include "vtkCellData.h"
 #include "vtkDataArray.h"
+#include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkPointData.h"
 #include "vtkPolyData.h"
+
+#include <cmath>
+#include <sstream>
 
 namespace ctcad
 {
@@ -105,10 +109,34 @@ std::string ReadArrays(vtkPolyData* block, const ctk::SplineOptions& options, Sa
   }
   return error;
 }
+
+/// The block's FallbackConstruction, if any, into face: a construction that can be stitched.
+std::string ReadFallback(vtkPolyData* block, SampledFace& face)
+{
+  vtkDataArray* a = block->GetFieldData()->GetArray(names::FallbackConstruction);
+  if (!a)
+  {
+    return std::string();
+  }
+  const bool one = a->GetNumberOfTuples() == 1 && a->GetNumberOfComponents() == 1;
+  const double value = one ? a->GetTuple1(0) : -1.0;
+  const bool known = value >= 0 && value < ctk::NumberOfConstructions && value == std::floor(value);
+  const auto c = static_cast<ctk::Construction>(known ? static_cast<int>(value) : 0);
+  if (!known || !ctk::CanBeStitched(c) || ctk::Info(c).Degree != 3)
+  {
+    std::ostringstream message;
+    message << "field data '" << names::FallbackConstruction << "' ("
+            << (one ? "value " + std::to_string(value) : "not one value")
+            << ") names no construction that can be stitched";
+    return message.str();
+  }
+  face.FallbackConstruction = static_cast<int>(c);
+  return std::string();
+}
 } // namespace
 
-std::string ReadSampledFace(
-  vtkDataObject* object, int f, const ctk::SplineOptions& options, SampledFace& face)
+std::string ReadSampledFace(vtkDataObject* object, int f, const ctk::SplineOptions& options,
+  bool fallbacks, SampledFace& face)
 {
   const std::string where = "block " + std::to_string(f) + " ";
   vtkPolyData* block = vtkPolyData::SafeDownCast(object);
@@ -130,9 +158,13 @@ std::string ReadSampledFace(
   {
     error = ctsplines::CopyPoints(block->GetPoints(), face.Input.F);
   }
+  if (error.empty() && fallbacks)
+  {
+    error = ReadFallback(block, face);
+  }
   if (error.empty())
   {
-    error = ReadArrays(block, options, face);
+    error = ReadArrays(block, FaceOptions(face, options), face);
   }
   return error.empty() ? error : where + error;
 }

@@ -13,10 +13,12 @@ class vtkDataObject;
 namespace ctcad
 {
 /// Reads block f of vtkCADFaceSampler's output (the arrays of CADArrayNames.h) for a spline of
-/// `options` (the stitch mid-edge gradients only when it uses them). Returns an empty string,
-/// or a message naming the block and the missing or malformed array.
-std::string ReadSampledFace(
-  vtkDataObject* block, int f, const ctk::SplineOptions& options, SampledFace& face);
+/// `options` (the stitch mid-edge gradients only when it uses them); with `fallbacks` (the faces
+/// were refined for `options`), the block's FallbackConstruction too, for which the arrays are
+/// then read. Returns an empty string, or a message naming the block and the missing or
+/// malformed array.
+std::string ReadSampledFace(vtkDataObject* block, int f, const ctk::SplineOptions& options,
+  bool fallbacks, SampledFace& face);
 } // namespace ctcad
 
 #endif

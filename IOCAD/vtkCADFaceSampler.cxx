@@ -30,6 +30,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
 
 class vtkCADFaceSamplerInternals
 {
@@ -222,6 +223,7 @@ bool vtkCADFaceSampler::MeshFaces()
   meshOptions.MaxRounds = this->MaxRounds;
   meshOptions.MaxTriangles = static_cast<long>(this->MaxTrianglesPerFace);
   meshOptions.CheckConstruction = this->RefineStitchedSpline;
+  meshOptions.FallbackConstructions = this->FallbackConstructions;
   meshOptions.Spline.Method = static_cast<ctk::Construction>(this->Construction);
   meshOptions.Spline.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   meshOptions.Spline.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
@@ -269,7 +271,25 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
                     << " own gap), more than half the tolerance: refined to "
                     << 2 * faces[f].MaxGap / model->Diagonal() << " instead");
   }
-  if (!mesh.Converged)
+  if (mesh.FallbackConstruction >= 0)
+  {
+    std::ostringstream now; // what the fallback reached
+    if (mesh.Converged)
+    {
+      now << "within the tolerance";
+    }
+    else
+    {
+      now << "estimated error " << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal";
+    }
+    vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << "): "
+                    << ctk::ToString(static_cast<ctk::Construction>(this->Construction))
+                    << " stopped at estimated error " << mesh.ChosenError / model->Diagonal()
+                    << " of the diagonal (" << mesh.ChosenStopReason << "); built with "
+                    << ctk::ToString(static_cast<ctk::Construction>(mesh.FallbackConstruction))
+                    << " instead: " << now.str());
+  }
+  else if (!mesh.Converged)
   {
     vtkWarningMacro(<< "face " << f << " (" << faces[f].Name << ") stopped refining at estimated error "
                     << mesh.MaxEstimatedError / model->Diagonal() << " of the diagonal"
@@ -384,6 +404,10 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
   AddField(fd, "MaxEstimatedError", mesh.MaxEstimatedError);
   AddField(fd, "MaxEstimatedAngle", mesh.MaxEstimatedAngle);
   AddIntField(fd, "RefinementRounds", mesh.Rounds + mesh.CheckRounds);
+  if (mesh.FallbackConstruction >= 0)
+  {
+    AddIntField(fd, ctcad::names::FallbackConstruction, mesh.FallbackConstruction);
+  }
   output->SetBlock(f, pd);
   output->GetMetaData(static_cast<unsigned int>(f))->Set(vtkCompositeDataSet::NAME(), faces[f].Name.c_str());
   return true;
@@ -447,6 +471,7 @@ void vtkCADFaceSampler::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "MaxRounds: " << this->MaxRounds << "\n";
   os << indent << "MaxTrianglesPerFace: " << this->MaxTrianglesPerFace << "\n";
   os << indent << "RefineStitchedSpline: " << this->RefineStitchedSpline << "\n";
+  os << indent << "FallbackConstructions: " << this->FallbackConstructions << "\n";
   os << indent << "Construction: " << this->Construction << "\n";
   os << indent << "SplitPoint: " << this->SplitPoint << "\n";
   os << indent << "BoundaryMode: " << this->BoundaryMode << "\n";

@@ -46,7 +46,8 @@
  * edges, -1 inside). Block field data: `FaceId`, `FaceName`, `Reversed`, `MaxGap` (largest
  * distance between this face's surface and the shared boundary curve), `Converged`,
  * `MaxEstimatedError`, `MaxEstimatedAngle` (degrees, with an AngularTolerance),
- * `RefinementRounds`. Top-level field data: `Diagonal`, `AbsoluteTolerance`,
+ * `RefinementRounds`, and on a face that took another construction (FallbackConstructions)
+ * `FallbackConstruction` (its vtkCloughTocherSplineFilter value). Top-level field data: `Diagonal`, `AbsoluteTolerance`,
  * `NumberOfGlobalNodes`, `NumberOfBRepEdges`, `NumberOfBRepVertices`, `MaxVertexGap` (largest
  * move of a B-rep vertex to the mean of its surfaces), `MaxEdgeGap` (largest distance between
  * the adjacent surfaces along an edge: the model's own gaps; a face whose surface lies farther
@@ -166,6 +167,14 @@ public:
   vtkSetMacro(RefineStitchedSpline, bool);
   vtkGetMacro(RefineStitchedSpline, bool);
   vtkBooleanMacro(RefineStitchedSpline, bool);
+  /// With RefineStitchedSpline: a face that Construction leaves over the tolerances when no
+  /// point can go in (or a cap is reached) is checked with every other stitchable construction
+  /// on its mesh, and refined on with the one furthest within them if that does better; its
+  /// block's field data `FallbackConstruction` names it, and vtkWatertightSplineStitcher builds
+  /// the face with it (a warning says which face and why). Default on.
+  vtkSetMacro(FallbackConstructions, bool);
+  vtkGetMacro(FallbackConstructions, bool);
+  vtkBooleanMacro(FallbackConstructions, bool);
   /// Constructions that cannot be stitched (vtkCloughTocherSplineFilter::
   /// GetConstructionCanBeStitched) are reported and leave the value unchanged.
   virtual void SetConstruction(int construction);
@@ -237,6 +246,7 @@ protected:
   int MaxRounds = 60;
   vtkIdType MaxTrianglesPerFace = 500000;
   bool RefineStitchedSpline = true;
+  bool FallbackConstructions = true;
   int Construction = vtkCloughTocherSplineFilter::KaG;
   int SplitPoint = vtkCloughTocherSplineFilter::Bary;
   int BoundaryMode = vtkCloughTocherSplineFilter::Midpoint;

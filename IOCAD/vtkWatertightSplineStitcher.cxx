@@ -66,14 +66,16 @@ void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
 }
 
 /// The sampler refines the faces for one spline (without IM steps); another one may exceed its
-/// tolerance: a warning on self says so.
-void WarnIfRefinedForAnother(
+/// tolerance: a warning on self says so. Returns false when the faces were refined for another
+/// construction, split point or boundary mode (their fallback constructions, if any, were
+/// chosen against that one).
+bool WarnIfRefinedForAnother(
   vtkObject* self, vtkFieldData* sampled, const ctk::SplineOptions& options)
 {
   vtkDataArray* refined = sampled->GetArray(ctcad::names::RefinedConstruction);
   if (!refined || refined->GetTuple1(0) < 0)
   {
-    return;
+    return true;
   }
   auto value = [&](const char* name, int fallback) {
     vtkDataArray* a = sampled->GetArray(name);
@@ -94,13 +96,15 @@ void WarnIfRefinedForAnother(
       << ctk::ToString(options.Method) << ", " << static_cast<int>(options.SplitPoint) << ", "
       << ctk::ToString(ctk::EffectiveBoundaryMode(options))
       << "): the deviation may exceed the sampler's tolerance");
+    return false;
   }
-  else if (options.Iterations > 0)
+  if (options.Iterations > 0)
   {
     vtkWarningWithObjectMacro(self,
       << "the faces were refined for the spline without IM steps; with " << options.Iterations
       << " the deviation may exceed the sampler's tolerance");
   }
+  return true;
 }
 
 /// A new array of `components` per tuple holding a copy of the n values.
@@ -272,7 +276,9 @@ void FillFaceBlocks(vtkWatertightSplineStitcher* self, vtkMultiBlockDataSet* inp
     vtkFieldData* fd = grid->GetFieldData();
     fd->PassData(input->GetBlock(f)->GetFieldData()); // the sampler's face data first
     using Filter = vtkCloughTocherSplineFilter;
-    AddFieldString(fd, "Construction", Filter::GetConstructionName(self->GetConstruction()));
+    const int fallback = sampled[f].FallbackConstruction;
+    AddFieldString(fd, "Construction",
+      Filter::GetConstructionName(fallback >= 0 ? fallback : self->GetConstruction()));
     AddFieldString(fd, "SplitPoint", Filter::GetSplitPointName(self->GetSplitPoint()));
     AddFieldString(fd, "BoundaryMode", Filter::GetBoundaryModeName(self->GetBoundaryMode()));
     AddFieldString(fd, "DerivativeEstimation",
@@ -348,13 +354,14 @@ int vtkWatertightSplineStitcher::RequestData(
   options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
   options.Iterations = this->Iterations;
-  WarnIfRefinedForAnother(this, input->GetFieldData(), options);
+  const bool fallbacks = WarnIfRefinedForAnother(this, input->GetFieldData(), options);
 
   // Validate and map.
   std::vector<ctcad::SampledFace> sampled(nF);
   for (int f = 0; f < nF; ++f)
   {
-    const std::string error = ctcad::ReadSampledFace(input->GetBlock(f), f, options, sampled[f]);
+    const std::string error =
+      ctcad::ReadSampledFace(input->GetBlock(f), f, options, fallbacks, sampled[f]);
     if (!error.empty())
     {
       vtkErrorMacro(<< error);
@@ -393,6 +400,9 @@ int vtkWatertightSplineStitcher::RequestData(
   AddField(fd, "MaxC0Gap", interfaces.MaxC0Gap);
   AddField(fd, "MaxGapBeforeStitching", gapBefore);
   AddField(fd, "NumberOfMacroTriangles", static_cast<double>(surface.NumberOfMacroTriangles));
+  AddField(fd, "NumberOfFallbackFaces",
+    static_cast<double>(std::count_if(sampled.begin(), sampled.end(),
+      [](const ctcad::SampledFace& face) { return face.FallbackConstruction >= 0; })));
   const ctcad::AngleSummary& tangent = interfaces.G1[1];
   AddField(fd, "MaxG1Angle", std::max(interfaces.G1[0].Max, tangent.Max));
   AddField(fd, "NumberOfTangentInterfaceEdges", static_cast<double>(tangent.Count));

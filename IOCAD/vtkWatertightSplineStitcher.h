@@ -18,7 +18,9 @@
  * Input: the vtkMultiBlockDataSet of vtkCADFaceSampler (per face: UV, dFdu, dFdv, StitchDFdu,
  * StitchDFdv, GlobalNodeId, StitchEdgeGradients, EdgeCurvePoints, BRepEdgeId, TangentInterface).
  * The spline reads the Stitch* arrays; the faces should have been refined for this Construction,
- * SplitPoint and BoundaryMode (the sampler's; a warning says when not).
+ * SplitPoint and BoundaryMode (the sampler's; a warning says when not). A face block with field
+ * data `FallbackConstruction` (vtkCADFaceSampler::FallbackConstructions) is built with that
+ * construction instead, unless the faces were refined for another spline.
  * Output port 0: vtkMultiBlockDataSet of per-face splines (as vtkCloughTocherSplineFilter's
  * output, after the sampler's field data of the face).
  * Output port 1: one vtkUnstructuredGrid of all faces where interface control points are single
@@ -32,7 +34,8 @@
  * not), `MaxC0Gap`
  * (largest distance between the two sides' boundary cubics, evaluated on the per-face outputs),
  * `MaxGapBeforeStitching` (largest distance between a face's own boundary cubic, from its exact
- * derivatives, and the shared edge cubic), `NumberOfMacroTriangles`, `MaxG1Angle` (degrees, the
+ * derivatives, and the shared edge cubic), `NumberOfMacroTriangles`, `NumberOfFallbackFaces`
+ * (faces built with their FallbackConstruction; each face block's `Construction` names its own), `MaxG1Angle` (degrees, the
  * largest angle between the two sides' normals at nine interior points of every interface
  * macro-edge),
  * `NumberOfTangentInterfaceEdges`, `MaxG1AngleTangent`, `MeanG1AngleTangent` (the same over the

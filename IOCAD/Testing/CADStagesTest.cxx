@@ -76,7 +76,7 @@ struct Sampled
     this->Faces.resize(blocks->GetNumberOfBlocks());
     for (unsigned int f = 0; f < blocks->GetNumberOfBlocks(); ++f)
     {
-      ASSERT_EQ(ctcad::ReadSampledFace(blocks->GetBlock(f), f, this->Options, this->Faces[f]), "")
+      ASSERT_EQ(ctcad::ReadSampledFace(blocks->GetBlock(f), f, this->Options, true, this->Faces[f]), "")
         << name;
     }
   }
@@ -960,4 +960,123 @@ TEST(CADStages, DegeneratedEdgesThatAreNoPointAreDropped)
   sphere.FaceNames = { "" };
   EXPECT_EQ(ctcad::DropFalseDegeneratedEdges(sphere, 1e-6), 0);
   EXPECT_TRUE(sphere.Warnings.empty());
+}
+
+namespace
+{
+/// A curved face over the unit square, z = 0.3 sin(2s) cos(3t), with `perSide` spans a side and
+/// its edges' Hermite cubics from the surface, meshed with options (whose Tolerance and
+/// Spline.Method the caller sets).
+ctcad::FaceMesh MeshWavySquare(int perSide, ctcad::FaceMeshOptions options)
+{
+  const ctcad::SurfaceFunction wave = [](double s, double t, double P[3], double Ds[3],
+                                        double Dt[3]) {
+    const double p[3] = { s, t, 0.3 * std::sin(2 * s) * std::cos(3 * t) };
+    const double ds[3] = { 1, 0, 0.6 * std::cos(2 * s) * std::cos(3 * t) };
+    const double dt[3] = { 0, 1, -0.9 * std::sin(2 * s) * std::sin(3 * t) };
+    std::copy(p, p + 3, P);
+    std::copy(ds, ds + 3, Ds);
+    std::copy(dt, dt + 3, Dt);
+  };
+  std::vector<std::array<double, 2>> uv; // counter-clockwise round the square
+  for (int side = 0; side < 4; ++side)
+  {
+    for (int k = 0; k < perSide; ++k)
+    {
+      const double a = double(k) / perSide;
+      const std::array<double, 2> at[4] = { { a, 0 }, { 1, a }, { 1 - a, 1 }, { 0, 1 - a } };
+      uv.push_back(at[side]);
+    }
+  }
+  const int n = static_cast<int>(uv.size());
+  std::vector<ctcad::Point3> nodes(n);
+  ctcad::FaceLoop loop;
+  for (int k = 0; k < n; ++k)
+  {
+    ctcad::Point3 ds, dt;
+    wave(uv[k][0], uv[k][1], nodes[k].data(), ds.data(), dt.data());
+    loop.Nodes.push_back({ { uv[k][0], uv[k][1] }, k });
+  }
+  for (int k = 0; k < n; ++k)
+  {
+    const int m = (k + 1) % n;
+    ctcad::LoopSegment seg;
+    seg.Edge = k / perSide;
+    seg.Span = k % perSide;
+    const double du = uv[m][0] - uv[k][0], dv = uv[m][1] - uv[k][1];
+    seg.PCurveChord[0] = du;
+    seg.PCurveChord[1] = dv;
+    ctcad::Point3 P, Ds, Dt;
+    wave(uv[k][0], uv[k][1], P.data(), Ds.data(), Dt.data());
+    for (int i = 0; i < 3; ++i)
+    {
+      seg.Near0[i] = P[i] + (du * Ds[i] + dv * Dt[i]) / 3;
+    }
+    wave(uv[m][0], uv[m][1], P.data(), Ds.data(), Dt.data());
+    for (int i = 0; i < 3; ++i)
+    {
+      seg.Near1[i] = P[i] - (du * Ds[i] + dv * Dt[i]) / 3;
+    }
+    loop.Segments.push_back(seg);
+  }
+  options.CheckConstruction = true;
+  ctcad::FaceMesh mesh;
+  EXPECT_TRUE(ctcad::MeshFace({ loop }, nodes, wave, options, mesh)) << mesh.Error;
+  return mesh;
+}
+} // namespace
+
+// A face that its construction leaves over the tolerance when nothing more can go in (here no
+// refinement round at all) takes the stitchable construction least over it (FaceMeshOptions::
+// FallbackConstructions): measured on the same mesh, with the bits of that construction's own
+// check; within the tolerance, the face counts as converged. Without fallbacks, or when the
+// chosen construction is already the best, nothing changes.
+TEST(CADStages, AFaceOverTheToleranceTakesTheBestFallbackConstruction)
+{
+  ctcad::FaceMeshOptions options;
+  options.MaxRounds = 0; // the boundary nodes alone, the same mesh whatever the construction
+  options.FallbackConstructions = false;
+  options.Tolerance = 1;
+  std::vector<std::pair<double, int>> errors; // of every stitchable cubic construction
+  std::size_t triangles = 0;
+  for (int c = 0; c < ctk::NumberOfConstructions; ++c)
+  {
+    const auto method = static_cast<ctk::Construction>(c);
+    if (ctk::CanBeStitched(method) && ctk::Info(method).Degree == 3)
+    {
+      options.Spline.Method = method;
+      const ctcad::FaceMesh mesh = MeshWavySquare(6, options);
+      ASSERT_EQ(mesh.FallbackConstruction, -1);
+      triangles = triangles ? triangles : mesh.Triangles.size();
+      ASSERT_EQ(mesh.Triangles.size(), triangles) << "the same mesh for every construction";
+      errors.emplace_back(mesh.MaxEstimatedError, c);
+    }
+  }
+  ASSERT_EQ(errors.size(), 8u);
+  // The first least error in the table's order, and the largest.
+  const auto best = std::min_element(errors.begin(), errors.end(),
+    [](const auto& a, const auto& b) { return a.first < b.first; });
+  const auto worst = std::max_element(errors.begin(), errors.end());
+  ASSERT_GT(worst->first, 1.5 * best->first) << "the constructions differ on this mesh";
+  // Between them, above the best by more than its 0.8 refinement margin (no insert left).
+  options.Tolerance = 1.3 * best->first;
+  options.Spline.Method = static_cast<ctk::Construction>(worst->second);
+  const ctcad::FaceMesh stuck = MeshWavySquare(6, options);
+  EXPECT_FALSE(stuck.Converged);
+  EXPECT_EQ(stuck.FallbackConstruction, -1);
+  options.FallbackConstructions = true;
+  const ctcad::FaceMesh fallback = MeshWavySquare(6, options);
+  EXPECT_EQ(fallback.FallbackConstruction, best->second);
+  EXPECT_EQ(fallback.MaxEstimatedError, best->first);
+  EXPECT_EQ(fallback.ChosenError, worst->first);
+  EXPECT_EQ(fallback.ChosenStopReason, stuck.StopReason);
+  EXPECT_TRUE(fallback.Converged) << fallback.StopReason;
+  EXPECT_EQ(fallback.Triangles.size(), triangles);
+  // The best one itself over a tolerance below its error: nothing does better.
+  options.Tolerance = 0.5 * best->first;
+  options.Spline.Method = static_cast<ctk::Construction>(best->second);
+  const ctcad::FaceMesh none = MeshWavySquare(6, options);
+  EXPECT_FALSE(none.Converged);
+  EXPECT_EQ(none.FallbackConstruction, -1);
+  EXPECT_EQ(none.MaxEstimatedError, best->first);
 }

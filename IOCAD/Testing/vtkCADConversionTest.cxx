@@ -12,10 +12,12 @@
 #include "vtkCellData.h"
 #include "vtkCommand.h"
 #include "vtkDataArray.h"
+#include "vtkDoubleArray.h"
 #include "vtkExecutive.h"
 #include "vtkFieldData.h"
 #include "vtkIdTypeArray.h"
 #include "vtkInformation.h"
+#include "vtkIntArray.h"
 #include "vtkMultiBlockDataSet.h"
 #include "vtkNew.h"
 #include "vtkPointData.h"
@@ -23,6 +25,7 @@
 #include "vtkPointSet.h"
 #include "vtkPoints.h"
 #include "vtkSmartPointer.h"
+#include "vtkStringArray.h"
 #include "vtkUnstructuredGrid.h"
 
 #include <BRepAlgoAPI_Cut.hxx>
@@ -1454,6 +1457,93 @@ TEST(CADConversion, StitcherWarnsWhenFacesWereRefinedForAnotherSpline)
   MessageCapture warnings(stitcher, vtkCommand::WarningEvent);
   stitcher->Update();
   EXPECT_NE(warnings.Text.find("refined for another spline"), std::string::npos) << warnings.Text;
+}
+
+/// The control points of face block f of a stitcher's first output.
+std::vector<double> FacePoints(vtkWatertightSplineStitcher* stitcher, unsigned int f)
+{
+  vtkDataSet* block = vtkDataSet::SafeDownCast(
+    vtkMultiBlockDataSet::SafeDownCast(stitcher->GetOutputDataObject(0))->GetBlock(f));
+  std::vector<double> xyz(3 * block->GetNumberOfPoints());
+  for (vtkIdType p = 0; p < block->GetNumberOfPoints(); ++p)
+  {
+    block->GetPoint(p, &xyz[3 * p]);
+  }
+  return xyz;
+}
+
+std::string FaceConstruction(vtkWatertightSplineStitcher* stitcher, unsigned int f)
+{
+  vtkFieldData* fd = vtkMultiBlockDataSet::SafeDownCast(stitcher->GetOutputDataObject(0))
+                       ->GetBlock(f)
+                       ->GetFieldData();
+  return vtkStringArray::SafeDownCast(fd->GetAbstractArray("Construction"))->GetValue(0);
+}
+
+/// A face block's FallbackConstruction (vtkCADFaceSampler::FallbackConstructions) builds that
+/// face with it: the bits of a stitcher set to that construction there, of the model's own
+/// elsewhere; ignored when the faces were refined for another spline; a value that names no
+/// stitchable construction is an error naming the block.
+TEST(CADConversion, StitcherBuildsAFaceWithItsFallbackConstruction)
+{
+  vtkNew<vtkCADFaceSampler> sampler;
+  sampler->SetFileName(TempStep("cylinder_fallback", CylinderWithHole()).c_str());
+  sampler->Update(); // KaG
+  vtkNew<vtkMultiBlockDataSet> faces;
+  faces->DeepCopy(sampler->GetOutput());
+  ASSERT_GE(faces->GetNumberOfBlocks(), 2u);
+  auto stitch = [&](int construction) {
+    auto stitcher = vtkSmartPointer<vtkWatertightSplineStitcher>::New();
+    stitcher->SetInputData(faces);
+    stitcher->SetConstruction(construction);
+    stitcher->Update();
+    return stitcher;
+  };
+  const auto kaG = stitch(7);
+  const auto mGo = stitch(5); // refined for another spline: the same face data, MGo everywhere
+  ASSERT_NE(FacePoints(kaG, 0), FacePoints(mGo, 0));
+  vtkNew<vtkIntArray> fallback;
+  fallback->SetName("FallbackConstruction");
+  fallback->InsertNextValue(5);
+  faces->GetBlock(0)->GetFieldData()->AddArray(fallback);
+  const auto mixed = stitch(7);
+  EXPECT_EQ(FacePoints(mixed, 0), FacePoints(mGo, 0));
+  EXPECT_EQ(FaceConstruction(mixed, 0), "MGo");
+  for (unsigned int f = 1; f < faces->GetNumberOfBlocks(); ++f)
+  {
+    EXPECT_EQ(FacePoints(mixed, f), FacePoints(kaG, f)) << "face " << f;
+    EXPECT_EQ(FaceConstruction(mixed, f), "KaG") << "face " << f;
+  }
+  vtkFieldData* fd = vtkUnstructuredGrid::SafeDownCast(mixed->GetOutputDataObject(1))->GetFieldData();
+  EXPECT_EQ(Field(fd, "NumberOfFallbackFaces"), 1.0);
+  EXPECT_EQ(Field(fd, "NumberOfFreeEdges"), 0.0);
+  EXPECT_EQ(Field(fd, "MaxC0Gap"), 0.0);
+  // Refined for CTo (another spline than the stitcher's KaG): the face's fallback was chosen
+  // against CTo, so the stitcher keeps KaG there.
+  vtkNew<vtkIntArray> refinedFor;
+  refinedFor->SetName("RefinedConstruction");
+  refinedFor->InsertNextValue(0);
+  faces->GetFieldData()->AddArray(refinedFor);
+  const auto other = stitch(7);
+  EXPECT_EQ(FacePoints(other, 0), FacePoints(kaG, 0));
+  faces->GetFieldData()->RemoveArray("RefinedConstruction");
+  // Values that name no stitchable construction.
+  for (const double bad : { 9.0, 2.5, -1.0, 10.0 })
+  {
+    vtkNew<vtkDoubleArray> value;
+    value->SetName("FallbackConstruction");
+    value->InsertNextValue(bad);
+    faces->GetBlock(0)->GetFieldData()->AddArray(value); // replaces the int array
+    vtkNew<vtkWatertightSplineStitcher> stitcher;
+    stitcher->SetInputData(faces);
+    MessageCapture errors(stitcher, vtkCommand::ErrorEvent);
+    MessageCapture pipeline(stitcher->GetExecutive(), vtkCommand::ErrorEvent);
+    stitcher->Update();
+    EXPECT_NE(errors.Text.find("block 0 field data 'FallbackConstruction'"), std::string::npos)
+      << bad << ": " << errors.Text;
+    EXPECT_EQ(
+      vtkUnstructuredGrid::SafeDownCast(stitcher->GetOutputDataObject(1))->GetNumberOfCells(), 0);
+  }
 }
 
 /// A STEP file of loose faces (a box's six faces, each with edges of its own, 1e-5 apart): sewn

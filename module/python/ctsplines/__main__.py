@@ -280,6 +280,7 @@ def _convert_cad(args):
         "g1_threshold": 10.0 if args.g1_threshold is None else args.g1_threshold,
         "read_timeout": args.read_timeout,
         "sew": not args.no_sew,
+        "fallback": not args.no_fallback,
     }
     progress = Progress(Progress.wanted(args.progress))
     with VTKMessages() as messages:
@@ -325,6 +326,10 @@ def _convert_cad(args):
     for f, name, gap in r["gap_faces"]:
         print(f"model gap: face {f} ({name}) lies {gap:.3e} of the diagonal from its shared "
               f"edge curves, more than half the tolerance: held to {2 * gap:.3e} there")
+    if r["fallback_faces"]:
+        print(f"fallback constructions: {len(r['fallback_faces'])} face(s) that "
+              f"{args.construction} could not bring within the tolerance built with another: "
+              + ", ".join(f"face {f} {c}" for f, c in r["fallback_faces"]))
     print(f"G1 angle across interfaces: max {r['g1_angle']:.3g} degrees; over the "
           f"{r['tangent_edges']} macro-edges where the CAD faces meet tangentially max "
           f"{r['g1_angle_tangent']:.3g}, mean {r['g1_angle_tangent_mean']:.3g}"
@@ -359,7 +364,8 @@ def _convert(args):
                           ("--g1" if args.g1 else "--no-g1", args.g1),
                           ("--g1-threshold", args.g1_threshold),
                           ("--summary-json", args.summary_json),
-                          ("--no-sew", args.no_sew or None)):
+                          ("--no-sew", args.no_sew or None),
+                          ("--no-fallback", args.no_fallback or None)):
         if value is not None:
             args._parser.error(f"{option} applies to CAD models (.step, .stp, .iges, .igs)")
     if args.construction is None:
@@ -697,6 +703,11 @@ def _add_cad_options(convert):
                      "the tolerance of each other are sewn on reading (IGES surface models, STEP "
                      "files of loose faces), also across removed sliver faces of no width; "
                      "openings it leaves (missing faces) stay open, each described in a warning")
+    cad.add_argument("--no-fallback", action="store_true",
+                     help="build every face with --construction: by default a face it cannot "
+                     "bring within the tolerance where no point can go in (a domain narrowing to "
+                     "a wedge as wide as its triangles) is built with the stitchable construction "
+                     "that gets closest, said in a warning and in the summary")
     cad.add_argument("--read-timeout", type=_non_negative_float, metavar="SECONDS", default=120.0,
                      help="OpenCASCADE translates the file in a separate process, which is "
                      "abandoned after this time (a malformed file on which it loops or crashes is "

@@ -58,6 +58,18 @@ def _gap_faces(faces, tolerance):
     return out
 
 
+def _fallback_faces(splines):
+    """(block index, construction) of the faces built with another construction than the one
+    asked for: the sampler's FallbackConstructions, where that one could not get within the
+    tolerance."""
+    out = []
+    for f in range(splines.GetNumberOfBlocks()):
+        fd = splines.GetBlock(f).GetFieldData()
+        if fd.GetArray("FallbackConstruction") is not None:
+            out.append((f, fd.GetAbstractArray("Construction").GetValue(0)))
+    return out
+
+
 def _update(algorithm, messages):
     ok = algorithm.GetExecutive().Update()
     errors = list(dict.fromkeys(messages.take_errors()))
@@ -93,6 +105,7 @@ def convert(model, output, options, messages, progress):
     sampler.SetG1Threshold(options.get("g1_threshold", 10.0))
     sampler.SetReadTimeout(options.get("read_timeout", 120.0))
     sampler.SetSew(bool(options.get("sew", True)))
+    sampler.SetFallbackConstructions(bool(options.get("fallback", True)))
     # The face blocks only feed the stitcher: their ranges would be a third of a many-face
     # model's peak memory (vtkCADFaceSampler::CacheArrayRanges).
     sampler.SetCacheArrayRanges(False)
@@ -152,6 +165,7 @@ def convert(model, output, options, messages, progress):
         "rms_normal_deviation": _field(merged, "RMSNormalDeviation"),
         "cusp_nodes": int(_field(merged, "NumberOfCuspNodes")),
         "gap_faces": _gap_faces(faces, options["tolerance"]),
+        "fallback_faces": _fallback_faces(splines),
         "edge_gap": _field(faces, "MaxEdgeGap"),
         "sewn_edges": int(_field(faces, "NumberOfSewnEdges")),
         "removed_faces": int(_field(faces, "NumberOfRemovedFaces")),
