@@ -546,6 +546,25 @@ Steiner RefinementPoint(const CDT& cdt, const CDT::Face_handle f, const ctk::Vec
   return q;
 }
 
+/// The angle (degrees) between a spline's normal at parameter X and the unit normal `shared`
+/// of RestoreG1's tangent plane there, oriented as the surface's: 180 where the spline's normal
+/// is flipped or undefined.
+double TurnFromSharedPlane(const ctk::ParametricJet& jet, const ctk::Vec2& X, const Point3& shared,
+  const SurfaceFunction& surface)
+{
+  Point3 P, Ds, Dt;
+  surface(X.x(), X.y(), P.data(), Ds.data(), Dt.data());
+  const ctk::Vec3 own = ctk::Vec3(Ds[0], Ds[1], Ds[2]).cross(ctk::Vec3(Dt[0], Dt[1], Dt[2]));
+  ctk::Vec3 m(shared[0], shared[1], shared[2]);
+  m = own.dot(m) < 0 ? ctk::Vec3(-m) : m;
+  const ctk::Vec3 n = jet.Du.cross(jet.Dv);
+  if (ctk::IsSingularTangentPlane(jet.Du, jet.Dv))
+  {
+    return 180;
+  }
+  return std::atan2(n.cross(m).norm(), n.dot(m)) * 180 / M_PI;
+}
+
 /// Builds the stitched spline of the current face mesh (options.Spline, boundary edges following
 /// the loop segments' cubics, exact mid-edge gradients) and measures it against the surface at
 /// the check points of every micro-triangle; the worst point of every triangle that is off by
@@ -567,8 +586,13 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
   in.EdgeGradients.resize(18 * nT);
   in.BoundaryCurvePoints.assign(18 * nT, std::nan(""));
   std::vector<std::array<bool, 3>> onBoundary(nT);
-  std::vector<std::pair<ctk::Id, int>> tangentSpans; // (triangle, local edge) with a MidNormal
-  std::vector<const LoopSegment*> tangentSegments;
+  struct TangentSpan
+  {
+    ctk::Id Triangle;
+    int Edge;
+    const LoopSegment* Segment; // with a MidNormal
+  };
+  std::vector<TangentSpan> tangentSpans; // only with tangentTurn
   for (ctk::Id t = 0; t < nT; ++t)
   {
     const CDT::Face_handle f = faces[t];
@@ -586,10 +610,9 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
       bool flipped = false;
       const LoopSegment* seg = FaceSegment(cdt, f, l, segments, flipped);
       onBoundary[t][l] = seg != nullptr;
-      if (seg && seg->Tangent && seg->MidNormal != Point3{})
+      if (tangentTurn && seg && seg->Tangent && seg->MidNormal != Point3{})
       {
-        tangentSpans.emplace_back(t, l);
-        tangentSegments.push_back(seg);
+        tangentSpans.push_back({ t, l, seg });
       }
       if (seg)
       {
@@ -632,17 +655,14 @@ bool CheckStitchedSpline(const CDT& cdt, const std::vector<CDT::Face_handle>& fa
       inserts.push_back(RefinementPoint(cdt, faces[t], in.ParameterAt(t, worst), plane));
     }
   }
-  for (std::size_t k = 0; tangentTurn && k < tangentSpans.size(); ++k)
+  for (const TangentSpan& span : tangentSpans)
   {
-    const auto [t, l] = tangentSpans[k];
     ctk::Vec3 tau = ctk::Vec3::Zero();
-    tau[l] = tau[(l + 1) % 3] = 0.5;
-    const ctk::ParametricJet jet = ctk::EvaluateSpline(spline, topo, in.Triangles.data(), t, tau, 1);
-    const ctk::Vec3 n = jet.Du.cross(jet.Dv);
-    const Point3& m = tangentSegments[k]->MidNormal;
-    const ctk::Vec3 shared(m[0], m[1], m[2]);
-    const double turn = std::atan2(n.cross(shared).norm(), std::abs(n.dot(shared)));
-    *tangentTurn = std::max(*tangentTurn, turn * 180 / M_PI);
+    tau[span.Edge] = tau[(span.Edge + 1) % 3] = 0.5;
+    const ctk::ParametricJet jet =
+      ctk::EvaluateSpline(spline, topo, in.Triangles.data(), span.Triangle, tau, 1);
+    *tangentTurn = std::max(*tangentTurn, TurnFromSharedPlane(jet, in.ParameterAt(span.Triangle, tau),
+                                            span.Segment->MidNormal, surface));
   }
   return true;
 }
@@ -680,13 +700,11 @@ public:
   bool Triangulate();
   bool Refine();
   bool CheckConstruction();
-  /// After CheckConstruction left the face over the tolerances: the fallback, if any. False
-  /// with Mesh.Error when the fallback's check rounds fail.
-  bool TryOtherConstructions();
+  /// After CheckConstruction left the face over the tolerances: the fallback, if any.
+  void TryOtherConstructions();
   void Output();
 
 private:
-  bool CheckRounds(const FaceMeshOptions& options);
   void ScalePlane();
   Id AddPoint(double s, double t, const LoopNode* node);
   void InsertInterior(const Point& p);
@@ -1233,14 +1251,9 @@ bool FaceMesher::Refine()
 /// whole face and refined where it is off. Non-local constructions: every triangle, every round.
 bool FaceMesher::CheckConstruction()
 {
-  return !this->Options.CheckConstruction || this->CheckRounds(this->Options);
-}
-
-/// The check rounds of CheckConstruction for the construction of `options`.
-bool FaceMesher::CheckRounds(const FaceMeshOptions& options)
-{
   FaceMesh& mesh = this->Mesh;
-  for (int check = mesh.CheckRounds;; ++check)
+  const FaceMeshOptions& options = this->Options;
+  for (int check = 0; options.CheckConstruction; ++check)
   {
     this->CollectSoundFaces();
     std::vector<Steiner> inserts;
@@ -1263,9 +1276,10 @@ bool FaceMesher::CheckRounds(const FaceMeshOptions& options)
       mesh.Converged = inserts.empty() && within;
       mesh.StopReason =
         mesh.Converged ? std::string() : StopReason(rounds, full, !rounds && !full, options);
-      return true;
+      break;
     }
   }
+  return true;
 }
 
 /// How far over the tolerances an error and angle are (<= 1: within).
@@ -1276,74 +1290,83 @@ double Excess(double error, double angle, const FaceMeshOptions& options)
 }
 
 /// A fallback must not turn the face's normals further from the surface's than this many times
-/// the chosen construction's largest angle, or 1 degree: ESP-WROOM-02's face 250 below is a
+/// the chosen construction's largest angle, or 1 degree: ESP-WROOM-02's face 250 (below) is a
 /// plane that MGo and MGi fold (180 degrees) within the distance tolerance, which KaG did not.
 constexpr double FallbackAngleGrowth = 2, FallbackAngleFloor = 1;
 /// Nor turn its normal at a tangent span's midpoint from the tangent plane RestoreG1 shares
 /// there by more than this (degrees), or than the chosen construction does: a tenth of the G1
-/// that RestoreG1 aims at. KiCad's USB_Micro-B_Molex_47346-0001 went 2.3 degrees off G1 at a face
-/// built with CTi instead of KaG (CTi reads no mid-edge gradient).
+/// that RestoreG1 aims at. KiCad's USB_Micro-B_Molex_47346-0001 went 2.3 degrees off G1 at a
+/// face built with CTi instead of KaG (CTi reads no mid-edge gradient).
 constexpr double FallbackTangentTurn = 0.01;
 
 /// A face the chosen construction leaves over the tolerances (FallbackConstructions): every
-/// other stitchable cubic construction is checked on the mesh as it is; the one least over the
-/// tolerances (the first in the table among equals), if less than the chosen one and without
-/// turning the normals (FallbackAngleGrowth, FallbackTangentTurn), refines on.
-/// ESP-WROOM-02 (KiCad), face 250: a plane face whose domain narrows to a wedge as wide as its
-/// triangles, where KaG's least-squares central points stay 1.26e-4 of the diagonal off the
-/// plane's parametrisation and no point can go in.
-bool FaceMesher::TryOtherConstructions()
+/// other stitchable construction is checked on the mesh as it is (no more refinement: its
+/// guards hold for this mesh only); the one least over the tolerances (the first in the table
+/// among equals), if less than the chosen one and without turning the normals
+/// (FallbackAngleGrowth, FallbackTangentTurn), is the face's. ESP-WROOM-02 (KiCad), face 250: a
+/// plane face whose domain narrows to a wedge as wide as its triangles, where KaG's
+/// least-squares central points stay 1.26e-4 of the diagonal off the plane's parametrisation and
+/// no point can go in; CTi is within.
+void FaceMesher::TryOtherConstructions()
 {
   FaceMesh& mesh = this->Mesh;
   const FaceMeshOptions& chosen = this->Options;
-  double best = Excess(mesh.MaxEstimatedError, mesh.MaxEstimatedAngle, chosen);
-  if (best <= 1)
+  if (chosen.Tolerance <= 0 ||
+    Excess(mesh.MaxEstimatedError, mesh.MaxEstimatedAngle, chosen) <= 1)
   {
-    return true; // within the tolerances, short of the margin refinement aims at
+    return; // no tolerance, or within it short of the margin refinement aims at
   }
   // Every candidate measured with its normals (the excess counts them only with an
-  // AngularTolerance).
+  // AngularTolerance, against which the inserts are also taken).
   FaceMeshOptions measured = chosen;
   measured.AngularTolerance = chosen.AngularTolerance > 0 ? chosen.AngularTolerance : 180;
-  auto measure = [&](ctk::Construction method, double& maxError, double& maxAngle,
-                   double& tangentTurn) {
+  struct Check
+  {
+    double Error = 0, Angle = 0, Turn = 0;
+    bool Inserts = false; // triangles over 0.8 of the tolerances that could be split
+  };
+  auto measure = [&](ctk::Construction method, Check& check) {
     measured.Spline.Method = method;
     std::vector<Steiner> inserts;
     std::string error; // a construction that fails on this mesh is not a fallback
-    return CheckStitchedSpline(this->Triangulation, this->Faces, mesh, this->Segments,
-      this->Surface, measured, this->Plane, inserts, maxError, maxAngle, error, &tangentTurn);
+    const bool ok = CheckStitchedSpline(this->Triangulation, this->Faces, mesh, this->Segments,
+      this->Surface, measured, this->Plane, inserts, check.Error, check.Angle, error, &check.Turn);
+    check.Inserts = !inserts.empty();
+    return ok;
   };
-  double chosenError = 0, chosenAngle = 0, chosenTurn = 0;
-  if (!measure(chosen.Spline.Method, chosenError, chosenAngle, chosenTurn))
+  Check own;
+  if (!measure(chosen.Spline.Method, own))
   {
-    return true;
+    return;
   }
-  const double maxAngle = std::max(FallbackAngleGrowth * chosenAngle, FallbackAngleFloor);
-  const double maxTurn = std::max(chosenTurn, FallbackTangentTurn);
+  const double maxAngle = std::max(FallbackAngleGrowth * own.Angle, FallbackAngleFloor);
+  const double maxTurn = std::max(own.Turn, FallbackTangentTurn);
+  double least = Excess(own.Error, own.Angle, chosen);
   int bestMethod = -1;
+  Check best;
   for (int c = 0; c < ctk::NumberOfConstructions; ++c)
   {
     const auto method = static_cast<ctk::Construction>(c);
-    double error = 0, angle = 0, turn = 0;
-    if (method != chosen.Spline.Method && ctk::CanBeStitched(method) &&
-      ctk::Info(method).Degree == 3 && measure(method, error, angle, turn) && angle <= maxAngle &&
-      turn <= maxTurn && Excess(error, angle, chosen) < best)
+    Check other;
+    if (method != chosen.Spline.Method && ctk::CanBeStitched(method) && measure(method, other) &&
+      other.Angle <= maxAngle && other.Turn <= maxTurn &&
+      Excess(other.Error, other.Angle, chosen) < least)
     {
-      best = Excess(error, angle, chosen);
+      least = Excess(other.Error, other.Angle, chosen);
       bestMethod = c;
+      best = other;
     }
   }
-  if (bestMethod < 0)
+  if (bestMethod >= 0)
   {
-    return true;
+    mesh.FallbackConstruction = bestMethod;
+    mesh.ChosenError = mesh.MaxEstimatedError;
+    mesh.ChosenStopReason = mesh.StopReason;
+    mesh.MaxEstimatedError = best.Error;
+    mesh.MaxEstimatedAngle = chosen.AngularTolerance > 0 ? best.Angle : 0.0;
+    mesh.Converged = least <= 1 && !best.Inserts;
+    mesh.StopReason = mesh.Converged ? std::string() : mesh.ChosenStopReason;
   }
-  mesh.FallbackConstruction = bestMethod;
-  mesh.ChosenError = mesh.MaxEstimatedError;
-  mesh.ChosenAngle = mesh.MaxEstimatedAngle;
-  mesh.ChosenStopReason = mesh.StopReason;
-  FaceMeshOptions fallback = chosen;
-  fallback.Spline.Method = static_cast<ctk::Construction>(bestMethod);
-  return this->CheckRounds(fallback);
 }
 
 /// The mesh: in-domain triangles and their boundary segments.
@@ -1378,23 +1401,29 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   {
     return false;
   }
+  const bool fallbacks = options.CheckConstruction && options.FallbackConstructions;
+  if (mesh.Converged || !mesher.Anisotropic)
+  {
+    if (!mesh.Converged && fallbacks)
+    {
+      mesher.TryOtherConstructions();
+    }
+    mesher.Output();
+    return true;
+  }
   // Left over the tolerances in the raw plane of a far from isotropic surface: the scaled
   // plane's mesh where it does better (ScalePlane). Only then another construction.
-  FaceMesher* kept = &mesher;
   FaceMesh scaled;
   FaceMesher again(loops, nodePoints, surface, options, scaled, true);
-  if (!mesh.Converged && mesher.Anisotropic && again.Triangulate() && again.Refine() &&
-    again.CheckConstruction() &&
+  FaceMesher* kept = &mesher;
+  if (again.Triangulate() && again.Refine() && again.CheckConstruction() &&
     (scaled.Converged || scaled.MaxEstimatedError < mesh.MaxEstimatedError))
   {
     kept = &again;
   }
-  const FaceMesh& result = kept == &mesher ? mesh : scaled;
-  if (!result.Converged && options.CheckConstruction && options.FallbackConstructions &&
-    !kept->TryOtherConstructions())
+  if (!(kept == &again ? scaled : mesh).Converged && fallbacks)
   {
-    mesh.Error = result.Error;
-    return false;
+    kept->TryOtherConstructions();
   }
   kept->Output();
   if (kept == &again)

@@ -38,8 +38,10 @@ struct FaceMeshOptions
   int CheckLevel = 4;
   /// With CheckConstruction: a face that Spline.Method leaves over the tolerances when nothing
   /// more can be inserted (or a cap is reached) is checked with every other stitchable
-  /// construction on the mesh as it is, and refined on with the one furthest within them, if
-  /// any does better (FaceMesh::FallbackConstruction; the stitcher builds the face with it).
+  /// construction on its final mesh, and takes the one least over them if that is less than
+  /// Spline.Method's and turns the normals neither from the surface's nor, at tangent spans,
+  /// from the shared tangent planes (FaceMesh::FallbackConstruction; the stitcher builds the
+  /// face with it).
   bool FallbackConstructions = true;
   ctk::SplineOptions Spline;
 };
@@ -67,11 +69,12 @@ struct FaceMesh
   double MaxEstimatedAngle = 0;
   /// Why refinement stopped short of the tolerances (empty when converged).
   std::string StopReason;
-  /// The construction the face's check rounds ended with when Spline.Method could not bring it
-  /// within the tolerances and this one does better (FallbackConstructions), else -1; and what
-  /// Spline.Method had reached then (ChosenError, ChosenAngle, ChosenStopReason).
+  /// The construction the face takes where Spline.Method could not bring it within the
+  /// tolerances and this one does better (FallbackConstructions), else -1; MaxEstimatedError,
+  /// MaxEstimatedAngle and Converged are then its, and ChosenError and ChosenStopReason what
+  /// Spline.Method had reached.
   int FallbackConstruction = -1;
-  double ChosenError = 0, ChosenAngle = 0;
+  double ChosenError = 0;
   std::string ChosenStopReason;
   std::string Error;
 };

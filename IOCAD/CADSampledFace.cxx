@@ -110,7 +110,8 @@ std::string ReadArrays(vtkPolyData* block, const ctk::SplineOptions& options, Sa
   return error;
 }
 
-/// The block's FallbackConstruction, if any, into face: a construction that can be stitched.
+/// The block's FallbackConstruction, if any, into face: a construction that can be stitched,
+/// or -1 for none.
 std::string ReadFallback(vtkPolyData* block, SampledFace& face)
 {
   vtkDataArray* a = block->GetFieldData()->GetArray(names::FallbackConstruction);
@@ -119,10 +120,12 @@ std::string ReadFallback(vtkPolyData* block, SampledFace& face)
     return std::string();
   }
   const bool one = a->GetNumberOfTuples() == 1 && a->GetNumberOfComponents() == 1;
-  const double value = one ? a->GetTuple1(0) : -1.0;
-  const bool known = value >= 0 && value < ctk::NumberOfConstructions && value == std::floor(value);
-  const auto c = static_cast<ctk::Construction>(known ? static_cast<int>(value) : 0);
-  if (!known || !ctk::CanBeStitched(c) || ctk::Info(c).Degree != 3)
+  const double value = one ? a->GetTuple1(0) : std::nan("");
+  const int c = value == std::floor(value) && std::abs(value) <= ctk::NumberOfConstructions
+    ? static_cast<int>(value)
+    : -2;
+  if (c != -1 &&
+    (!ctk::IsConstruction(c) || !ctk::CanBeStitched(static_cast<ctk::Construction>(c))))
   {
     std::ostringstream message;
     message << "field data '" << names::FallbackConstruction << "' ("
@@ -130,7 +133,7 @@ std::string ReadFallback(vtkPolyData* block, SampledFace& face)
             << ") names no construction that can be stitched";
     return message.str();
   }
-  face.FallbackConstruction = static_cast<int>(c);
+  face.FallbackConstruction = c;
   return std::string();
 }
 } // namespace

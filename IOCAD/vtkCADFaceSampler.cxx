@@ -257,11 +257,12 @@ bool vtkCADFaceSampler::MeshFaces()
   return true;
 }
 
-bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
+/// Warnings on face f's mesh: the model's own gap, a fallback construction, or refinement
+/// stopped short of the tolerances.
+void vtkCADFaceSampler::WarnAboutFaceMesh(int f)
 {
-  ctcad::CADModel* model = this->Internals->Current.get();
+  const ctcad::CADModel* model = this->Internals->Current.get();
   const std::vector<ctcad::CADFace>& faces = model->Faces();
-  const double nan = std::numeric_limits<double>::quiet_NaN();
   const ctcad::FaceMesh& mesh = this->Internals->Meshes[f];
   if (2 * faces[f].MaxGap > this->Internals->MeshOptions.Tolerance)
   {
@@ -299,6 +300,15 @@ bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
                     << " after " << mesh.Rounds + mesh.CheckRounds << " rounds: "
                     << mesh.StopReason);
   }
+}
+
+bool vtkCADFaceSampler::MakeFaceBlock(int f, vtkMultiBlockDataSet* output)
+{
+  ctcad::CADModel* model = this->Internals->Current.get();
+  const std::vector<ctcad::CADFace>& faces = model->Faces();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const ctcad::FaceMesh& mesh = this->Internals->Meshes[f];
+  this->WarnAboutFaceMesh(f);
   const vtkIdType nP = static_cast<vtkIdType>(mesh.UV.size());
   const vtkIdType nT = static_cast<vtkIdType>(mesh.Triangles.size());
   vtkNew<vtkPolyData> pd;

@@ -169,9 +169,11 @@ public:
   vtkBooleanMacro(RefineStitchedSpline, bool);
   /// With RefineStitchedSpline: a face that Construction leaves over the tolerances when no
   /// point can go in (or a cap is reached) is checked with every other stitchable construction
-  /// on its mesh, and refined on with the one furthest within them if that does better; its
-  /// block's field data `FallbackConstruction` names it, and vtkWatertightSplineStitcher builds
-  /// the face with it (a warning says which face and why). Default on.
+  /// on its final mesh and takes the one least over them, if that is less than Construction's
+  /// and turns the normals neither from the surface's nor, at tangent interfaces, from the
+  /// shared tangent planes; its block's field data `FallbackConstruction` names it, and
+  /// vtkWatertightSplineStitcher builds the face with it (a warning says which face and why).
+  /// Default on.
   vtkSetMacro(FallbackConstructions, bool);
   vtkGetMacro(FallbackConstructions, bool);
   vtkBooleanMacro(FallbackConstructions, bool);
@@ -259,6 +261,7 @@ private:
   /// The stages of RequestData (each reports its own errors).
   bool ReadModel();
   bool MeshFaces();
+  void WarnAboutFaceMesh(int f);
   bool MakeFaceBlock(int f, vtkMultiBlockDataSet* output);
   void AddModelFields(vtkMultiBlockDataSet* output, double faceTime);
   void operator=(const vtkCADFaceSampler&) = delete;

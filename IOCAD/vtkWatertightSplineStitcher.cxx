@@ -65,11 +65,11 @@ void AddFieldString(vtkFieldData* fd, const char* name, const char* value)
   fd->AddArray(a);
 }
 
-/// The sampler refines the faces for one spline (without IM steps); another one may exceed its
-/// tolerance: a warning on self says so. Returns false when the faces were refined for another
-/// construction, split point or boundary mode (their fallback constructions, if any, were
-/// chosen against that one).
-bool WarnIfRefinedForAnother(
+/// Whether the sampler refined the faces for this spline's construction, split point and
+/// boundary mode (or says nothing of it); if not, their fallback constructions were chosen
+/// against another one. Another spline, or IM steps, may exceed the sampler's tolerance: a
+/// warning on self says so.
+bool FacesRefinedForThisSpline(
   vtkObject* self, vtkFieldData* sampled, const ctk::SplineOptions& options)
 {
   vtkDataArray* refined = sampled->GetArray(ctcad::names::RefinedConstruction);
@@ -275,6 +275,10 @@ void FillFaceBlocks(vtkWatertightSplineStitcher* self, vtkMultiBlockDataSet* inp
       spline, splines[f].Topology, sampled[f].Input, ctcad::names::UV, grid);
     vtkFieldData* fd = grid->GetFieldData();
     fd->PassData(input->GetBlock(f)->GetFieldData()); // the sampler's face data first
+    if (sampled[f].FallbackConstruction < 0)
+    {
+      fd->RemoveArray(ctcad::names::FallbackConstruction); // not taken
+    }
     using Filter = vtkCloughTocherSplineFilter;
     const int fallback = sampled[f].FallbackConstruction;
     AddFieldString(fd, "Construction",
@@ -354,7 +358,7 @@ int vtkWatertightSplineStitcher::RequestData(
   options.SplitPoint = static_cast<ctk::SplitPointRule>(this->SplitPoint);
   options.Boundary = static_cast<ctk::BoundaryMode>(this->BoundaryMode);
   options.Iterations = this->Iterations;
-  const bool fallbacks = WarnIfRefinedForAnother(this, input->GetFieldData(), options);
+  const bool fallbacks = FacesRefinedForThisSpline(this, input->GetFieldData(), options);
 
   // Validate and map.
   std::vector<ctcad::SampledFace> sampled(nF);

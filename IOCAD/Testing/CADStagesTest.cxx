@@ -1029,8 +1029,8 @@ ctcad::FaceMesh MeshWavySquare(int perSide, ctcad::FaceMeshOptions options)
 // A face that its construction leaves over the tolerance when nothing more can go in (here no
 // refinement round at all) takes the stitchable construction least over it (FaceMeshOptions::
 // FallbackConstructions): measured on the same mesh, with the bits of that construction's own
-// check; within the tolerance, the face counts as converged. Without fallbacks, or when the
-// chosen construction is already the best, nothing changes.
+// check; within the tolerance, the face counts as converged. Without fallbacks, within the
+// tolerance, or when the chosen construction is already the best, nothing changes.
 TEST(CADStages, AFaceOverTheToleranceTakesTheBestFallbackConstruction)
 {
   ctcad::FaceMeshOptions options;
@@ -1072,6 +1072,11 @@ TEST(CADStages, AFaceOverTheToleranceTakesTheBestFallbackConstruction)
   EXPECT_EQ(fallback.ChosenStopReason, stuck.StopReason);
   EXPECT_TRUE(fallback.Converged) << fallback.StopReason;
   EXPECT_EQ(fallback.Triangles.size(), triangles);
+  // Within the tolerance, short of the margin refinement aims at: no fallback.
+  options.Tolerance = 1.1 * worst->first;
+  const ctcad::FaceMesh within = MeshWavySquare(6, options);
+  EXPECT_FALSE(within.Converged);
+  EXPECT_EQ(within.FallbackConstruction, -1);
   // The best one itself over a tolerance below its error: nothing does better.
   options.Tolerance = 0.5 * best->first;
   options.Spline.Method = static_cast<ctk::Construction>(best->second);

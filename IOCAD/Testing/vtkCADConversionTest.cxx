@@ -1482,8 +1482,8 @@ std::string FaceConstruction(vtkWatertightSplineStitcher* stitcher, unsigned int
 
 /// A face block's FallbackConstruction (vtkCADFaceSampler::FallbackConstructions) builds that
 /// face with it: the bits of a stitcher set to that construction there, of the model's own
-/// elsewhere; ignored when the faces were refined for another spline; a value that names no
-/// stitchable construction is an error naming the block.
+/// elsewhere; ignored (and not passed on) when the faces were refined for another spline; -1 is
+/// none; a value that names no stitchable construction is an error naming the block.
 TEST(CADConversion, StitcherBuildsAFaceWithItsFallbackConstruction)
 {
   vtkNew<vtkCADFaceSampler> sampler;
@@ -1526,9 +1526,18 @@ TEST(CADConversion, StitcherBuildsAFaceWithItsFallbackConstruction)
   faces->GetFieldData()->AddArray(refinedFor);
   const auto other = stitch(7);
   EXPECT_EQ(FacePoints(other, 0), FacePoints(kaG, 0));
+  EXPECT_EQ(FaceConstruction(other, 0), "KaG");
+  EXPECT_EQ(vtkMultiBlockDataSet::SafeDownCast(other->GetOutputDataObject(0))
+              ->GetBlock(0)
+              ->GetFieldData()
+              ->GetArray("FallbackConstruction"),
+    nullptr)
+    << "a fallback not taken is not passed on";
   faces->GetFieldData()->RemoveArray("RefinedConstruction");
-  // Values that name no stitchable construction.
-  for (const double bad : { 9.0, 2.5, -1.0, 10.0 })
+  // -1: none; values that name no stitchable construction are errors.
+  fallback->SetValue(0, -1);
+  EXPECT_EQ(FacePoints(stitch(7), 0), FacePoints(kaG, 0));
+  for (const double bad : { 9.0, 2.5, -2.0, 10.0, 1e300 })
   {
     vtkNew<vtkDoubleArray> value;
     value->SetName("FallbackConstruction");

@@ -183,8 +183,9 @@ class CADCommandLineTest(CommandLineCase):
         self.assertIn("healing: 0 edges sewn (--no-sew)", text)
         free = int(re.search(r"free edges: (\d+)", text).group(1))
         self.assertGreater(free, 24, text)
-        p = self.cli("convert", self.path("mesh.vtp"), self.path("s.vtu"), "--no-sew", code=2)
-        self.assertIn("--no-sew applies to CAD models", p.stderr)
+        for option in ("--no-sew", "--no-fallback"):
+            p = self.cli("convert", self.path("mesh.vtp"), self.path("s.vtu"), option, code=2)
+            self.assertIn(f"{option} applies to CAD models", p.stderr)
 
     def test_occt_exception_is_named(self):
         # A face on which OpenCASCADE throws (CAD.WriteTestModel.offset_without_normal): the
@@ -325,7 +326,8 @@ class CADCommandLineTest(CommandLineCase):
     def test_help_explains_the_cad_options(self):
         out = self.cli("convert", "--help").stdout
         for text in ("--tolerance", "--angular-tolerance", "--aspect-ratio", "--max-edge-length",
-                     "--g1", "--no-g1", "--g1-threshold", "--read-timeout", "--no-sew", ".step",
+                     "--g1", "--no-g1", "--g1-threshold", "--read-timeout", "--no-sew",
+                     "--no-fallback", ".step",
                      "OUT.vtu", "-o"):
             self.assertIn(text, out)
 

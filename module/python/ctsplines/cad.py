@@ -81,11 +81,14 @@ def convert(model, output, options, messages, progress):
     it. options: tolerance, angular_tolerance (degrees, 0 for none), aspect_ratio,
     max_edge_length, construction, split_point, boundary_mode, iterations (ints for the
     enumerations), g1 (RestoreG1, default True), g1_threshold (degrees), read_timeout (seconds; 0
-    reads in this process), sew (default True: sew the faces on reading). Returns the summary as
+    reads in this process), sew (default True: sew the faces on reading), fallback (default True:
+    a face the construction cannot bring within the tolerance takes another, see
+    vtkCADFaceSampler::FallbackConstructions). Returns the summary as
     a dict: max_deviation, rms_deviation relative to the diagonal, max_normal_deviation,
     rms_normal_deviation in degrees (not at poles nor at the cusp_nodes, where the face's
     boundary curves touch and the spline's normal is undefined), gap_faces (the faces whose own edge curves lie farther from
     them than half the tolerance: (index, name, relative gap), held to twice the gap),
+    fallback_faces ((index, construction name) of the faces built with a fallback),
     max_deviation_at, max_normal_deviation_at, g1_angle_tangent_at (face, macro_triangle and
     point of the worst cell, or None), ..."""
     splines_path, merged_path = output_paths(output)
