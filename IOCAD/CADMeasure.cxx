@@ -315,13 +315,24 @@ bool MeasureDeviation(const FaceSurface& surface, int level, int samples,
   {
     perTriangle->assign(splines.size(), {});
   }
-  if (!RunOnFaces(
-        static_cast<int>(splines.size()),
-        [&](int f, std::string& message) {
-          return MeasureFace(surface, level, samples, faces[f], splines[f], f, perFace[f],
-            perTriangle ? &(*perTriangle)[f] : nullptr, message);
-        },
-        error, forEach))
+  // One OpenCASCADE signal guard per face, around its thousands of surface evaluations (each of
+  // which, nested in it, only catches exceptions: RunGuarded).
+  auto measure = [&](int f, std::string& message) {
+    bool ok = false;
+    std::string failure;
+    if (!RunGuarded(
+          [&] {
+            ok = MeasureFace(surface, level, samples, faces[f], splines[f], f, perFace[f],
+              perTriangle ? &(*perTriangle)[f] : nullptr, message);
+          },
+          failure))
+    {
+      message = "face " + std::to_string(f) + ": the deviation measurement failed: " + failure;
+      return false;
+    }
+    return ok;
+  };
+  if (!RunOnFaces(static_cast<int>(splines.size()), measure, error, forEach))
   {
     return false;
   }

@@ -55,7 +55,8 @@ using FaceSurface = std::function<bool(
 /// f's, all their sum. At a face's cusp nodes (two of its boundary macro-edges leave within 3
 /// degrees of each other: its boundary curves touch) only the distance is measured: the normal
 /// there is undefined (Deviation::CuspNodes counts them). With perTriangle, (*perTriangle)[f][t]
-/// is macro-triangle t of face f's own (where to look when a maximum is large). On failure
+/// is macro-triangle t of face f's own (where to look when a maximum is large). Each face runs
+/// under one RunGuarded (OpenCASCADE's signals and exceptions caught and named). On failure
 /// returns false with the lowest failed face's error.
 bool MeasureDeviation(const FaceSurface& surface, int level, int samples,
   const std::vector<SampledFace>& faces, const std::vector<FaceSpline>& splines,

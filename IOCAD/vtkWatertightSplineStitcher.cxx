@@ -220,30 +220,12 @@ bool MeasureDeviation(vtkWatertightSplineStitcher* self,
                                        double* Ds, double* Dt, std::string& failure) {
     return source->EvaluateSurface(f, s, t, P, Ds, Dt, failure);
   };
-  // One signal guard per face, around its thousands of evaluations (each of which, nested in it,
-  // only catches OpenCASCADE's exceptions: ctcad::RunGuarded).
-  std::vector<std::string> faceFailures(splines.size());
-  const ctcad::FaceRunner guardedFaces = [&faceFailures](
-                                           int n, const std::function<void(int)>& run) {
-    ctcad::ForEachFaceInParallel(n, [&](int f) {
-      std::string failure;
-      if (!ctcad::RunGuarded([&] { run(f); }, failure))
-      {
-        faceFailures[f] = "face " + std::to_string(f) + ": the deviation measurement failed: " +
-          failure;
-      }
-    });
-  };
   ctcad::Deviation all;
   std::string error;
   if (!ctcad::MeasureDeviation(surface, self->GetDeviationLevel(), self->GetDeviationSamples(),
-        sampled, splines, perFace, all, error, guardedFaces, &perTriangle))
+        sampled, splines, perFace, all, error, nullptr, &perTriangle))
   {
-    // A face whose guard caught the failure left its own message empty.
-    const auto first = std::find_if(
-      faceFailures.begin(), faceFailures.end(), [](const std::string& m) { return !m.empty(); });
-    const bool guarded = error.empty() && first != faceFailures.end();
-    vtkErrorWithObjectMacro(self, << (guarded ? *first : error));
+    vtkErrorWithObjectMacro(self, << error);
     return false;
   }
   const double diag = source->GetDiagonal();

@@ -25,6 +25,7 @@
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepTools.hxx>
+#include <Standard_Failure.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Geom2d_Line.hxx>
@@ -46,6 +47,7 @@
 #include <cstring>
 #include <functional>
 #include <set>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -302,6 +304,29 @@ TEST(CADStages, MeasureAnglesAndDeviation)
   for (std::size_t f = 0; f < perFace.size(); ++f)
   {
     EXPECT_LE(perFace[f].MaxDistance, all.MaxDistance);
+  }
+  // A surface evaluation that throws (as OpenCASCADE's do) inside one face: the face's guard
+  // names it and the operation, the lowest such face reported.
+  const ctcad::FaceSurface surface = s.Surface();
+  for (const bool occt : { true, false })
+  {
+    const ctcad::FaceSurface throwing = [&](int f, double u, double v, double* P, double* Du,
+                                          double* Dv, std::string& e) {
+      if (f >= 2)
+      {
+        if (occt)
+        {
+          throw Standard_Failure("no normal here");
+        }
+        throw std::runtime_error("out of range");
+      }
+      return surface(f, u, v, P, Du, Dv, e);
+    };
+    EXPECT_FALSE(ctcad::MeasureDeviation(throwing, 6, 16, s.Faces, splines, perFace, all, error));
+    EXPECT_NE(error.find(std::string("face 2: the deviation measurement failed: ") +
+                (occt ? "Standard_Failure: no normal here" : "std::runtime_error: out of range")),
+      std::string::npos)
+      << error;
   }
 }
 
