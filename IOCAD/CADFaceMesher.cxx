@@ -557,11 +557,11 @@ double TurnFromSharedPlane(const ctk::ParametricJet& jet, const ctk::Vec2& X, co
   const ctk::Vec3 own = ctk::Vec3(Ds[0], Ds[1], Ds[2]).cross(ctk::Vec3(Dt[0], Dt[1], Dt[2]));
   ctk::Vec3 m(shared[0], shared[1], shared[2]);
   m = own.dot(m) < 0 ? ctk::Vec3(-m) : m;
-  const ctk::Vec3 n = jet.Du.cross(jet.Dv);
   if (ctk::IsSingularTangentPlane(jet.Du, jet.Dv))
   {
     return 180;
   }
+  const ctk::Vec3 n = jet.Du.cross(jet.Dv);
   return std::atan2(n.cross(m).norm(), n.dot(m)) * 180 / M_PI;
 }
 
@@ -1348,11 +1348,15 @@ void FaceMesher::TryOtherConstructions()
   {
     const auto method = static_cast<ctk::Construction>(c);
     Check other;
-    if (method != chosen.Spline.Method && ctk::CanBeStitched(method) && measure(method, other) &&
-      other.Angle <= maxAngle && other.Turn <= maxTurn &&
-      Excess(other.Error, other.Angle, chosen) < least)
+    if (method == chosen.Spline.Method || !ctk::CanBeStitched(method) || !measure(method, other) ||
+      other.Angle > maxAngle || other.Turn > maxTurn)
     {
-      least = Excess(other.Error, other.Angle, chosen);
+      continue;
+    }
+    const double excess = Excess(other.Error, other.Angle, chosen);
+    if (excess < least)
+    {
+      least = excess;
       bestMethod = c;
       best = other;
     }
@@ -1401,32 +1405,21 @@ bool MeshFace(const std::vector<FaceLoop>& loops, const std::vector<Point3>& nod
   {
     return false;
   }
-  const bool fallbacks = options.CheckConstruction && options.FallbackConstructions;
-  if (mesh.Converged || !mesher.Anisotropic)
-  {
-    if (!mesh.Converged && fallbacks)
-    {
-      mesher.TryOtherConstructions();
-    }
-    mesher.Output();
-    return true;
-  }
   // Left over the tolerances in the raw plane of a far from isotropic surface: the scaled
   // plane's mesh where it does better (ScalePlane). Only then another construction.
   FaceMesh scaled;
   FaceMesher again(loops, nodePoints, surface, options, scaled, true);
-  FaceMesher* kept = &mesher;
-  if (again.Triangulate() && again.Refine() && again.CheckConstruction() &&
-    (scaled.Converged || scaled.MaxEstimatedError < mesh.MaxEstimatedError))
+  const bool useScaled = !mesh.Converged && mesher.Anisotropic && again.Triangulate() &&
+    again.Refine() && again.CheckConstruction() &&
+    (scaled.Converged || scaled.MaxEstimatedError < mesh.MaxEstimatedError);
+  FaceMesher& kept = useScaled ? again : mesher;
+  if (!(useScaled ? scaled : mesh).Converged && options.CheckConstruction &&
+    options.FallbackConstructions)
   {
-    kept = &again;
+    kept.TryOtherConstructions();
   }
-  if (!(kept == &again ? scaled : mesh).Converged && fallbacks)
-  {
-    kept->TryOtherConstructions();
-  }
-  kept->Output();
-  if (kept == &again)
+  kept.Output();
+  if (useScaled)
   {
     mesh = std::move(scaled);
   }
